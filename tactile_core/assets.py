@@ -1,0 +1,28 @@
+"""Bundled files: device profiles (``assets/devices``) and presets (``assets/presets``).
+
+The files live in the repository's top-level ``assets/`` folder. A wheel installs them as
+``tactile_core/_assets``; a source checkout or editable install reads them in place.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+_HERE = Path(__file__).resolve().parent
+_ROOTS = (_HERE / "_assets", _HERE.parent / "assets")
+
+
+def assets_dir() -> Path:
+    """The folder holding ``devices/`` and ``presets/``."""
+    for root in _ROOTS:
+        if root.is_dir():
+            return root
+    raise FileNotFoundError(f"bundled assets not found (looked in {', '.join(map(str, _ROOTS))})")
+
+
+def asset_path(*parts: str) -> Path:
+    """Path of a bundled file, e.g. ``asset_path("devices", "palm-5x6.json")``."""
+    path = assets_dir().joinpath(*parts)
+    if not path.exists():
+        raise FileNotFoundError(f"bundled asset {'/'.join(parts)} not found in {assets_dir()}")
+    return path

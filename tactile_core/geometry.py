@@ -1,0 +1,204 @@
+"""The tactor grid and the description of a physical array.
+
+Coordinates follow the paper (section 2.1) and the contract: tactors sit at the centres of unit
+cells of an axis-aligned grid whose lower-left cell corner is the origin. Cell ``(col, row)``
+spans ``[col, col + 1) x [row, row + 1)`` and its tactor is at ``(col + 0.5, row + 0.5)``; x grows
+to the right and y upwards. Frames are indexed ``[row, col]`` with row 0 at the bottom.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _validate
+
+
+@dataclass(frozen=True)
+class Grid:
+    """A grid of ``cols`` x ``rows`` tactors, one per unit cell.
+
+    Parameters
+    ----------
+    cols, rows : int
+        Number of columns (along x) and rows (along y), each at least 1. The default is the
+        paper's palm array, 5 columns by 6 rows.
+
+    Examples
+    --------
+    >>> Grid().shape
+    (6, 5)
+    >>> Grid(cols=2, rows=3).center(1, 2)
+    (1.5, 2.5)
+    """
+
+    cols: int = 5
+    rows: int = 6
+
+    def __post_init__(self):
+        for name in ("cols", "rows"):
+            value = getattr(self, name)
+            try:
+                checked = _validate.integer(f"grid {name}", value, 1)
+            except ValueError:
+                raise ValueError(
+                    f"grid must be at least 1 x 1: grid {name} must be an integer >= 1, "
+                    f"got {value!r}"
+                ) from None
+            object.__setattr__(self, name, checked)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(rows, cols)``: the shape of one frame."""
+        return (self.rows, self.cols)
+
+    @property
+    def size(self) -> int:
+        """Number of tactors, ``rows * cols``."""
+        return self.rows * self.cols
+
+    def center(self, col: int, row: int) -> tuple[float, float]:
+        """Coordinates ``(x, y)`` of the tactor of cell ``(col, row)``, in grid units."""
+        return (col + 0.5, row + 0.5)
+
+    def contains(self, col: int, row: int) -> bool:
+        """True when cell ``(col, row)`` is part of the grid."""
+        return 0 <= col < self.cols and 0 <= row < self.rows
+
+    def flat(self, col: int, row: int) -> int:
+        """Flat index ``row * cols + col`` of cell ``(col, row)`` (the default channel)."""
+        return row * self.cols + col
+
+    def cell(self, flat: int) -> tuple[int, int]:
+        """``(col, row)`` of the cell with flat index ``flat``."""
+        row, col = divmod(flat, self.cols)
+        return (col, row)
+
+    def cell_name(self, flat: int) -> str:
+        """A short label such as ``"r2c4"`` (row 2, column 4) used in files and plots."""
+        col, row = self.cell(flat)
+        return f"r{row}c{col}"
+
+
+@dataclass(frozen=True)
+class ArraySpec:
+    """A physical tactor array: its grid, spacing, intensity levels and channel wiring.
+
+    Parameters
+    ----------
+    grid : Grid
+        The tactor grid.
+    pitch_mm : float
+        Centre-to-centre tactor spacing in millimetres (18 mm on the paper's palm array).
+    levels : int
+        Number of intensity levels the drive electronics resolve, 2..256 (one byte per channel
+        on the wire). Level 0 is off and ``levels - 1`` is full intensity.
+    channels : tuple of int, optional
+        ``channels[k]`` is the flat cell index (``row * cols + col``) that drive channel ``k``
+        feeds. It must be a permutation of ``range(grid.size)``. The default is the identity:
+        channel = ``row * cols + col``.
+
+    Notes
+    -----
+    The paper's array (section 3.3) is 5 x 6 DC motors, about 18 mm apart, driven by PWM at
+    roughly 300 Hz with 23 levels. The device link reuses this description.
+    """
+
+    grid: Grid = field(default_factory=Grid)
+    pitch_mm: float = 18.0
+    levels: int = 23
+    channels: tuple[int, ...] | None = None
+
+    def __post_init__(self):
+        if not isinstance(self.grid, Grid):
+            raise ValueError(f"grid must be a Grid, got {self.grid!r}")
+        object.__setattr__(self, "pitch_mm", _validate.positive("pitch_mm", self.pitch_mm))
+        object.__setattr__(self, "levels", _validate.integer("levels", self.levels, 2, 256))
+        size = self.grid.size
+        if self.channels is None:
+            channels = tuple(range(size))
+        else:
+            try:
+                channels = tuple(
+                    _validate.integer(f"channels[{k}]", c, 0, size - 1)
+                    for k, c in enumerate(self.channels)
+                )
+            except TypeError:
+                raise ValueError(
+                    f"channels must be a list of integers, got {self.channels!r}"
+                ) from None
+            if sorted(channels) != list(range(size)):
+                raise ValueError(
+                    f"channels must be a permutation of 0..{size - 1} (one channel per tactor), "
+                    f"got {list(channels)!r}"
+                )
+        object.__setattr__(self, "channels", channels)
+
+    @property
+    def channel_index(self) -> np.ndarray:
+        """``(size,)`` int array: flat cell index of each channel, for ``flat[channel_index]``."""
+        return np.asarray(self.channels, dtype=np.intp)
+
+    def to_channels(self, frame) -> np.ndarray:
+        """Reorder a frame (``(..., rows, cols)``) into channel order, shape ``(..., size)``."""
+        frame = np.asarray(frame)
+        flat = frame.reshape((*frame.shape[:-2], self.grid.size))
+        return flat[..., self.channel_index]
+
+
+PALM_ARRAY = ArraySpec()
+"""The paper's palm array: 5 x 6 tactors, 18 mm pitch, 23 levels, channel = row * cols + col."""
+
+
+SNAP_ULPS = 64
+"""Coordinates within this many units in the last place of an integer count as that integer.
+
+Float noise puts a point that should sit exactly on a cell edge or a tactor centre a few ulps
+to one side (``0.1 + 0.2 + 2.2 == 2.5000000000000004``). Without snapping, area sampling would
+give the neighbouring tactor an intensity of ~4e-16, which the threshold correction then lifts
+to ``mu``: a tactor that should be off buzzes. 64 ulps is ~6e-14 grid units (~1e-12 mm) for
+coordinates below 8; the tolerance grows with the coordinate's magnitude.
+"""
+
+_SNAP_REL = SNAP_ULPS * np.finfo(np.float64).eps
+
+
+def cell_split(x):
+    """Split coordinates into cell index and position within the cell, snapping float noise.
+
+    Parameters
+    ----------
+    x : ndarray of float64
+        Coordinates along one axis, in grid units.
+
+    Returns
+    -------
+    index : ndarray of float64
+        ``floor(x)``, the index of the cell containing ``x`` (as float; may be outside the
+        grid). A coordinate exactly on a cell edge belongs to the upper/right cell, as the paper
+        breaks ties (section 2.2).
+    frac : ndarray of float64
+        ``x - index`` in [0, 1). Within ``SNAP_ULPS`` ulps of an integer both are snapped to
+        the integer (``frac`` = 0).
+    """
+    index = np.floor(x)
+    frac = x - index
+    tol = _SNAP_REL * np.maximum(np.abs(x), 1.0)
+    up = frac > 1.0 - tol
+    index = np.where(up, index + 1.0, index)
+    frac = np.where(up | (frac < tol), 0.0, frac)
+    return index, frac
+
+
+def cell_split1(x: float) -> tuple[int, float]:
+    """Scalar :func:`cell_split` with plain Python numbers: ``(index, frac)``."""
+    index = math.floor(x)
+    frac = x - index
+    tol = _SNAP_REL * max(abs(x), 1.0)
+    if frac > 1.0 - tol:
+        return index + 1, 0.0
+    if frac < tol:
+        return index, 0.0
+    return index, frac

@@ -1,0 +1,658 @@
+"""Shapes traced by the moving point: parametric curves ``f(t)`` for ``t`` in [0, 1].
+
+The contract fixes the parameterisations:
+
+=====================  ===============================================================
+``Line(p0, p1)``       ``p0 + (p1 - p0) t``
+``Circle(c, r)``       ``(cx + r cos 2 pi t, cy + r sin 2 pi t)``: counter-clockwise from
+                       the rightmost point
+``Square(c, edge)``    counter-clockwise from the midpoint of its right edge, ``t``
+                       proportional to arc length
+``Polyline(points)``   through the points in order, ``t`` proportional to arc length;
+                       ``closed=True`` returns to the first point
+=====================  ===============================================================
+
+Besides ``f(t)``, every shape describes itself as *strokes* for the midpoint methods (MM, IM):
+pieces along which one axis is the major axis (paper section 2.3). A line is one stroke; a
+polyline is one stroke per maximal straight run (consecutive segments that continue in the same
+direction are merged, so the right edge of a square, which the trace enters twice, is one
+stroke); a circle is four 90-degree arcs, the top and bottom arcs x-major (``|dy/dx| <= 1``,
+including the 45-degree points) and the left and right arcs y-major.
+"""
+
+from __future__ import annotations
+
+import bisect
+import itertools
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from . import _validate
+from .geometry import cell_split
+
+TWO_PI = 2.0 * math.pi
+
+
+class Strokes:
+    """The pieces of a shape along which the midpoint methods work.
+
+    Attributes
+    ----------
+    axis : ndarray of int8, shape (m,)
+        Major axis of each stroke: 0 for x-major (one tactor per column), 1 for y-major.
+    lo, hi : ndarray of float64, shape (m,)
+        Extent of each stroke along its major axis, ``lo <= hi``.
+    """
+
+    axis: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+    def _index_cells(self):
+        """Major-axis cells of each stroke's ends (``first``, ``last``), and a scalar table.
+
+        ``extent1[i]`` is ``(axis, lo, hi, first, last)`` of stroke ``i`` as Python numbers.
+        """
+        self.first, _ = cell_split(self.lo)
+        self.last, _ = cell_split(self.hi)
+        self.extent1 = [
+            (int(a), lo, hi, int(f), int(la))
+            for a, lo, hi, f, la in zip(
+                self.axis.tolist(),
+                self.lo.tolist(),
+                self.hi.tolist(),
+                self.first.tolist(),
+                self.last.tolist(),
+            )
+        ]
+
+    def locate(self, t: np.ndarray) -> np.ndarray:
+        """Stroke index (int array, shape of ``t``) of the point at each parameter ``t``."""
+        raise NotImplementedError
+
+    def minor(self, ids: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """Minor-axis coordinate of stroke ``ids`` at major-axis coordinate ``u``."""
+        raise NotImplementedError
+
+    def locate1(self, t: float) -> int:
+        """Scalar :meth:`locate`."""
+        raise NotImplementedError
+
+    def minor1(self, i: int, u: float) -> float:
+        """Scalar :meth:`minor`."""
+        raise NotImplementedError
+
+
+class LineStrokes(Strokes):
+    """Straight strokes: ``ends[i] = (x0, y0, x1, y1)``; ``breaks`` split ``t`` into pieces.
+
+    ``breaks`` (shape ``(p + 1,)``, from 0 to 1) delimit the parameter range of each piece of
+    the trace and ``piece_stroke[j]`` is the stroke that piece ``j`` belongs to. A point exactly
+    at a break belongs to the later piece.
+    """
+
+    def __init__(self, ends, breaks, piece_stroke):
+        ends = np.asarray(ends, dtype=np.float64).reshape(-1, 4)
+        dx = ends[:, 2] - ends[:, 0]
+        dy = ends[:, 3] - ends[:, 1]
+        # |slope| = 1 is x-major (contract); a zero-length stroke is x-major too.
+        self.axis = np.where(np.abs(dx) >= np.abs(dy), 0, 1).astype(np.int8)
+        xmajor = self.axis == 0
+        u0 = np.where(xmajor, ends[:, 0], ends[:, 1])
+        v0 = np.where(xmajor, ends[:, 1], ends[:, 0])
+        u1 = np.where(xmajor, ends[:, 2], ends[:, 3])
+        v1 = np.where(xmajor, ends[:, 3], ends[:, 2])
+        swap = u1 < u0
+        self.u0 = np.where(swap, u1, u0)
+        self.v0 = np.where(swap, v1, v0)
+        self.u1 = np.where(swap, u0, u1)
+        self.v1 = np.where(swap, v0, v1)
+        self.lo, self.hi = self.u0, self.u1
+        self.span = self.u1 - self.u0
+        self._index_cells()
+        self.breaks = np.asarray(breaks, dtype=np.float64)
+        self.piece_stroke = np.asarray(piece_stroke, dtype=np.intp)
+        # Plain Python copies for the scalar (live) path.
+        self._breaks = self.breaks.tolist()
+        self._piece_stroke = self.piece_stroke.tolist()
+        self._rows = list(
+            zip(
+                self.axis.tolist(),
+                self.lo.tolist(),
+                self.hi.tolist(),
+                self.v0.tolist(),
+                self.v1.tolist(),
+                self.span.tolist(),
+            )
+        )
+
+    def locate(self, t):
+        if len(self.piece_stroke) == 1:
+            return np.zeros(np.shape(t), dtype=np.intp)
+        piece = np.searchsorted(self.breaks, t, side="right") - 1
+        np.clip(piece, 0, len(self.piece_stroke) - 1, out=piece)
+        return self.piece_stroke[piece]
+
+    def minor(self, ids, u):
+        span = self.span[ids]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            s = np.where(span > 0, (u - self.u0[ids]) / span, 0.0)
+        return (1.0 - s) * self.v0[ids] + s * self.v1[ids]
+
+    def locate1(self, t):
+        if len(self._piece_stroke) == 1:
+            return 0
+        piece = bisect.bisect_right(self._breaks, t) - 1
+        piece = min(max(piece, 0), len(self._piece_stroke) - 1)
+        return self._piece_stroke[piece]
+
+    def minor1(self, i, u):
+        _, lo, _, v0, v1, span = self._rows[i]
+        s = (u - lo) / span if span > 0 else 0.0
+        return (1.0 - s) * v0 + s * v1
+
+
+class ArcStrokes(Strokes):
+    """The four 90-degree arcs of a circle: right, top, left, bottom (strokes 0..3).
+
+    The top and bottom arcs (``1/8 <= t <= 3/8`` and ``5/8 <= t <= 7/8``) are x-major, the
+    left and right arcs y-major. On a stroke, the minor coordinate at major coordinate ``u`` is
+    ``c_v +- r sqrt(1 - ((u - c_u) / r)^2)``, computed in that scaled form so that neither tiny
+    nor huge radii overflow.
+    """
+
+    def __init__(self, cx, cy, r, point):
+        self.r = r
+        self.axis = np.array([1, 0, 1, 0], dtype=np.int8)
+        self.cu = np.array([cy, cx, cy, cx])
+        self.cv = np.array([cx, cy, cx, cy])
+        self.sign = np.array([1.0, 1.0, -1.0, -1.0])
+        # Extents from the same point formula as the trace, so they agree to the last bit.
+        x45, y45 = point(1 / 8)
+        x135, _ = point(3 / 8)
+        _, y315 = point(7 / 8)
+        xlo, xhi = min(x45, x135), max(x45, x135)
+        ylo, yhi = min(y45, y315), max(y45, y315)
+        self.lo = np.array([ylo, xlo, ylo, xlo])
+        self.hi = np.array([yhi, xhi, yhi, xhi])
+        self._index_cells()
+        self._rows = list(
+            zip(
+                self.axis.tolist(),
+                self.lo.tolist(),
+                self.hi.tolist(),
+                self.cu.tolist(),
+                self.cv.tolist(),
+                self.sign.tolist(),
+            )
+        )
+
+    def locate(self, t):
+        q = 8.0 * np.asarray(t)
+        ids = np.zeros(q.shape, dtype=np.intp)
+        ids[(q >= 1.0) & (q <= 3.0)] = 1
+        ids[(q > 3.0) & (q < 5.0)] = 2
+        ids[(q >= 5.0) & (q <= 7.0)] = 3
+        return ids
+
+    def minor(self, ids, u):
+        r = self.r
+        if r == 0.0:
+            return self.cv[ids].copy()
+        q = np.clip((u - self.cu[ids]) / r, -1.0, 1.0)
+        return self.cv[ids] + self.sign[ids] * (r * np.sqrt((1.0 - q) * (1.0 + q)))
+
+    def locate1(self, t):
+        q = 8.0 * t
+        if 1.0 <= q <= 3.0:
+            return 1
+        if 3.0 < q < 5.0:
+            return 2
+        if 5.0 <= q <= 7.0:
+            return 3
+        return 0
+
+    def minor1(self, i, u):
+        _, _, _, cu, cv, sign = self._rows[i]
+        r = self.r
+        if r == 0.0:
+            return cv
+        q = min(max((u - cu) / r, -1.0), 1.0)
+        return cv + sign * (r * math.sqrt((1.0 - q) * (1.0 + q)))
+
+
+class Shape:
+    """Base class of the traced shapes: a parametric curve ``f(t)``, ``t`` in [0, 1]."""
+
+    closed: bool = False
+
+    def f(self, t) -> np.ndarray:
+        """Points of the trace.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Trace parameter(s), each finite and within [0, 1].
+
+        Returns
+        -------
+        ndarray of float64, shape ``t.shape + (2,)``
+            ``(x, y)`` in grid units (1 unit = one tactor pitch).
+        """
+        t = _validate.parameter_array(t)
+        x, y = self.xy(t)
+        return np.stack([x, y], axis=-1)
+
+    def xy(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Vectorised ``f`` on an already checked float64 array: returns ``(x, y)``."""
+        raise NotImplementedError
+
+    def point(self, t: float) -> tuple[float, float]:
+        """Scalar ``f`` with plain floats, for the live path. ``t`` is not checked."""
+        raise NotImplementedError
+
+    @property
+    def strokes(self) -> Strokes:
+        """The shape's strokes for the midpoint methods."""
+        raise NotImplementedError
+
+    @property
+    def spec(self) -> str:
+        """The command-line form, e.g. ``"circle:2.5,3,2"``."""
+        raise NotImplementedError
+
+    def to_dict(self) -> dict:
+        """A JSON-ready description; :func:`shape_from_dict` reverses it."""
+        raise NotImplementedError
+
+    def outline(self, n: int = 256) -> np.ndarray:
+        """``(n, 2)`` points along the shape for drawing (vertices included for polylines)."""
+        return self.f(np.linspace(0.0, 1.0, n))
+
+
+def _fmt(*values: float) -> str:
+    return ",".join(f"{v:.12g}" for v in values)
+
+
+@dataclass(frozen=True)
+class Line(Shape):
+    """Line segment from ``p0`` to ``p1``: ``f(t) = p0 + (p1 - p0) t``.
+
+    Parameters
+    ----------
+    p0, p1 : (float, float)
+        Endpoints in grid units. They may coincide (a zero-length line lights the cell of the
+        point under every method).
+
+    Notes
+    -----
+    ``f`` is evaluated as ``(1 - t) p0 + t p1``, which is exact at both ends and makes a
+    reversed line at ``1 - t`` produce bit-identical points.
+
+    Examples
+    --------
+    >>> Line((0.5, 1.0), (4.5, 3.0)).f(0.5)
+    array([2.5, 2. ])
+    """
+
+    p0: tuple[float, float]
+    p1: tuple[float, float]
+
+    def __post_init__(self):
+        object.__setattr__(self, "p0", _validate.point("p0", self.p0))
+        object.__setattr__(self, "p1", _validate.point("p1", self.p1))
+
+    def xy(self, t):
+        (x0, y0), (x1, y1) = self.p0, self.p1
+        s = 1.0 - t
+        return s * x0 + t * x1, s * y0 + t * y1
+
+    def point(self, t):
+        (x0, y0), (x1, y1) = self.p0, self.p1
+        s = 1.0 - t
+        return (s * x0 + t * x1, s * y0 + t * y1)
+
+    @cached_property
+    def strokes(self):
+        return LineStrokes([self.p0 + self.p1], [0.0, 1.0], [0])
+
+    @property
+    def length(self) -> float:
+        """Length in grid units."""
+        return math.dist(self.p0, self.p1)
+
+    def reversed(self) -> Line:
+        """The same segment traced from ``p1`` to ``p0``."""
+        return Line(self.p1, self.p0)
+
+    @property
+    def spec(self):
+        return "line:" + _fmt(*self.p0, *self.p1)
+
+    def to_dict(self):
+        return {"type": "line", "p0": list(self.p0), "p1": list(self.p1)}
+
+    def outline(self, n=2):
+        return np.array([self.p0, self.p1])
+
+
+@dataclass(frozen=True)
+class Circle(Shape):
+    """Circle traced counter-clockwise from its rightmost point.
+
+    ``f(t) = (cx + r cos 2 pi t, cy + r sin 2 pi t)``.
+
+    Parameters
+    ----------
+    center : (float, float)
+        Centre in grid units.
+    radius : float
+        Radius in grid units, >= 0 (0 is a point).
+    """
+
+    center: tuple[float, float]
+    radius: float
+
+    closed = True
+
+    def __post_init__(self):
+        object.__setattr__(self, "center", _validate.point("center", self.center))
+        object.__setattr__(self, "radius", _validate.non_negative("radius", self.radius))
+
+    def xy(self, t):
+        cx, cy = self.center
+        angle = TWO_PI * t
+        return cx + self.radius * np.cos(angle), cy + self.radius * np.sin(angle)
+
+    def point(self, t):
+        cx, cy = self.center
+        angle = TWO_PI * t
+        return (cx + self.radius * math.cos(angle), cy + self.radius * math.sin(angle))
+
+    @cached_property
+    def strokes(self):
+        cx, cy = self.center
+        return ArcStrokes(cx, cy, self.radius, self.point)
+
+    @property
+    def length(self) -> float:
+        """Circumference in grid units."""
+        return TWO_PI * self.radius
+
+    @property
+    def spec(self):
+        return "circle:" + _fmt(*self.center, self.radius)
+
+    def to_dict(self):
+        return {"type": "circle", "center": list(self.center), "radius": self.radius}
+
+
+@dataclass(frozen=True)
+class Polyline(Shape):
+    """Path through ``points`` in order, ``t`` proportional to arc length.
+
+    Parameters
+    ----------
+    points : sequence of (float, float)
+        At least two vertices in grid units. Repeated consecutive vertices are allowed and
+        skipped; if all coincide the polyline is a point.
+    closed : bool
+        If True the path returns from the last vertex to the first.
+    """
+
+    points: tuple[tuple[float, float], ...]
+    closed: bool = False
+
+    def __post_init__(self):
+        try:
+            raw = list(self.points)
+        except TypeError:
+            raise ValueError(f"points must be a sequence of (x, y), got {self.points!r}") from None
+        if len(raw) < 2:
+            raise ValueError(f"points must hold at least 2 points, got {len(raw)}")
+        pts = tuple(_validate.point(f"points[{i}]", p) for i, p in enumerate(raw))
+        object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "closed", bool(self.closed))
+
+    @cached_property
+    def _segments(self):
+        """Non-degenerate segments: starts (k, 2), ends (k, 2), breaks (k + 1,) in t."""
+        pts = list(self.points)
+        if self.closed:
+            pts.append(pts[0])
+        starts, ends, lengths = [], [], []
+        for a, b in itertools.pairwise(pts):
+            length = math.dist(a, b)
+            if length > 0.0:
+                starts.append(a)
+                ends.append(b)
+                lengths.append(length)
+        if not lengths:  # every vertex the same: a point
+            p = pts[0]
+            return np.array([p]), np.array([p]), np.array([0.0, 1.0])
+        cum = np.concatenate([[0.0], np.cumsum(lengths)])
+        breaks = cum / cum[-1]
+        breaks[-1] = 1.0
+        return np.array(starts), np.array(ends), breaks
+
+    @cached_property
+    def _scalar_segments(self):
+        starts, ends, breaks = self._segments
+        return starts.tolist(), ends.tolist(), breaks.tolist()
+
+    def xy(self, t):
+        starts, ends, breaks = self._segments
+        k = len(starts)
+        i = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, k - 1)
+        width = breaks[i + 1] - breaks[i]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            s = np.where(width > 0, (t - breaks[i]) / width, 0.0)
+        np.clip(s, 0.0, 1.0, out=s)
+        r = 1.0 - s
+        return r * starts[i, 0] + s * ends[i, 0], r * starts[i, 1] + s * ends[i, 1]
+
+    def point(self, t):
+        starts, ends, breaks = self._scalar_segments
+        k = len(starts)
+        i = min(max(bisect.bisect_right(breaks, t) - 1, 0), k - 1)
+        width = breaks[i + 1] - breaks[i]
+        s = min(max((t - breaks[i]) / width, 0.0), 1.0) if width > 0 else 0.0
+        r = 1.0 - s
+        (ax, ay), (bx, by) = starts[i], ends[i]
+        return (r * ax + s * bx, r * ay + s * by)
+
+    @cached_property
+    def strokes(self):
+        starts, ends, breaks = self._segments
+        k = len(starts)
+        # Merge consecutive segments that continue in the same direction into one stroke.
+        stroke_of = [0] * k
+        runs = [[0, 0]]  # [first segment, last segment] of each stroke
+        for j in range(1, k):
+            if _continues(starts[j - 1], ends[j - 1], starts[j], ends[j]):
+                runs[-1][1] = j
+            else:
+                runs.append([j, j])
+            stroke_of[j] = len(runs) - 1
+        if self.closed and len(runs) > 1 and _continues(starts[-1], ends[-1], starts[0], ends[0]):
+            # The trace starts in the middle of a straight run (a square's right edge).
+            first = runs.pop(0)
+            runs[-1][1] = first[1]
+            stroke_of = [(s - 1) if s > 0 else len(runs) - 1 for s in stroke_of]
+        stroke_ends = [tuple(starts[a]) + tuple(ends[b]) for a, b in runs]
+        return LineStrokes(stroke_ends, breaks, stroke_of)
+
+    @property
+    def length(self) -> float:
+        """Length of the path in grid units (including the closing segment if closed)."""
+        starts, ends, _ = self._segments
+        return float(np.hypot(*(ends - starts).T).sum())
+
+    @property
+    def spec(self):
+        kind = "polygon" if self.closed else "polyline"
+        return f"{kind}:" + _fmt(*(c for p in self.points for c in p))
+
+    def to_dict(self):
+        return {"type": "polyline", "points": [list(p) for p in self.points], "closed": self.closed}
+
+    def outline(self, n=0):
+        pts = list(self.points)
+        if self.closed:
+            pts.append(pts[0])
+        return np.array(pts)
+
+
+def _continues(a0, a1, b0, b1) -> bool:
+    """True when segment b continues segment a in the same direction (within rounding)."""
+    ax, ay = a1[0] - a0[0], a1[1] - a0[1]
+    bx, by = b1[0] - b0[0], b1[1] - b0[1]
+    cross = ax * by - ay * bx
+    dot = ax * bx + ay * by
+    return dot > 0 and abs(cross) <= 1e-12 * math.hypot(ax, ay) * math.hypot(bx, by)
+
+
+@dataclass(frozen=True)
+class Square(Shape):
+    """Axis-aligned square traced counter-clockwise from the midpoint of its right edge.
+
+    ``t`` is proportional to arc length, so the corners are reached at ``t`` = 1/8, 3/8, 5/8
+    and 7/8.
+
+    Parameters
+    ----------
+    center : (float, float)
+        Centre in grid units.
+    edge : float
+        Edge length in grid units, >= 0.
+    """
+
+    center: tuple[float, float]
+    edge: float
+
+    closed = True
+
+    def __post_init__(self):
+        object.__setattr__(self, "center", _validate.point("center", self.center))
+        object.__setattr__(self, "edge", _validate.non_negative("edge", self.edge))
+
+    @cached_property
+    def polyline(self) -> Polyline:
+        """The square as a closed :class:`Polyline` starting at its right edge's midpoint."""
+        cx, cy = self.center
+        h = self.edge / 2.0
+        right, left, top, bottom = cx + h, cx - h, cy + h, cy - h
+        return Polyline(
+            ((right, cy), (right, top), (left, top), (left, bottom), (right, bottom)), closed=True
+        )
+
+    def xy(self, t):
+        return self.polyline.xy(t)
+
+    def point(self, t):
+        return self.polyline.point(t)
+
+    @property
+    def strokes(self):
+        return self.polyline.strokes
+
+    @property
+    def length(self) -> float:
+        """Perimeter in grid units."""
+        return 4.0 * self.edge
+
+    @property
+    def spec(self):
+        return "square:" + _fmt(*self.center, self.edge)
+
+    def to_dict(self):
+        return {"type": "square", "center": list(self.center), "edge": self.edge}
+
+    def outline(self, n=0):
+        return self.polyline.outline()
+
+
+SHAPE_KINDS = ("line", "circle", "square", "polyline", "polygon")
+
+
+def parse_shape(text: str) -> Shape:
+    """Parse the command-line form of a shape.
+
+    Parameters
+    ----------
+    text : str
+        ``line:X0,Y0,X1,Y1``, ``circle:CX,CY,R``, ``square:CX,CY,EDGE``, or (beyond the
+        contract) ``polyline:X0,Y0,X1,Y1,...`` and ``polygon:...`` (closed).
+
+    Returns
+    -------
+    Shape
+
+    Raises
+    ------
+    ValueError
+        Naming ``shape`` and what is wrong with the text.
+
+    Examples
+    --------
+    >>> parse_shape("circle:2.5,3,2")
+    Circle(center=(2.5, 3.0), radius=2.0)
+    """
+    if not isinstance(text, str) or ":" not in text:
+        raise ValueError(
+            f"shape must look like 'circle:2.5,3,2' ({', '.join(SHAPE_KINDS)}), got {text!r}"
+        )
+    kind, _, args = text.partition(":")
+    kind = kind.strip().lower()
+    try:
+        values = [float(a) for a in args.split(",")] if args.strip() else []
+    except ValueError:
+        raise ValueError(
+            f"shape {text!r}: coordinates must be numbers separated by commas"
+        ) from None
+    need = {"line": 4, "circle": 3, "square": 3}
+    if kind in need and len(values) != need[kind]:
+        raise ValueError(f"shape {text!r}: {kind} needs {need[kind]} numbers, got {len(values)}")
+    if kind == "line":
+        return Line(values[0:2], values[2:4])
+    if kind == "circle":
+        return Circle(values[0:2], values[2])
+    if kind == "square":
+        return Square(values[0:2], values[2])
+    if kind in ("polyline", "polygon"):
+        if len(values) < 4 or len(values) % 2:
+            raise ValueError(f"shape {text!r}: {kind} needs an even number (>= 4) of coordinates")
+        pts = list(zip(values[0::2], values[1::2]))
+        return Polyline(pts, closed=kind == "polygon")
+    raise ValueError(f"shape kind must be one of {', '.join(SHAPE_KINDS)}, got {kind!r}")
+
+
+def shape_from_dict(data) -> Shape:
+    """Build a shape from :meth:`Shape.to_dict` output; ``ValueError`` names a bad field."""
+    if not isinstance(data, dict):
+        raise ValueError(f"shape must be an object with a 'type', got {data!r}")
+    kind = data.get("type")
+    fields = {
+        "line": ("p0", "p1"),
+        "circle": ("center", "radius"),
+        "square": ("center", "edge"),
+        "polyline": ("points",),
+    }
+    if kind not in fields:
+        raise ValueError(f"shape.type must be one of {', '.join(fields)}, got {kind!r}")
+    for name in fields[kind]:
+        if name not in data:
+            raise ValueError(f"shape.{name} is missing for a {kind}")
+    try:
+        if kind == "line":
+            return Line(data["p0"], data["p1"])
+        if kind == "circle":
+            return Circle(data["center"], data["radius"])
+        if kind == "square":
+            return Square(data["center"], data["edge"])
+        return Polyline(data["points"], closed=bool(data.get("closed", False)))
+    except ValueError as exc:
+        raise ValueError(f"shape.{exc}") from None

@@ -1,0 +1,26 @@
+"""Small helpers for reading frames in tests (independent of the code under test)."""
+
+import numpy as np
+
+
+def lit(frame, tol=0.0):
+    """{(col, row): intensity} of a (rows, cols) frame's tactors above ``tol``."""
+    rows, cols = np.nonzero(frame > tol)
+    return {(int(c), int(r)): float(frame[r, c]) for r, c in zip(rows, cols)}
+
+
+def sequence(frames):
+    """Ordered distinct (col, row) cells of frames that light exactly one tactor."""
+    out = []
+    for f in frames:
+        (cell,) = lit(f)
+        if not out or out[-1] != cell:
+            out.append(cell)
+    return out
+
+
+def on_fraction(frames):
+    """{(col, row): fraction of frames in which the tactor is on}."""
+    n = len(frames)
+    counts = (frames > 0).sum(axis=0)
+    return {(int(c), int(r)): counts[r, c] / n for r, c in zip(*np.nonzero(counts))}
