@@ -156,49 +156,58 @@ SNAP_ULPS = 64
 """Coordinates within this many units in the last place of an integer count as that integer.
 
 Float noise puts a point that should sit exactly on a cell edge or a tactor centre a few ulps
-to one side (``0.1 + 0.2 + 2.2 == 2.5000000000000004``). Without snapping, area sampling would
+to one side (``0.3 / 0.1 - 0.5 == 2.4999999999999996``). Without snapping, area sampling would
 give the neighbouring tactor an intensity of ~4e-16, which the threshold correction then lifts
-to ``mu``: a tactor that should be off buzzes. 64 ulps is ~6e-14 grid units (~1e-12 mm) for
-coordinates below 8; the tolerance grows with the coordinate's magnitude.
+to ``mu``: a tactor that should be off buzzes. The noise of ``f(t)`` scales with the numbers it
+is computed from, so the tolerance is ``SNAP_ULPS`` ulps of the shape's largest coordinate
+(at least 1): ~1.4e-14 grid units (~3e-13 mm) for shapes on the palm array, ~1.4e-8 for a circle
+of radius 1e6 whose arc passes through it.
 """
 
-_SNAP_REL = SNAP_ULPS * np.finfo(np.float64).eps
+SNAP_REL = SNAP_ULPS * np.finfo(np.float64).eps
 
 
-def cell_split(x):
+def snap_tolerance(scale: float) -> float:
+    """Snap tolerance for coordinates computed from numbers of magnitude up to ``scale``."""
+    return SNAP_REL * max(abs(scale), 1.0)
+
+
+def cell_split(x, tol):
     """Split coordinates into cell index and position within the cell, snapping float noise.
 
     Parameters
     ----------
     x : ndarray of float64
         Coordinates along one axis, in grid units.
+    tol : float or ndarray
+        Snap tolerance (see :func:`snap_tolerance`), broadcast against ``x``.
 
     Returns
     -------
     index : ndarray of float64
         ``floor(x)``, the index of the cell containing ``x`` (as float; may be outside the
         grid). A coordinate exactly on a cell edge belongs to the upper/right cell, as the paper
-        breaks ties (section 2.2).
+        breaks ties (section 2.2). Within ``tol`` of an integer, the integer.
     frac : ndarray of float64
-        ``x - index`` in [0, 1). Within ``SNAP_ULPS`` ulps of an integer both are snapped to
-        the integer (``frac`` = 0).
+        ``x - index`` in [0, 1); 0 within ``tol`` of an integer.
     """
-    index = np.floor(x)
+    index = np.floor(x + tol)
     frac = x - index
-    tol = _SNAP_REL * np.maximum(np.abs(x), 1.0)
-    up = frac > 1.0 - tol
-    index = np.where(up, index + 1.0, index)
-    frac = np.where(up | (frac < tol), 0.0, frac)
-    return index, frac
+    return index, np.where(frac < tol, 0.0, frac)
 
 
-def cell_split1(x: float) -> tuple[int, float]:
+def cell_floor(x, tol):
+    """Index of the cell containing ``x``, snapped: :func:`cell_split` without the fraction."""
+    return np.floor(x + tol)
+
+
+def clamp(x, lo, hi):
+    """``min(max(x, lo), hi)`` elementwise: ``np.clip`` costs twice as much on small arrays."""
+    return np.minimum(np.maximum(x, lo), hi)
+
+
+def cell_split1(x: float, tol: float) -> tuple[int, float]:
     """Scalar :func:`cell_split` with plain Python numbers: ``(index, frac)``."""
-    index = math.floor(x)
+    index = math.floor(x + tol)
     frac = x - index
-    tol = _SNAP_REL * max(abs(x), 1.0)
-    if frac > 1.0 - tol:
-        return index + 1, 0.0
-    if frac < tol:
-        return index, 0.0
-    return index, frac
+    return index, (0.0 if frac < tol else frac)

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from . import _validate
-from .geometry import Grid
+from .geometry import SNAP_REL, Grid, clamp
 from .methods import get_method
 from .shapes import Shape
 
@@ -28,30 +30,58 @@ def check_shape(shape, method=None) -> Shape | None:
     return shape
 
 
-def scatter(cols, rows, values, grid: Grid) -> np.ndarray:
+@functools.lru_cache(maxsize=16)
+def _cell_table(grid: Grid) -> np.ndarray:
+    """Lookup from a clipped cell code to a slot of a sample's row of ``grid.size + 1``.
+
+    Code ``(row + 1) * (cols + 2) + (col + 1)`` for ``col`` in [-1, cols] and ``row`` in
+    [-1, rows]; cells outside the grid map to the spare slot ``grid.size``.
+    """
+    table = np.full((grid.rows + 2, grid.cols + 2), grid.size, dtype=np.intp)
+    table[1:-1, 1:-1] = np.arange(grid.size).reshape(grid.shape)
+    return table.reshape(-1)
+
+
+def scatter(entries, n: int, grid: Grid) -> np.ndarray:
     """Write sparse tactor intensities into dense frames, dropping cells outside the grid.
 
     Parameters
     ----------
-    cols, rows : ndarray of float64, shape (n, k)
-        Cell indices per sample; the ``k`` cells of one sample must be distinct.
-    values : ndarray of float64, shape (n, k)
-        Intensities.
+    entries : list of (cols, rows, values)
+        Per entry, cell indices (float arrays of shape (n,)) and intensities (array of shape
+        (n,) or a scalar). Within one sample the entries' cells must be distinct.
+    n : int
+        Number of samples.
     grid : Grid
 
     Returns
     -------
     ndarray of float64, shape (n, rows, cols)
+        A view into a buffer with one spare slot per sample (where cells outside the grid go).
     """
-    n = values.shape[0]
-    size = grid.size
-    valid = (cols >= 0.0) & (cols < grid.cols) & (rows >= 0.0) & (rows < grid.rows)
-    base = (np.arange(n, dtype=np.float64) * size)[:, None]
-    # Out-of-grid entries go to one spare slot past the end, dropped below.
-    index = np.where(valid, base + rows * grid.cols + cols, float(n * size)).astype(np.intp)
-    out = np.zeros(n * size + 1)
-    out[index] = values
-    return out[:-1].reshape(n, grid.rows, grid.cols)
+    table = _cell_table(grid)
+    width = grid.cols + 2
+    slots = grid.size + 1
+    out = np.zeros((n, slots))
+    base = np.arange(0, n * slots, slots, dtype=np.intp)
+    flat = out.reshape(-1)
+    for cols, rows, values in entries:
+        if _inside(cols, grid.cols) and _inside(rows, grid.rows):
+            index = (rows * grid.cols + cols).astype(np.intp)
+        else:
+            code = clamp(rows, -1.0, grid.rows) * width + clamp(cols, -1.0, grid.cols)
+            code += width + 1.0
+            index = table[code.astype(np.intp)]
+        index += base
+        flat[index] = values
+    return out[:, : grid.size].reshape(n, grid.rows, grid.cols)
+
+
+def _inside(index, size: int) -> bool:
+    """True when every (float) cell index lies in ``[0, size)`` (vacuously for no samples)."""
+    if np.ndim(index) == 0:
+        return 0 <= index < size
+    return index.size == 0 or (index.min() >= 0 and index.max() < size)
 
 
 def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
@@ -93,9 +123,8 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     t = _validate.parameter_array(t)
     flat_t = t.reshape(-1)
     x, y = shape.xy(flat_t)
-    cols, rows, values = m.sample(shape, x, y, flat_t)
-    frames = scatter(cols, rows, values, grid)
-    return frames.reshape(t.shape + grid.shape)
+    entries = m.sample(shape, x, y, flat_t, shape.snap_tol)
+    return scatter(entries, flat_t.size, grid).reshape(t.shape + grid.shape)
 
 
 def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
@@ -124,10 +153,13 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
         )
     grid = check_grid(grid)
     x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+    shape = x.shape
     if not (np.isfinite(x).all() and np.isfinite(y).all()):
         raise ValueError("x and y must be finite coordinates")
-    cols, rows, values = m.sample(None, x.reshape(-1), y.reshape(-1), None)
-    return scatter(cols, rows, values, grid).reshape(x.shape + grid.shape)
+    x, y = x.reshape(-1), y.reshape(-1)
+    tol = SNAP_REL * np.maximum(np.maximum(np.abs(x), np.abs(y)), 1.0)
+    entries = m.sample(None, x, y, None, tol)
+    return scatter(entries, x.size, grid).reshape(shape + grid.shape)
 
 
 def render_point(shape, method, t: float, grid: Grid = _DEFAULT_GRID) -> tuple:
@@ -155,6 +187,6 @@ def point_entries(shape, sample1, t: float, ncols: int, nrows: int) -> tuple:
     x, y = shape.point(t)
     return tuple(
         (r * ncols + c, v)
-        for c, r, v in sample1(shape, x, y, t)
+        for c, r, v in sample1(shape, x, y, t, shape.snap_tol)
         if v > 0.0 and 0 <= c < ncols and 0 <= r < nrows
     )

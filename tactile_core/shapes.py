@@ -31,7 +31,7 @@ from functools import cached_property
 import numpy as np
 
 from . import _validate
-from .geometry import cell_split
+from .geometry import cell_floor, clamp, snap_tolerance
 
 TWO_PI = 2.0 * math.pi
 
@@ -39,50 +39,62 @@ TWO_PI = 2.0 * math.pi
 class Strokes:
     """The pieces of a shape along which the midpoint methods work.
 
-    Attributes
-    ----------
-    axis : ndarray of int8, shape (m,)
-        Major axis of each stroke: 0 for x-major (one tactor per column), 1 for y-major.
-    lo, hi : ndarray of float64, shape (m,)
-        Extent of each stroke along its major axis, ``lo <= hi``.
+    Each stroke is one row of ``table`` (shape ``(m, 9)``), with columns
+
+    ======  ===========  ==========================================================
+    column  name         meaning
+    ======  ===========  ==========================================================
+    0       ``axis``     major axis: 0 for x (one tactor per column), 1 for y
+    1, 2    ``lo, hi``   extent along the major axis, ``lo <= hi``
+    3, 4    ``first``,   major-axis cells of ``lo`` and ``hi``
+            ``last``
+    5..8    ``a..d``     coefficients of the minor coordinate (see the subclasses)
+    ======  ===========  ==========================================================
+
+    :meth:`gather` returns the rows of the strokes that given points lie on, transposed so
+    that ``params[j]`` is column ``j`` for every point (or a plain number for a shape made of a
+    single stroke). ``rows1`` holds each row as a tuple of Python numbers for the scalar path.
+    ``tol`` is the shape's snap tolerance.
     """
 
-    axis: np.ndarray
-    lo: np.ndarray
-    hi: np.ndarray
+    AXIS, LO, HI, FIRST, LAST, A, B, C, D = range(9)
 
-    def _index_cells(self):
-        """Major-axis cells of each stroke's ends (``first``, ``last``), and a scalar table.
-
-        ``extent1[i]`` is ``(axis, lo, hi, first, last)`` of stroke ``i`` as Python numbers.
-        """
-        self.first, _ = cell_split(self.lo)
-        self.last, _ = cell_split(self.hi)
-        self.extent1 = [
-            (int(a), lo, hi, int(f), int(la))
-            for a, lo, hi, f, la in zip(
-                self.axis.tolist(),
-                self.lo.tolist(),
-                self.hi.tolist(),
-                self.first.tolist(),
-                self.last.tolist(),
-            )
+    def _build(self, axis, lo, hi, a, b, c, d, tol):
+        self.tol = tol
+        lo = np.asarray(lo, dtype=np.float64)
+        hi = np.asarray(hi, dtype=np.float64)
+        first = cell_floor(lo, tol)
+        last = cell_floor(hi, tol)
+        self.table = np.column_stack([axis, lo, hi, first, last, a, b, c, d]).astype(np.float64)
+        self.count = len(self.table)
+        self._table_t = np.ascontiguousarray(self.table.T)
+        self.rows1 = [
+            (int(r[0]), r[1], r[2], int(r[3]), int(r[4]), r[5], r[6], r[7], r[8])
+            for r in self.table.tolist()
         ]
 
-    def locate(self, t: np.ndarray) -> np.ndarray:
-        """Stroke index (int array, shape of ``t``) of the point at each parameter ``t``."""
+    def locate(self, t: np.ndarray) -> np.ndarray | None:
+        """Stroke index (int array, shape of ``t``) of the point at each parameter ``t``.
+
+        None when the shape has a single stroke.
+        """
         raise NotImplementedError
 
-    def minor(self, ids: np.ndarray, u: np.ndarray) -> np.ndarray:
-        """Minor-axis coordinate of stroke ``ids`` at major-axis coordinate ``u``."""
+    def gather(self, ids):
+        """Stroke parameters per point: a ``(9, n)`` array, or the row's numbers if ``ids``
+        is None (a single stroke)."""
+        return self.rows1[0] if ids is None else self._table_t.take(ids, axis=1)
+
+    def minor(self, params, u):
+        """Minor-axis coordinate at major-axis coordinate ``u`` on the gathered strokes."""
         raise NotImplementedError
 
     def locate1(self, t: float) -> int:
-        """Scalar :meth:`locate`."""
+        """Scalar :meth:`locate` (always an index)."""
         raise NotImplementedError
 
-    def minor1(self, i: int, u: float) -> float:
-        """Scalar :meth:`minor`."""
+    def minor1(self, row: tuple, u: float) -> float:
+        """Scalar :meth:`minor` for one row of ``rows1``."""
         raise NotImplementedError
 
 
@@ -91,119 +103,101 @@ class LineStrokes(Strokes):
 
     ``breaks`` (shape ``(p + 1,)``, from 0 to 1) delimit the parameter range of each piece of
     the trace and ``piece_stroke[j]`` is the stroke that piece ``j`` belongs to. A point exactly
-    at a break belongs to the later piece.
+    at a break belongs to the later piece. On a stroke the minor coordinate is the linear
+    interpolation ``(1 - s) v0 + s v1`` with ``s = (u - u0) / (u1 - u0)``, exact at both ends;
+    coefficients ``a..d`` are ``u0, v0, v1, u1 - u0`` (the divisor is 1 for a zero-length
+    stroke, whose ``u`` is always ``u0``).
     """
 
-    def __init__(self, ends, breaks, piece_stroke):
+    def __init__(self, ends, breaks, piece_stroke, tol):
         ends = np.asarray(ends, dtype=np.float64).reshape(-1, 4)
         dx = ends[:, 2] - ends[:, 0]
         dy = ends[:, 3] - ends[:, 1]
         # |slope| = 1 is x-major (contract); a zero-length stroke is x-major too.
-        self.axis = np.where(np.abs(dx) >= np.abs(dy), 0, 1).astype(np.int8)
-        xmajor = self.axis == 0
+        axis = np.where(np.abs(dx) >= np.abs(dy), 0, 1)
+        xmajor = axis == 0
         u0 = np.where(xmajor, ends[:, 0], ends[:, 1])
         v0 = np.where(xmajor, ends[:, 1], ends[:, 0])
         u1 = np.where(xmajor, ends[:, 2], ends[:, 3])
         v1 = np.where(xmajor, ends[:, 3], ends[:, 2])
         swap = u1 < u0
-        self.u0 = np.where(swap, u1, u0)
-        self.v0 = np.where(swap, v1, v0)
-        self.u1 = np.where(swap, u0, u1)
-        self.v1 = np.where(swap, v0, v1)
-        self.lo, self.hi = self.u0, self.u1
-        self.span = self.u1 - self.u0
-        self._index_cells()
+        u0, v0, u1, v1 = (
+            np.where(swap, u1, u0),
+            np.where(swap, v1, v0),
+            np.where(swap, u0, u1),
+            np.where(swap, v0, v1),
+        )
+        span = u1 - u0
+        self._build(axis, u0, u1, u0, v0, v1, np.where(span > 0, span, 1.0), tol)
         self.breaks = np.asarray(breaks, dtype=np.float64)
         self.piece_stroke = np.asarray(piece_stroke, dtype=np.intp)
-        # Plain Python copies for the scalar (live) path.
         self._breaks = self.breaks.tolist()
         self._piece_stroke = self.piece_stroke.tolist()
-        self._rows = list(
-            zip(
-                self.axis.tolist(),
-                self.lo.tolist(),
-                self.hi.tolist(),
-                self.v0.tolist(),
-                self.v1.tolist(),
-                self.span.tolist(),
-            )
-        )
 
     def locate(self, t):
-        if len(self.piece_stroke) == 1:
-            return np.zeros(np.shape(t), dtype=np.intp)
+        if self.count == 1:
+            return None
         piece = np.searchsorted(self.breaks, t, side="right") - 1
         np.clip(piece, 0, len(self.piece_stroke) - 1, out=piece)
         return self.piece_stroke[piece]
 
-    def minor(self, ids, u):
-        span = self.span[ids]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            s = np.where(span > 0, (u - self.u0[ids]) / span, 0.0)
-        return (1.0 - s) * self.v0[ids] + s * self.v1[ids]
+    def minor(self, params, u):
+        s = (u - params[5]) / params[8]
+        return (1.0 - s) * params[6] + s * params[7]
 
     def locate1(self, t):
-        if len(self._piece_stroke) == 1:
+        if self.count == 1:
             return 0
         piece = bisect.bisect_right(self._breaks, t) - 1
-        piece = min(max(piece, 0), len(self._piece_stroke) - 1)
-        return self._piece_stroke[piece]
+        return self._piece_stroke[min(max(piece, 0), len(self._piece_stroke) - 1)]
 
-    def minor1(self, i, u):
-        _, lo, _, v0, v1, span = self._rows[i]
-        s = (u - lo) / span if span > 0 else 0.0
-        return (1.0 - s) * v0 + s * v1
+    def minor1(self, row, u):
+        s = (u - row[5]) / row[8]
+        return (1.0 - s) * row[6] + s * row[7]
 
 
 class ArcStrokes(Strokes):
     """The four 90-degree arcs of a circle: right, top, left, bottom (strokes 0..3).
 
-    The top and bottom arcs (``1/8 <= t <= 3/8`` and ``5/8 <= t <= 7/8``) are x-major, the
-    left and right arcs y-major. On a stroke, the minor coordinate at major coordinate ``u`` is
-    ``c_v +- r sqrt(1 - ((u - c_u) / r)^2)``, computed in that scaled form so that neither tiny
-    nor huge radii overflow.
+    The top and bottom arcs (``1/8 <= t <= 3/8`` and ``5/8 <= t <= 7/8``, so the 45-degree
+    points included) are x-major, the left and right arcs y-major. On a stroke the minor
+    coordinate at major coordinate ``u`` is ``c_v +- r sqrt((1 - q)(1 + q))`` with
+    ``q = (u - c_u) / r`` clipped to [-1, 1]: that scaled form neither overflows for huge radii
+    nor loses the result for tiny ones. Coefficients ``a..d`` are ``c_u, c_v, +-r, 1 / r`` (0
+    for ``r = 0``, where every point is the centre).
     """
 
-    def __init__(self, cx, cy, r, point):
-        self.r = r
-        self.axis = np.array([1, 0, 1, 0], dtype=np.int8)
-        self.cu = np.array([cy, cx, cy, cx])
-        self.cv = np.array([cx, cy, cx, cy])
-        self.sign = np.array([1.0, 1.0, -1.0, -1.0])
+    # Arc of each octant floor(8 t) = 0..8; the boundaries 8t = 3 and 7 are patched in locate.
+    _OCTANT_ARC = np.array([0, 1, 1, 2, 2, 3, 3, 0, 0], dtype=np.intp)
+
+    def __init__(self, cx, cy, r, point, tol):
         # Extents from the same point formula as the trace, so they agree to the last bit.
         x45, y45 = point(1 / 8)
         x135, _ = point(3 / 8)
         _, y315 = point(7 / 8)
         xlo, xhi = min(x45, x135), max(x45, x135)
         ylo, yhi = min(y45, y315), max(y45, y315)
-        self.lo = np.array([ylo, xlo, ylo, xlo])
-        self.hi = np.array([yhi, xhi, yhi, xhi])
-        self._index_cells()
-        self._rows = list(
-            zip(
-                self.axis.tolist(),
-                self.lo.tolist(),
-                self.hi.tolist(),
-                self.cu.tolist(),
-                self.cv.tolist(),
-                self.sign.tolist(),
-            )
+        self._build(
+            axis=[1, 0, 1, 0],
+            lo=[ylo, xlo, ylo, xlo],
+            hi=[yhi, xhi, yhi, xhi],
+            a=[cy, cx, cy, cx],
+            b=[cx, cy, cx, cy],
+            c=[r, r, -r, -r],
+            d=[1.0 / r if r > 0.0 else 0.0] * 4,
+            tol=tol,
         )
 
     def locate(self, t):
-        q = 8.0 * np.asarray(t)
-        ids = np.zeros(q.shape, dtype=np.intp)
-        ids[(q >= 1.0) & (q <= 3.0)] = 1
-        ids[(q > 3.0) & (q < 5.0)] = 2
-        ids[(q >= 5.0) & (q <= 7.0)] = 3
+        q = 8.0 * t
+        ids = self._OCTANT_ARC[q.astype(np.intp)]
+        ids[q == 3.0] = 1  # 135 degrees: |slope| = 1 is x-major (top)
+        ids[q == 7.0] = 3  # 315 degrees (bottom)
         return ids
 
-    def minor(self, ids, u):
-        r = self.r
-        if r == 0.0:
-            return self.cv[ids].copy()
-        q = np.clip((u - self.cu[ids]) / r, -1.0, 1.0)
-        return self.cv[ids] + self.sign[ids] * (r * np.sqrt((1.0 - q) * (1.0 + q)))
+    def minor(self, params, u):
+        q = clamp((u - params[5]) * params[8], -1.0, 1.0)
+        return params[6] + params[7] * np.sqrt((1.0 - q) * (1.0 + q))
 
     def locate1(self, t):
         q = 8.0 * t
@@ -215,13 +209,9 @@ class ArcStrokes(Strokes):
             return 3
         return 0
 
-    def minor1(self, i, u):
-        _, _, _, cu, cv, sign = self._rows[i]
-        r = self.r
-        if r == 0.0:
-            return cv
-        q = min(max((u - cu) / r, -1.0), 1.0)
-        return cv + sign * (r * math.sqrt((1.0 - q) * (1.0 + q)))
+    def minor1(self, row, u):
+        q = min(max((u - row[5]) * row[8], -1.0), 1.0)
+        return row[6] + row[7] * math.sqrt((1.0 - q) * (1.0 + q))
 
 
 class Shape:
@@ -258,6 +248,16 @@ class Shape:
     def strokes(self) -> Strokes:
         """The shape's strokes for the midpoint methods."""
         raise NotImplementedError
+
+    @property
+    def scale(self) -> float:
+        """Largest coordinate magnitude the shape's points are computed from."""
+        raise NotImplementedError
+
+    @cached_property
+    def snap_tol(self) -> float:
+        """Snap tolerance for this shape's points (see ``tactile_core.geometry.SNAP_ULPS``)."""
+        return snap_tolerance(self.scale)
 
     @property
     def spec(self) -> str:
@@ -317,7 +317,11 @@ class Line(Shape):
 
     @cached_property
     def strokes(self):
-        return LineStrokes([self.p0 + self.p1], [0.0, 1.0], [0])
+        return LineStrokes([self.p0 + self.p1], [0.0, 1.0], [0], self.snap_tol)
+
+    @property
+    def scale(self):
+        return max(map(abs, self.p0 + self.p1))
 
     @property
     def length(self) -> float:
@@ -375,7 +379,11 @@ class Circle(Shape):
     @cached_property
     def strokes(self):
         cx, cy = self.center
-        return ArcStrokes(cx, cy, self.radius, self.point)
+        return ArcStrokes(cx, cy, self.radius, self.point, self.snap_tol)
+
+    @property
+    def scale(self):
+        return max(map(abs, self.center)) + self.radius
 
     @property
     def length(self) -> float:
@@ -439,30 +447,40 @@ class Polyline(Shape):
         return np.array(starts), np.array(ends), breaks
 
     @cached_property
-    def _scalar_segments(self):
+    def _segment_table(self):
+        """Per segment ``(t0, t1 - t0, ax, ay, bx, by)``: ``(6, k)`` and as tuples.
+
+        The width is a divisor (not a reciprocal factor) so that a segment's end is reached
+        exactly; a width that rounds to 0 is stored as 1 (such a segment is never selected).
+        """
         starts, ends, breaks = self._segments
-        return starts.tolist(), ends.tolist(), breaks.tolist()
+        width = np.diff(breaks)
+        width[width <= 0] = 1.0
+        table = np.vstack([breaks[:-1], width, starts.T, ends.T])
+        return table, [tuple(row) for row in table.T.tolist()]
 
     def xy(self, t):
-        starts, ends, breaks = self._segments
-        k = len(starts)
-        i = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, k - 1)
-        width = breaks[i + 1] - breaks[i]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            s = np.where(width > 0, (t - breaks[i]) / width, 0.0)
-        np.clip(s, 0.0, 1.0, out=s)
+        breaks = self._segments[2]
+        table, _ = self._segment_table
+        i = np.searchsorted(breaks, t, side="right") - 1
+        np.clip(i, 0, table.shape[1] - 1, out=i)
+        t0, width, ax, ay, bx, by = table.take(i, axis=1)
+        s = clamp((t - t0) / width, 0.0, 1.0)
         r = 1.0 - s
-        return r * starts[i, 0] + s * ends[i, 0], r * starts[i, 1] + s * ends[i, 1]
+        return r * ax + s * bx, r * ay + s * by
 
     def point(self, t):
-        starts, ends, breaks = self._scalar_segments
-        k = len(starts)
-        i = min(max(bisect.bisect_right(breaks, t) - 1, 0), k - 1)
-        width = breaks[i + 1] - breaks[i]
-        s = min(max((t - breaks[i]) / width, 0.0), 1.0) if width > 0 else 0.0
+        breaks = self._scalar_breaks
+        rows = self._segment_table[1]
+        i = min(max(bisect.bisect_right(breaks, t) - 1, 0), len(rows) - 1)
+        t0, width, ax, ay, bx, by = rows[i]
+        s = min(max((t - t0) / width, 0.0), 1.0)
         r = 1.0 - s
-        (ax, ay), (bx, by) = starts[i], ends[i]
         return (r * ax + s * bx, r * ay + s * by)
+
+    @cached_property
+    def _scalar_breaks(self):
+        return self._segments[2].tolist()
 
     @cached_property
     def strokes(self):
@@ -483,7 +501,11 @@ class Polyline(Shape):
             runs[-1][1] = first[1]
             stroke_of = [(s - 1) if s > 0 else len(runs) - 1 for s in stroke_of]
         stroke_ends = [tuple(starts[a]) + tuple(ends[b]) for a, b in runs]
-        return LineStrokes(stroke_ends, breaks, stroke_of)
+        return LineStrokes(stroke_ends, breaks, stroke_of, self.snap_tol)
+
+    @property
+    def scale(self):
+        return max(abs(c) for p in self.points for c in p)
 
     @property
     def length(self) -> float:
@@ -558,6 +580,14 @@ class Square(Shape):
     @property
     def strokes(self):
         return self.polyline.strokes
+
+    @property
+    def scale(self):
+        return max(map(abs, self.center)) + self.edge / 2.0
+
+    @property
+    def snap_tol(self):
+        return self.polyline.snap_tol
 
     @property
     def length(self) -> float:

@@ -255,3 +255,17 @@ def test_scalar_live_path_matches_batch(shape, ts, method):
         for i, v in tc.render_point(shape, method, t):
             sparse[i] = v
         np.testing.assert_allclose(sparse, row, atol=1e-15, rtol=0)
+
+
+anywhere = st.tuples(coord(-2, 7), coord(-2, 8))
+
+
+@given(st.one_of(shapes_in_grid, st.builds(tc.Line, anywhere, anywhere)))
+def test_as_matches_the_textbook_overlap_with_every_cell(shape):
+    # Independent computation: overlap of the point-centred unit box with each cell.
+    from tactile_core.bench import dense_area_sampling
+
+    t = np.linspace(0, 1, 257)
+    np.testing.assert_allclose(
+        tc.render(shape, "AS", t), dense_area_sampling(shape, t, GRID), atol=1e-12
+    )

@@ -276,3 +276,9 @@ def test_error_message_shows_the_value():
         tc.correct([0.5], mu=1.5, gamma=1.0)
     with pytest.raises(ValueError, match=r"got 1.5 at index 1"):
         tc.render(LINE, "AS", [0.5, 1.5])
+
+
+def test_empty_parameter_array_gives_no_frames():
+    for method in tc.METHOD_NAMES:
+        frames = tc.render(tc.Circle((2.5, 3.0), 2.0), method, np.array([]))
+        assert frames.shape == (0, 6, 5)

@@ -9,10 +9,11 @@ name      method                      paper        tactors lit at one instant
 ``IM``    interpolated midpoint       2.5          up to 2 (anti-aliased)
 ========  ==========================  ===========  =======================================
 
-Each module provides ``sample(shape, x, y, t) -> (cols, rows, values)`` on arrays (cells may
-fall outside the grid; the caller drops them) and ``sample1`` with plain floats for the live
-path. CT and AS depend on the point only, so they also render free coordinates (``shape`` may
-be None); MM and IM need the shape's strokes.
+Each module provides ``sample(shape, x, y, t, tol) -> [(cols, rows, values), ...]`` on arrays,
+one entry per tactor it may light (cells may fall outside the grid; the caller drops them), and
+``sample1`` with plain floats for the live path. ``tol`` is the snap tolerance of the cell
+lookup (:data:`tactile_core.geometry.SNAP_ULPS`). CT and AS depend on the point only, so they
+also render free coordinates (``shape`` may be None); MM and IM need the shape's strokes.
 """
 
 from __future__ import annotations

@@ -14,8 +14,6 @@ likewise in y) they sum to 1. Works on any coordinate, with or without a shape.
 
 from __future__ import annotations
 
-import numpy as np
-
 from ..geometry import cell_split, cell_split1
 
 NAME = "AS"
@@ -25,31 +23,28 @@ NEEDS_SHAPE = False
 MAX_TACTORS = 4
 
 
-def sample(shape, x, y, t):
+def sample(shape, x, y, t, tol):
     """Tactors lit at points ``(x, y)``: see :func:`tactile_core.methods.closest.sample`.
 
     Returns
     -------
-    cols, rows, values : ndarray of float64, shape (n, 4)
-        Lower-left, lower-right, upper-left, upper-right overlapped cells and their areas.
-        Entries with zero area may repeat a neighbour's cell index.
+    list of (cols, rows, values)
+        The lower-left, lower-right, upper-left and upper-right overlapped cells and their
+        areas (zero where the box does not reach a cell).
     """
-    c, fx = cell_split(x - 0.5)
-    r, fy = cell_split(y - 0.5)
+    c, fx = cell_split(x - 0.5, tol)
+    r, fy = cell_split(y - 0.5, tol)
     gx = 1.0 - fx
     gy = 1.0 - fy
     c1 = c + 1.0
     r1 = r + 1.0
-    cols = np.stack([c, c1, c, c1], axis=-1)
-    rows = np.stack([r, r, r1, r1], axis=-1)
-    values = np.stack([gx * gy, fx * gy, gx * fy, fx * fy], axis=-1)
-    return cols, rows, values
+    return [(c, r, gx * gy), (c1, r, fx * gy), (c, r1, gx * fy), (c1, r1, fx * fy)]
 
 
-def sample1(shape, x, y, t):
+def sample1(shape, x, y, t, tol):
     """Scalar :func:`sample`: ``(col, row, value)`` tuples, only those with nonzero area."""
-    c, fx = cell_split1(x - 0.5)
-    r, fy = cell_split1(y - 0.5)
+    c, fx = cell_split1(x - 0.5, tol)
+    r, fy = cell_split1(y - 0.5, tol)
     if fx == 0.0:
         if fy == 0.0:
             return ((c, r, 1.0),)

@@ -8,9 +8,9 @@ coordinate, with or without a shape.
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
-from ..geometry import cell_split, cell_split1
+from ..geometry import cell_floor
 
 NAME = "CT"
 TITLE = "closest tactor"
@@ -19,7 +19,7 @@ NEEDS_SHAPE = False
 MAX_TACTORS = 1
 
 
-def sample(shape, x, y, t):
+def sample(shape, x, y, t, tol):
     """Tactors lit at points ``(x, y)``.
 
     Parameters
@@ -30,17 +30,18 @@ def sample(shape, x, y, t):
         Points in grid units.
     t : ndarray of float64, shape (n,)
         Trace parameters (unused).
+    tol : float or ndarray
+        Snap tolerance for cell lookup.
 
     Returns
     -------
-    cols, rows, values : ndarray of float64, shape (n, 1)
-        Cell indices (possibly outside the grid) and raw intensities.
+    list of (cols, rows, values)
+        One entry per lit tactor: cell indices as float arrays of shape (n,) (possibly
+        outside the grid) and intensities (an array or a scalar broadcast over all samples).
     """
-    col, _ = cell_split(x)
-    row, _ = cell_split(y)
-    return col[:, None], row[:, None], np.ones((col.shape[0], 1))
+    return [(cell_floor(x, tol), cell_floor(y, tol), 1.0)]
 
 
-def sample1(shape, x, y, t):
+def sample1(shape, x, y, t, tol):
     """Scalar :func:`sample`: a tuple of ``(col, row, value)`` with plain Python numbers."""
-    return ((cell_split1(x)[0], cell_split1(y)[0], 1.0),)
+    return ((math.floor(x + tol), math.floor(y + tol), 1.0),)

@@ -17,10 +17,12 @@ junction (``d`` = distance to that centre), so the hand-over has a step of at mo
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..geometry import cell_split, cell_split1
-from .midpoint import _major_minor, tactor_of_cell
+from .midpoint import on_stroke, tactor_of_cell, to_cells
 
 NAME = "IM"
 TITLE = "interpolated midpoint"
@@ -29,7 +31,7 @@ NEEDS_SHAPE = True
 MAX_TACTORS = 2
 
 
-def sample(shape, x, y, t):
+def sample(shape, x, y, t, tol):
     """Tactors lit at the points ``(x, y) = shape.f(t)``.
 
     Parameters
@@ -40,35 +42,33 @@ def sample(shape, x, y, t):
         Points of the trace in grid units.
     t : ndarray of float64, shape (n,)
         Their trace parameters.
+    tol : float
+        The shape's snap tolerance.
 
     Returns
     -------
-    cols, rows, values : ndarray of float64, shape (n, 2)
+    list of (cols, rows, values)
         MM's tactors of major cells ``k`` and ``k + 1`` and their intensities.
     """
     strokes = shape.strokes
-    ids = strokes.locate(t)
-    xmajor, u, lo, hi = _major_minor(strokes, ids, x, y)
-    k, w = cell_split(u - 0.5)  # w: share of cell k + 1
-    w = np.where(k < strokes.first[ids], 1.0, w)  # before the first centre
-    w = np.where(k + 1.0 > strokes.last[ids], 0.0, w)  # after the last centre
-    k1 = k + 1.0
-    na = tactor_of_cell(strokes, ids, k, lo, hi)
-    nb = tactor_of_cell(strokes, ids, k1, lo, hi)
-    cols = np.stack([np.where(xmajor, k, na), np.where(xmajor, k1, nb)], axis=-1)
-    rows = np.stack([np.where(xmajor, na, k), np.where(xmajor, nb, k1)], axis=-1)
-    values = np.stack([1.0 - w, w], axis=-1)
-    return cols, rows, values
+    params, xmajor, u = on_stroke(strokes, x, y, t)
+    k, w = cell_split(u - 0.5, tol)  # w: share of cell k + 1
+    pair = np.stack([k, k + 1.0])  # major cells k and k + 1, shape (2, n)
+    # Between a stroke's end and its end cell's centre, the end tactor keeps everything:
+    # w = 1 before the first centre (k < first), w = 0 after the last (k + 1 > last).
+    w = np.where(k < params[3], 1.0, w)
+    w = np.where(pair[1] > params[4], 0.0, w)
+    cols, rows = to_cells(xmajor, pair, tactor_of_cell(strokes, params, pair))
+    return [(cols[0], rows[0], 1.0 - w), (cols[1], rows[1], w)]
 
 
-def sample1(shape, x, y, t):
+def sample1(shape, x, y, t, tol):
     """Scalar :func:`sample`: ``(col, row, value)`` tuples with nonzero intensity."""
     strokes = shape.strokes
-    i = strokes.locate1(t)
-    axis, lo, hi, first, last = strokes.extent1[i]
-    u = x if axis == 0 else y
-    u = min(max(u, lo), hi)
-    k, w = cell_split1(u - 0.5)
+    row = strokes.rows1[strokes.locate1(t)]
+    axis, lo, hi, first, last = row[:5]
+    u = min(max(x if axis == 0 else y, lo), hi)
+    k, w = cell_split1(u - 0.5, tol)
     if k < first:
         w = 1.0
     if k + 1 > last:
@@ -76,6 +76,6 @@ def sample1(shape, x, y, t):
     out = []
     for m, value in ((k, 1.0 - w), (k + 1, w)):
         if value > 0.0:
-            n, _ = cell_split1(strokes.minor1(i, min(max(m + 0.5, lo), hi)))
+            n = math.floor(strokes.minor1(row, min(max(m + 0.5, lo), hi)) + tol)
             out.append((m, n, value) if axis == 0 else (n, m, value))
     return tuple(out)

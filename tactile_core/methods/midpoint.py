@@ -16,9 +16,11 @@ line algorithm. A zero-length stroke lights the cell of its point.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from ..geometry import cell_split, cell_split1
+from ..geometry import cell_floor, clamp
 
 NAME = "MM"
 TITLE = "midpoint"
@@ -27,23 +29,44 @@ NEEDS_SHAPE = True
 MAX_TACTORS = 1
 
 
-def _major_minor(strokes, ids, x, y):
-    xmajor = strokes.axis[ids] == 0
-    lo = strokes.lo[ids]
-    hi = strokes.hi[ids]
-    # The point lies on its stroke; the clip only absorbs rounding at the stroke's ends.
-    u = np.clip(np.where(xmajor, x, y), lo, hi)
-    return xmajor, u, lo, hi
+def on_stroke(strokes, x, y, t):
+    """Locate points on their strokes.
+
+    Returns
+    -------
+    params : ndarray, shape (9, n), or tuple
+        The strokes' parameters per point (:meth:`~tactile_core.shapes.Strokes.gather`).
+    xmajor : ndarray of bool or bool
+        Whether each point's stroke is x-major.
+    u : ndarray of float64, shape (n,)
+        Major-axis coordinate of each point, clipped to its stroke's extent (the point lies on
+        the stroke; the clip only absorbs rounding at the ends).
+    """
+    ids = strokes.locate(t)
+    params = strokes.gather(ids)
+    if ids is None:
+        xmajor = params[0] == 0
+        u = x if xmajor else y
+    else:
+        xmajor = params[0] == 0.0
+        u = np.where(xmajor, x, y)
+    return params, xmajor, clamp(u, params[1], params[2])
 
 
-def tactor_of_cell(strokes, ids, m, lo, hi):
-    """Minor-axis cell of the MM tactor for major cell ``m`` of strokes ``ids`` (float array)."""
-    v = strokes.minor(ids, np.clip(m + 0.5, lo, hi))
-    n, _ = cell_split(v)
-    return n
+def tactor_of_cell(strokes, params, m):
+    """Minor-axis cell of the MM tactor of major cell(s) ``m`` of the gathered strokes."""
+    centre = clamp(m + 0.5, params[1], params[2])
+    return cell_floor(strokes.minor(params, centre), strokes.tol)
 
 
-def sample(shape, x, y, t):
+def to_cells(xmajor, major, minor):
+    """``(cols, rows)`` from major- and minor-axis cells."""
+    if np.ndim(xmajor) == 0:
+        return (major, minor) if xmajor else (minor, major)
+    return np.where(xmajor, major, minor), np.where(xmajor, minor, major)
+
+
+def sample(shape, x, y, t, tol):
     """Tactors lit at the points ``(x, y) = shape.f(t)``.
 
     Parameters
@@ -54,28 +77,27 @@ def sample(shape, x, y, t):
         Points of the trace in grid units.
     t : ndarray of float64, shape (n,)
         Their trace parameters (which stroke each point is on).
+    tol : float
+        The shape's snap tolerance.
 
     Returns
     -------
-    cols, rows, values : ndarray of float64, shape (n, 1)
+    list of (cols, rows, values)
+        One entry: the lit tactor at intensity 1.
     """
     strokes = shape.strokes
-    ids = strokes.locate(t)
-    xmajor, u, lo, hi = _major_minor(strokes, ids, x, y)
-    m, _ = cell_split(u)
-    n = tactor_of_cell(strokes, ids, m, lo, hi)
-    cols = np.where(xmajor, m, n)
-    rows = np.where(xmajor, n, m)
-    return cols[:, None], rows[:, None], np.ones((cols.shape[0], 1))
+    params, xmajor, u = on_stroke(strokes, x, y, t)
+    m = cell_floor(u, tol)
+    cols, rows = to_cells(xmajor, m, tactor_of_cell(strokes, params, m))
+    return [(cols, rows, 1.0)]
 
 
-def sample1(shape, x, y, t):
+def sample1(shape, x, y, t, tol):
     """Scalar :func:`sample`: a tuple with one ``(col, row, 1.0)``."""
     strokes = shape.strokes
-    i = strokes.locate1(t)
-    axis, lo, hi, _, _ = strokes.extent1[i]
-    u = x if axis == 0 else y
-    u = min(max(u, lo), hi)
-    m, _ = cell_split1(u)
-    n, _ = cell_split1(strokes.minor1(i, min(max(m + 0.5, lo), hi)))
+    row = strokes.rows1[strokes.locate1(t)]
+    axis, lo, hi = row[0], row[1], row[2]
+    u = min(max(x if axis == 0 else y, lo), hi)
+    m = math.floor(u + tol)
+    n = math.floor(strokes.minor1(row, min(max(m + 0.5, lo), hi)) + tol)
     return ((m, n, 1.0),) if axis == 0 else ((n, m, 1.0),)

@@ -1,0 +1,136 @@
+"""The ``tactile`` command: render, bench (and, as they land, stream, emulate, analyze).
+
+Errors in arguments or files print ``tactile <command>: error: <what was wrong>`` on standard
+error and exit with status 2; no traceback for anything the user can fix.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .correction import check_correction, correct
+from .geometry import Grid
+from .methods import METHOD_NAMES, get_method
+from .render import render
+from .shapes import parse_shape
+from .trace import DIRECTIONS
+
+
+class UsageError(Exception):
+    """A problem with the command line or its files, reported without a traceback."""
+
+
+def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None:
+    p.add_argument(
+        "--shape",
+        required=True,
+        metavar="SHAPE",
+        help="line:X0,Y0,X1,Y1 | circle:CX,CY,R | square:CX,CY,EDGE (grid units)",
+    )
+    p.add_argument("--method", required=True, metavar="M", help=f"one of {', '.join(METHOD_NAMES)}")
+    p.add_argument("--mu", type=float, default=0.0, help="threshold in [0, 1] (default 0)")
+    p.add_argument("--gamma", type=float, default=1.0, help="gamma > 0 (default 1)")
+    p.add_argument(
+        "--duration", type=float, default=duration, help=f"seconds per trace (default {duration:g})"
+    )
+    p.add_argument("--direction", choices=DIRECTIONS, default="forward")
+    p.add_argument("--cols", type=int, default=5, help="grid columns (default 5)")
+    p.add_argument("--rows", type=int, default=6, help="grid rows (default 6)")
+
+
+def _scene(args):
+    """Validate the shared scene arguments; ValueError names what is wrong."""
+    shape = parse_shape(args.shape)
+    method = get_method(args.method).name
+    mu, gamma = check_correction(args.mu, args.gamma)
+    if not (np.isfinite(args.duration) and args.duration > 0):
+        raise ValueError(f"duration must be > 0 seconds, got {args.duration!r}")
+    grid = Grid(cols=args.cols, rows=args.rows)
+    return shape, method, mu, gamma, grid
+
+
+def cmd_render(args) -> int:
+    """Write the frames of one trace to CSV or NPZ."""
+    shape, method, mu, gamma, grid = _scene(args)
+    if not (np.isfinite(args.rate) and args.rate > 0):
+        raise ValueError(f"rate must be > 0 Hz, got {args.rate!r}")
+    out = Path(args.out)
+    if out.suffix.lower() not in (".csv", ".npz"):
+        raise UsageError(f"--out must end in .csv or .npz, got {args.out!r}")
+    n = int(np.floor(args.duration * args.rate + 1e-9))
+    time_s = np.arange(n + 1) / args.rate
+    u = np.minimum(time_s / args.duration, 1.0)
+    t = 1.0 - u if args.direction == "reverse" else u
+    frames = correct(render(shape, method, t, grid=grid), mu, gamma)
+    try:
+        if out.suffix.lower() == ".npz":
+            np.savez(out, time=time_s, frames=frames)
+        else:
+            names = [grid.cell_name(i) for i in range(grid.size)]
+            table = np.column_stack([time_s, frames.reshape(len(t), grid.size)])
+            np.savetxt(
+                out,
+                table,
+                delimiter=",",
+                header=",".join(["time", *names]),
+                comments="",
+                fmt="%.10g",
+            )
+    except OSError as exc:
+        raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
+    print(f"wrote {len(t)} frames of {shape.spec} ({method}, mu={mu:g}, gamma={gamma:g}) to {out}")
+    return 0
+
+
+def cmd_bench(args) -> int:
+    """Print the benchmark tables."""
+    from . import bench
+
+    bench.run(part=args.part, quick=args.quick)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``tactile``."""
+    parser = argparse.ArgumentParser(
+        prog="tactile",
+        description="Rendering methods for low-resolution 2D vibrotactile arrays (CT, MM, AS, IM).",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+
+    p = sub.add_parser("render", help="write the frames of one trace to .csv or .npz")
+    _add_scene_arguments(p, duration=2.0)
+    p.add_argument("--rate", type=float, default=100.0, help="frames per second (default 100)")
+    p.add_argument("--out", required=True, help="output file, .csv or .npz")
+    p.set_defaults(func=cmd_render)
+
+    p = sub.add_parser("bench", help="print the speed/accuracy tables")
+    p.add_argument("--part", choices=("core", "all"), default="all")
+    p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")
+    p.set_defaults(func=cmd_bench)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``tactile`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except (ValueError, UsageError) as exc:
+        print(f"tactile {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"tactile {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
