@@ -7,7 +7,10 @@ error and exit with status 2; no traceback for anything the user can fix.
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -87,6 +90,114 @@ def cmd_render(args) -> int:
     return 0
 
 
+def _install_stop_handlers(stop: threading.Event) -> None:
+    """Ctrl-C and SIGTERM set ``stop`` (the caller then turns the array off and reports)."""
+
+    def handler(signum, frame):
+        stop.set()
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, handler)
+
+
+def cmd_stream(args) -> int:
+    """Stream a scene to a device without the GUI; print statistics at the end."""
+    from .device import ProfileError, load_profile
+    from .link import LinkError, open_link
+    from .recorder import Recorder
+    from .scene import Scene
+    from .streamer import Streamer
+
+    shape, method, mu, gamma, _ = _scene(args)
+    try:
+        profile = load_profile(args.profile)
+    except ProfileError as exc:
+        raise UsageError(str(exc)) from None
+    scene = Scene(
+        shape,
+        method,
+        mu,
+        gamma,
+        duration_s=args.duration,
+        pause_s=args.pause,
+        direction=args.direction,
+        rate_hz=args.rate,
+        filter=args.filter,
+        subsamples=args.subsamples,
+        dither=not args.no_dither,
+    )
+    if args.seconds is not None and not args.seconds > 0:
+        raise ValueError(f"seconds must be > 0, got {args.seconds!r}")
+    if args.record and Path(args.record).suffix.lower() not in (".csv", ".npz"):
+        raise UsageError(f"--record must end in .csv or .npz, got {args.record!r}")
+    stop = threading.Event()
+    _install_stop_handlers(stop)
+    try:
+        link = open_link(args.device, profile)
+    except LinkError as exc:
+        print(f"tactile stream: {exc}", file=sys.stderr)
+        return 1
+    recorder = Recorder(profile.array) if args.record else None
+    streamer = Streamer(
+        link,
+        profile,
+        scene=scene,
+        taps=[] if recorder is None else [recorder],
+        reconnect=args.reconnect,
+        on_status=lambda stats: print(
+            f"[{stats.state}] {stats.status}", file=sys.stderr, flush=True
+        ),
+    )
+    try:
+        streamer.start()
+        deadline = None if args.seconds is None else time.monotonic() + args.seconds
+        while not stop.is_set() and streamer.running:
+            remaining = None if deadline is None else deadline - time.monotonic()
+            if remaining is not None and remaining <= 0:
+                break
+            stop.wait(0.1 if remaining is None else min(0.1, remaining))
+    finally:
+        stats = streamer.stop()
+        link.close()
+    print(stats.summary())
+    if recorder is not None:
+        path = recorder.save(args.record)
+        print(f"recorded {len(recorder)} frames to {path}")
+    return 0 if stats.errors == 0 else 1
+
+
+def cmd_emulate(args) -> int:
+    """Run the device emulator on a pseudo-terminal until stopped."""
+    from .device import ProfileError, load_profile
+    from .emulator import Emulator
+
+    try:
+        profile = load_profile(args.profile)
+    except ProfileError as exc:
+        raise UsageError(str(exc)) from None
+    stop = threading.Event()
+    _install_stop_handlers(stop)
+    emulator = Emulator(profile, expected_rate_hz=args.rate)
+    path = emulator.open()
+    print(path, flush=True)
+    print(
+        f"emulating {profile.name} ({profile.grid.cols} x {profile.grid.rows}, "
+        f"{profile.levels} levels) on {path}; Ctrl-C to end",
+        file=sys.stderr,
+        flush=True,
+    )
+    try:
+        emulator.run(stop.is_set, seconds=args.seconds, close_after=args.close_after)
+    finally:
+        emulator.close()
+        if args.log:
+            emulator.save_log(args.log)
+        if args.json:
+            emulator.save_report(args.json)
+        print(emulator.summary(), flush=True)
+    return 0
+
+
 def cmd_bench(args) -> int:
     """Print the benchmark tables."""
     from . import bench
@@ -110,6 +221,47 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rate", type=float, default=100.0, help="frames per second (default 100)")
     p.add_argument("--out", required=True, help="output file, .csv or .npz")
     p.set_defaults(func=cmd_render)
+
+    p = sub.add_parser("stream", help="stream a scene to a device without the GUI")
+    p.add_argument(
+        "--device",
+        required=True,
+        metavar="URL",
+        help="port or pyserial URL; 'sim' for the simulated array",
+    )
+    _add_scene_arguments(p, duration=2.0)
+    p.add_argument(
+        "--pause", type=float, default=0.5, help="seconds off between traces (default 0.5)"
+    )
+    p.add_argument("--rate", type=float, default=300.0, help="frames per second (default 300)")
+    p.add_argument(
+        "--seconds", type=float, default=None, help="stop after this long (default: Ctrl-C)"
+    )
+    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument(
+        "--filter", choices=("point", "box"), default="box", help="temporal filter (default box)"
+    )
+    p.add_argument("--subsamples", type=int, default=4, help="box filter sub-samples (default 4)")
+    p.add_argument("--no-dither", action="store_true", help="plain rounding to device levels")
+    p.add_argument("--record", default=None, help="record the frames sent to .csv or .npz")
+    p.add_argument("--reconnect", action="store_true", help="keep retrying after the link fails")
+    p.set_defaults(func=cmd_stream)
+
+    p = sub.add_parser("emulate", help="run the device emulator on a pseudo-terminal")
+    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument("--rate", type=float, default=None, help="nominal rate for the interval error")
+    p.add_argument(
+        "--seconds", type=float, default=None, help="end after this long (default: Ctrl-C)"
+    )
+    p.add_argument("--log", default=None, help="write every received frame to this CSV")
+    p.add_argument("--json", default=None, help="write the report to this JSON file")
+    p.add_argument(
+        "--close-after",
+        type=float,
+        default=None,
+        help="close the device after this long (fault test)",
+    )
+    p.set_defaults(func=cmd_emulate)
 
     p = sub.add_parser("bench", help="print the speed/accuracy tables")
     p.add_argument("--part", choices=("core", "all"), default="all")

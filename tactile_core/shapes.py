@@ -156,6 +156,13 @@ class LineStrokes(Strokes):
         return (1.0 - s) * row[6] + s * row[7]
 
 
+def _reciprocal(r: float) -> float:
+    """``1 / r``, or 0 where it is infinite (r = 0, or a subnormal r such as 5e-324): such a
+    circle is its centre to within float resolution."""
+    inverse = 1.0 / r if r > 0.0 else 0.0
+    return inverse if math.isfinite(inverse) else 0.0
+
+
 class ArcStrokes(Strokes):
     """The four 90-degree arcs of a circle: right, top, left, bottom (strokes 0..3).
 
@@ -164,7 +171,7 @@ class ArcStrokes(Strokes):
     coordinate at major coordinate ``u`` is ``c_v +- r sqrt((1 - q)(1 + q))`` with
     ``q = (u - c_u) / r`` clipped to [-1, 1]: that scaled form neither overflows for huge radii
     nor loses the result for tiny ones. Coefficients ``a..d`` are ``c_u, c_v, +-r, 1 / r`` (0
-    for ``r = 0``, where every point is the centre).
+    when ``1 / r`` is infinite, where every point is the centre).
     """
 
     # Arc of each octant floor(8 t) = 0..8; the boundaries 8t = 3 and 7 are patched in locate.
@@ -184,7 +191,7 @@ class ArcStrokes(Strokes):
             a=[cy, cx, cy, cx],
             b=[cx, cy, cx, cy],
             c=[r, r, -r, -r],
-            d=[1.0 / r if r > 0.0 else 0.0] * 4,
+            d=[_reciprocal(r)] * 4,
             tol=tol,
         )
 

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -287,27 +288,39 @@ class LiveFrames:
         if self.cycle is None or self._table is not None:
             return
         if background:
-            threading.Thread(target=self.precompute, name="precompute", daemon=True).start()
+            threading.Thread(
+                target=self._build, args=(64,), name="tactile-precompute", daemon=True
+            ).start()
             return
-        _, frames = render_frames(
-            self.trace,
-            self.method,
-            sampling=self.sampling,
-            mu=self.mu,
-            gamma=self.gamma,
-            grid=self.grid,
-            n_frames=self.cycle,
-        )
-        flat = frames.reshape(self.cycle, self.grid.size)
-        table = [()] * self.cycle
-        rows, cols = np.nonzero(flat)
-        values = flat[rows, cols].tolist()
-        bounds = np.searchsorted(rows, np.arange(self.cycle + 1)).tolist()
-        cols = cols.tolist()
-        for k in range(self.cycle):
-            a, b = bounds[k], bounds[k + 1]
-            if a != b:
-                table[k] = tuple(zip(cols[a:b], values[a:b]))
+        self._build(self.cycle)
+
+    def _build(self, chunk: int) -> None:
+        """Tabulate the cycle ``chunk`` frames at a time, yielding the GIL between chunks so
+        that a concurrent output thread is never held up by one long numpy call."""
+        table = []
+        for first in range(0, self.cycle, chunk):
+            count = min(chunk, self.cycle - first)
+            _, frames = render_frames(
+                self.trace,
+                self.method,
+                sampling=self.sampling,
+                mu=self.mu,
+                gamma=self.gamma,
+                grid=self.grid,
+                n_frames=count,
+                first_frame=first,
+            )
+            flat = frames.reshape(count, self.grid.size)
+            rows, cols = np.nonzero(flat)
+            values = flat[rows, cols].tolist()
+            bounds = np.searchsorted(rows, np.arange(count + 1)).tolist()
+            cols = cols.tolist()
+            table.extend(
+                tuple(zip(cols[bounds[k] : bounds[k + 1]], values[bounds[k] : bounds[k + 1]]))
+                for k in range(count)
+            )
+            if chunk < self.cycle:
+                time.sleep(0)
         self._table = table
 
     def entries(self, k: int) -> tuple:

@@ -179,7 +179,7 @@ def test_line_exactly_on_a_column_boundary():
 # --- circles ---------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("radius", [0.0, 1e-300, 1e-12, 1e-3])
+@pytest.mark.parametrize("radius", [0.0, 5e-324, 1e-300, 1e-12, 1e-3])
 def test_tiny_circle_inside_one_cell(radius):
     frames = render_all(tc.Circle((2.5, 3.5), radius))
     for method in ("CT", "MM", "IM"):

@@ -1,0 +1,378 @@
+"""Device profiles: a versioned JSON description of a physical array.
+
+A profile (``assets/devices/palm-5x6.json`` is the paper's array) holds::
+
+    {
+      "format": "tactile-device-profile",   # required, exactly this
+      "version": 1,                         # required; newer versions are refused
+      "name": "palm-5x6",
+      "description": "...",                 # optional
+      "columns": 5, "rows": 6,              # grid, each >= 1
+      "pitch_mm": 18.0,                     # > 0
+      "levels": 23,                         # 2..256 (one byte per channel on the wire)
+      "baud": 115200,                       # > 0; caps the frame rate: baud / 10 / frame bytes
+      "channel_order": "row-major",         # or "column-major", or a list: cell of channel k
+      "response": {                         # optional motor response curve, piecewise linear
+        "drive": [0, 0.2, ..., 1],          #   strictly increasing from 0 to 1
+        "output": [0, 0, ..., 1]            #   non-decreasing, within [0, 1]
+      },
+      "calibration": {                      # optional, one value per tactor, row-major
+        "offset": [0.0, ...],               #   added to a lit tactor's drive, within [-1, 1]
+        "gain": [1.0, ...]                  #   multiplies it, within (0, 10]
+      }
+    }
+
+Unknown keys are ignored (so a newer minor addition does not break an older reader). A file
+that is not valid JSON, misses a field, or holds a bad value raises :class:`ProfileError`
+naming the file, the field and the problem.
+
+Calibration maps a corrected intensity ``I > 0`` to the drive sent to that tactor:
+``clip(offset + gain * I, 0, 1)``; zero stays zero. It lets one choice of mu and gamma feel the
+same on tactors whose thresholds and sensitivities differ (paper section 4.2).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .assets import asset_path
+from .geometry import ArraySpec, Grid
+from .wire import frame_length
+
+FORMAT = "tactile-device-profile"
+VERSION = 1
+DEFAULT_PROFILE = "palm-5x6"
+
+
+class ProfileError(ValueError):
+    """A device profile that cannot be used; the message names the field and the problem."""
+
+
+@dataclass(frozen=True)
+class DeviceProfile:
+    """A physical array and its link.
+
+    Attributes
+    ----------
+    name : str
+    array : ArraySpec
+        Grid, pitch, levels and channel order.
+    baud : int
+        Serial link speed in bit/s (8N1: 10 bits per byte).
+    response : tuple of (tuple of float, tuple of float) or None
+        ``(drive, output)`` of the motor response curve, if known.
+    offset, gain : tuple of float, length rows * cols, or None
+        Per-tactor calibration in flat cell order (``row * cols + col``).
+    description : str
+    path : str or None
+        Where the profile was loaded from.
+    """
+
+    name: str
+    array: ArraySpec
+    baud: int = 115200
+    response: tuple | None = None
+    offset: tuple | None = None
+    gain: tuple | None = None
+    description: str = ""
+    path: str | None = field(default=None, compare=False)
+
+    @property
+    def grid(self) -> Grid:
+        """The tactor grid."""
+        return self.array.grid
+
+    @property
+    def levels(self) -> int:
+        """Number of device levels."""
+        return self.array.levels
+
+    @property
+    def channels(self) -> int:
+        """Number of channels (one per tactor)."""
+        return self.array.grid.size
+
+    @property
+    def frame_bytes(self) -> int:
+        """Bytes on the wire per frame (36 for 30 channels)."""
+        return frame_length(self.channels)
+
+    @property
+    def max_rate_hz(self) -> float:
+        """Frames per second the link carries: ``baud / 10 / frame_bytes`` (320 for the palm)."""
+        return self.baud / 10.0 / self.frame_bytes
+
+    @property
+    def calibrated(self) -> bool:
+        """True when the profile carries per-tactor calibration."""
+        return self.offset is not None
+
+    def felt(self, drive) -> np.ndarray:
+        """Motor output for drive fractions in [0, 1] (the drive itself without a curve)."""
+        drive = np.asarray(drive, dtype=np.float64)
+        if self.response is None:
+            return drive
+        return np.interp(drive, *self.response)
+
+    def calibrate(self, flat_frame) -> np.ndarray:
+        """Apply per-tactor calibration to a frame in flat cell order, ``(..., size)``."""
+        values = np.asarray(flat_frame, dtype=np.float64)
+        if self.offset is None:
+            return values
+        adjusted = np.clip(np.asarray(self.offset) + np.asarray(self.gain) * values, 0.0, 1.0)
+        return np.where(values > 0.0, adjusted, 0.0)
+
+    def to_dict(self) -> dict:
+        """The JSON form of the profile."""
+        grid = self.grid
+        identity = self.array.channels == tuple(range(grid.size))
+        data = {
+            "format": FORMAT,
+            "version": VERSION,
+            "name": self.name,
+            "description": self.description,
+            "columns": grid.cols,
+            "rows": grid.rows,
+            "pitch_mm": self.array.pitch_mm,
+            "levels": self.levels,
+            "baud": self.baud,
+            "channel_order": "row-major" if identity else list(self.array.channels),
+        }
+        if self.response is not None:
+            data["response"] = {"drive": list(self.response[0]), "output": list(self.response[1])}
+        if self.offset is not None:
+            data["calibration"] = {"offset": list(self.offset), "gain": list(self.gain)}
+        return data
+
+    def save(self, path) -> Path:
+        """Write the profile as JSON, atomically (temporary file, then rename)."""
+        return write_json_atomic(path, self.to_dict())
+
+    def with_calibration(self, offset, gain) -> DeviceProfile:
+        """A copy with per-tactor calibration (validated like a loaded file)."""
+        data = self.to_dict()
+        data["calibration"] = {"offset": list(map(float, offset)), "gain": list(map(float, gain))}
+        return profile_from_dict(data, source=self.path or self.name)
+
+
+def write_json_atomic(path, data) -> Path:
+    """Write ``data`` as indented JSON to ``path`` through a temporary file and a rename."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            json.dump(data, f, indent=2)
+            f.write("\n")
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def _field(data, key, source, *, required=True, default=None):
+    if key not in data:
+        if required:
+            raise ProfileError(f"{source}: field '{key}' is missing")
+        return default
+    return data[key]
+
+
+def _integer(value, key, source, lo, hi=None):
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ProfileError(f"{source}: field '{key}' must be an integer, got {value!r}")
+    if value < lo or (hi is not None and value > hi):
+        bound = f"{lo}..{hi}" if hi is not None else f">= {lo}"
+        raise ProfileError(f"{source}: field '{key}' must be {bound}, got {value!r}")
+    return value
+
+
+def _number(value, key, source):
+    try:
+        ok = not isinstance(value, bool) and isinstance(value, (int, float))
+        number = float(value) if ok else math.nan
+    except OverflowError:  # an integer too large for a float
+        number = math.inf
+    if not math.isfinite(number):
+        shown = repr(value) if len(repr(value)) < 60 else repr(value)[:57] + "..."
+        raise ProfileError(f"{source}: field '{key}' must be a finite number, got {shown}")
+    return number
+
+
+def _numbers(value, key, source, size=None):
+    if isinstance(value, list) and value and all(isinstance(v, list) for v in value):
+        value = [x for row in value for x in row]  # rows of a 2D table, row 0 first
+    if not isinstance(value, list):
+        raise ProfileError(f"{source}: field '{key}' must be a list of numbers, got {value!r}")
+    out = np.array([_number(v, f"{key}[{i}]", source) for i, v in enumerate(value)])
+    if size is not None and len(out) != size:
+        raise ProfileError(f"{source}: field '{key}' must hold {size} values, got {len(out)}")
+    return out
+
+
+def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
+    """Validate a profile's JSON object and build a :class:`DeviceProfile`.
+
+    Raises
+    ------
+    ProfileError
+        Naming ``source``, the field and the problem.
+    """
+    if not isinstance(data, dict):
+        raise ProfileError(
+            f"{source}: a device profile must be a JSON object, got {type(data).__name__}"
+        )
+    if data.get("format") != FORMAT:
+        raise ProfileError(
+            f"{source}: field 'format' must be {FORMAT!r}, got {data.get('format')!r}"
+        )
+    version = _integer(_field(data, "version", source), "version", source, 1)
+    if version > VERSION:
+        raise ProfileError(
+            f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
+        )
+    name = _field(data, "name", source, required=False, default=Path(source).stem)
+    if not isinstance(name, str) or not name.strip():
+        raise ProfileError(f"{source}: field 'name' must be a non-empty string, got {name!r}")
+    description = _field(data, "description", source, required=False, default="")
+    if not isinstance(description, str):
+        raise ProfileError(f"{source}: field 'description' must be a string")
+    cols = _integer(_field(data, "columns", source), "columns", source, 1, 64)
+    rows = _integer(_field(data, "rows", source), "rows", source, 1, 64)
+    if cols * rows > 255:
+        raise ProfileError(
+            f"{source}: fields 'columns' x 'rows' must be at most 255 channels, got {cols * rows}"
+        )
+    pitch = _number(_field(data, "pitch_mm", source), "pitch_mm", source)
+    if pitch <= 0:
+        raise ProfileError(f"{source}: field 'pitch_mm' must be > 0, got {pitch!r}")
+    levels = _integer(_field(data, "levels", source), "levels", source, 2, 256)
+    baud = _integer(_field(data, "baud", source, required=False, default=115200), "baud", source, 1)
+    order = _field(data, "channel_order", source, required=False, default="row-major")
+    size = cols * rows
+    if order == "row-major":
+        channels = tuple(range(size))
+    elif order == "column-major":
+        channels = tuple(r * cols + c for c in range(cols) for r in range(rows))
+    elif isinstance(order, list):
+        channels = tuple(
+            _integer(v, f"channel_order[{i}]", source, 0, size - 1) for i, v in enumerate(order)
+        )
+        if sorted(channels) != list(range(size)):
+            raise ProfileError(
+                f"{source}: field 'channel_order' must list each of the {size} cells once "
+                f"(flat index row * columns + col)"
+            )
+    else:
+        raise ProfileError(
+            f"{source}: field 'channel_order' must be 'row-major', 'column-major' or a list, "
+            f"got {order!r}"
+        )
+    array = ArraySpec(Grid(cols=cols, rows=rows), pitch_mm=pitch, levels=levels, channels=channels)
+
+    response = None
+    if data.get("response") is not None:
+        curve = data["response"]
+        if not isinstance(curve, dict):
+            raise ProfileError(
+                f"{source}: field 'response' must be an object with 'drive' and 'output'"
+            )
+        drive = _numbers(_field(curve, "drive", f"{source}: response"), "response.drive", source)
+        output = _numbers(_field(curve, "output", f"{source}: response"), "response.output", source)
+        if len(drive) < 2 or len(drive) != len(output):
+            raise ProfileError(
+                f"{source}: fields 'response.drive' and 'response.output' must have the same "
+                f"length (>= 2), got {len(drive)} and {len(output)}"
+            )
+        if drive[0] != 0.0 or drive[-1] != 1.0 or np.any(np.diff(drive) <= 0):
+            raise ProfileError(
+                f"{source}: field 'response.drive' must increase strictly from 0 to 1"
+            )
+        if np.any(output < 0) or np.any(output > 1) or np.any(np.diff(output) < 0):
+            raise ProfileError(
+                f"{source}: field 'response.output' must be non-decreasing within [0, 1]"
+            )
+        response = (tuple(drive.tolist()), tuple(output.tolist()))
+
+    offset = gain = None
+    if data.get("calibration") is not None:
+        cal = data["calibration"]
+        if not isinstance(cal, dict):
+            raise ProfileError(
+                f"{source}: field 'calibration' must be an object with 'offset' and 'gain'"
+            )
+        offset = _numbers(
+            _field(cal, "offset", f"{source}: calibration"), "calibration.offset", source, size
+        )
+        gain = _numbers(
+            _field(cal, "gain", f"{source}: calibration"), "calibration.gain", source, size
+        )
+        if np.any(np.abs(offset) > 1):
+            raise ProfileError(
+                f"{source}: field 'calibration.offset' values must be within [-1, 1]"
+            )
+        if np.any(gain <= 0) or np.any(gain > 10):
+            raise ProfileError(f"{source}: field 'calibration.gain' values must be within (0, 10]")
+        offset, gain = tuple(offset.tolist()), tuple(gain.tolist())
+    return DeviceProfile(
+        name=name,
+        array=array,
+        baud=baud,
+        response=response,
+        offset=offset,
+        gain=gain,
+        description=description,
+        path=None,
+    )
+
+
+def load_profile(path_or_name=None) -> DeviceProfile:
+    """Load a device profile from a file, or a bundled one by name (default: the palm array).
+
+    Parameters
+    ----------
+    path_or_name : str or Path, optional
+        A path to a JSON file, or the name of a bundled profile (``"palm-5x6"``).
+
+    Raises
+    ------
+    ProfileError
+        When the file is missing, unreadable, not JSON, or invalid.
+    """
+    if path_or_name is None:
+        path_or_name = DEFAULT_PROFILE
+    path = Path(path_or_name)
+    if not path.suffix and not path.exists():
+        try:
+            path = asset_path("devices", f"{path_or_name}.json")
+        except FileNotFoundError:
+            raise ProfileError(f"{path_or_name}: no such profile file or bundled profile") from None
+    source = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ProfileError(f"{source}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ProfileError(f"{source}: cannot read: {exc}") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ProfileError(f"{source}: not valid JSON: {exc.msg} at line {exc.lineno}") from None
+    except RecursionError:
+        raise ProfileError(f"{source}: not valid JSON: nested too deeply") from None
+    return dataclasses.replace(profile_from_dict(data, source=source), path=source)
+
+
+def default_profile() -> DeviceProfile:
+    """The bundled profile of the paper's palm array (the simulated array's default)."""
+    return load_profile(DEFAULT_PROFILE)

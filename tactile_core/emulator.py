@@ -1,0 +1,189 @@
+"""A device emulator on a pseudo-terminal: what an array would receive, measured.
+
+``tactile emulate`` opens a pseudo-terminal, prints the path of its device end on the first
+line, and then behaves like the array: it decodes the contract's frames, keeps the last levels,
+turns everything off when no valid frame has arrived for 250 ms (the watchdog, counted when it
+turns something off), counts dropped frames by reason and gaps in the sequence numbers, and
+measures the intervals between frames. When it ends (Ctrl-C, SIGTERM, ``--seconds``) it prints a
+report: frames, rate, p50/p99 interval error, CRC errors, watchdog trips, last levels.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import select
+import time
+import tty
+
+import numpy as np
+
+from .device import DeviceProfile, default_profile
+from .wire import WATCHDOG_S, FrameReader
+
+
+class Emulator:
+    """The array's receiving side, on a pseudo-terminal.
+
+    Parameters
+    ----------
+    profile : DeviceProfile, optional
+        The emulated array (channels, levels, channel order); the palm array by default.
+    expected_rate_hz : float, optional
+        Nominal frame rate for the interval error; the median interval if not given.
+    """
+
+    def __init__(self, profile: DeviceProfile | None = None, expected_rate_hz: float | None = None):
+        self.profile = profile or default_profile()
+        self.expected_rate_hz = expected_rate_hz
+        self.reader = FrameReader(channels=self.profile.channels, levels=self.profile.levels)
+        self.master = self.slave = None
+        self.path = None
+        self.times: list[float] = []  # monotonic receive time of each valid frame
+        self.seqs: list[int] = []
+        self.levels: list[bytes] = []  # channel order
+        self.events: list[tuple[float, str]] = []
+        self.current = bytes(self.profile.channels)
+        self.last_valid = None
+        self.watchdog_trips = 0
+        self.seq_gaps = 0
+        self.bytes_received = 0
+        self.started = None
+
+    def open(self) -> str:
+        """Create the pseudo-terminal; return the path a client opens."""
+        self.master, self.slave = os.openpty()
+        tty.setraw(self.slave)  # no line discipline: bytes pass unchanged (0x11, 0x13, \\r)
+        tty.setraw(self.master)
+        os.set_blocking(self.master, False)
+        self.path = os.ttyname(self.slave)
+        self.started = time.monotonic()
+        return self.path
+
+    def close(self) -> None:
+        """Close both ends: a client writing then gets an I/O error."""
+        for fd in (self.master, self.slave):
+            if fd is not None:
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
+        self.master = self.slave = None
+
+    def _receive(self, data: bytes, now: float) -> None:
+        self.bytes_received += len(data)
+        for seq, values in self.reader.feed(data):
+            if self.seqs:
+                gap = (seq - self.seqs[-1] - 1) % 256
+                self.seq_gaps += gap
+            self.times.append(now)
+            self.seqs.append(seq)
+            self.levels.append(values)
+            self.current = values
+            self.last_valid = now
+
+    def _watchdog(self, now: float) -> None:
+        if self.last_valid is not None and now - self.last_valid >= WATCHDOG_S:
+            if any(self.current):
+                self.watchdog_trips += 1
+                self.events.append((now, "watchdog"))
+            self.current = bytes(self.profile.channels)
+            self.last_valid = None
+
+    def run(self, should_stop, seconds: float | None = None, close_after: float | None = None):
+        """Receive until ``should_stop()`` is true or ``seconds`` have passed.
+
+        ``close_after`` closes the pseudo-terminal after that many seconds (for testing how a
+        client copes with a device that goes away) and ends the run.
+        """
+        if self.master is None:
+            self.open()
+        end = None if seconds is None else self.started + seconds
+        close_at = None if close_after is None else self.started + close_after
+        while not should_stop():
+            now = time.monotonic()
+            if end is not None and now >= end:
+                break
+            if close_at is not None and now >= close_at:
+                self.events.append((now, "closed"))
+                self.close()
+                break
+            timeout = 0.05
+            if self.last_valid is not None:  # wake exactly when the watchdog is due
+                timeout = min(timeout, max(self.last_valid + WATCHDOG_S - now, 0.0))
+            ready, _, _ = select.select([self.master], [], [], timeout)
+            now = time.monotonic()
+            if ready:
+                try:
+                    data = os.read(self.master, 65536)
+                except BlockingIOError:
+                    data = b""
+                except OSError:  # no client has the device end open (EIO): keep listening
+                    data = b""
+                    time.sleep(0.005)
+                if data:
+                    self._receive(data, now)
+            self._watchdog(time.monotonic())
+
+    def report(self) -> dict:
+        """What was received, as a JSON-ready dict."""
+        times = np.asarray(self.times)
+        n = len(times)
+        intervals = np.diff(times)
+        if self.expected_rate_hz:
+            period = 1.0 / self.expected_rate_hz
+        else:
+            period = float(np.median(intervals)) if len(intervals) else 0.0
+        errors = np.abs(intervals - period) if len(intervals) else np.zeros(0)
+        span = float(times[-1] - times[0]) if n > 1 else 0.0
+        grid = self.profile.grid
+        cells = np.zeros(grid.size, dtype=int)
+        cells[self.profile.array.channel_index] = np.frombuffer(self.current, dtype=np.uint8)
+        return {
+            "path": self.path,
+            "started_monotonic": self.started,
+            "frames": n,
+            "bytes": self.bytes_received,
+            "duration_s": span,
+            "rate_hz": (n - 1) / span if span > 0 else 0.0,
+            "nominal_period_ms": period * 1e3,
+            "interval_error_p50_ms": float(np.percentile(errors, 50) * 1e3) if len(errors) else 0.0,
+            "interval_error_p99_ms": float(np.percentile(errors, 99) * 1e3) if len(errors) else 0.0,
+            "interval_error_max_ms": float(errors.max() * 1e3) if len(errors) else 0.0,
+            "bad_frames": dict(self.reader.errors),
+            "crc_errors": self.reader.errors["crc"],
+            "seq_gaps": self.seq_gaps,
+            "watchdog_trips": self.watchdog_trips,
+            "events": [(round(t - (self.started or 0.0), 6), e) for t, e in self.events],
+            "last_levels": cells.reshape(grid.shape)[::-1].tolist(),  # top row first, as seen
+        }
+
+    def summary(self) -> str:
+        """The report in words (what ``tactile emulate`` prints when it ends)."""
+        r = self.report()
+        bad = ", ".join(f"{k} {v}" for k, v in r["bad_frames"].items() if v) or "none"
+        lines = [
+            f"received {r['frames']} frames ({r['bytes']} bytes) in {r['duration_s']:.2f} s: "
+            f"{r['rate_hz']:.1f} Hz",
+            f"interval error: p50 {r['interval_error_p50_ms']:.3f} ms, "
+            f"p99 {r['interval_error_p99_ms']:.3f} ms, max {r['interval_error_max_ms']:.3f} ms "
+            f"(nominal {r['nominal_period_ms']:.3f} ms)",
+            f"dropped frames: {bad} (CRC errors {r['crc_errors']}); sequence gaps: {r['seq_gaps']}",
+            f"watchdog trips: {r['watchdog_trips']}",
+            "last levels (top row first):",
+        ]
+        lines += ["  " + " ".join(f"{v:2d}" for v in row) for row in r["last_levels"]]
+        return "\n".join(lines)
+
+    def save_log(self, path) -> None:
+        """Every valid frame as CSV: ``time,seq,ch0,...`` (seconds from the start, levels in
+        channel order). Watchdog trips and closing are in the report's ``events``."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write("time,seq," + ",".join(f"ch{i}" for i in range(self.profile.channels)) + "\n")
+            for t, s, lv in zip(self.times, self.seqs, self.levels):
+                f.write(f"{t - self.started:.6f},{s}," + ",".join(map(str, lv)) + "\n")
+
+    def save_report(self, path) -> None:
+        """The report as JSON."""
+        with open(path, "w", encoding="utf-8") as f:
+            json.dump(self.report(), f, indent=2)

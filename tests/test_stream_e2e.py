@@ -1,0 +1,234 @@
+"""``tactile stream`` into ``tactile emulate`` over a pseudo-terminal, as a user runs them.
+
+Real processes, a real pseudo-terminal, pyserial unmocked. Faults: the emulator closing
+mid-stream, the streaming process killed with SIGKILL, garbage on the line, Ctrl-C.
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import tactile_core as tc
+
+pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
+
+CLI = [sys.executable, "-m", "tactile_core.cli"]
+
+
+class Emulator:
+    def __init__(self, tmp_path, *args):
+        self.report_path = tmp_path / "report.json"
+        self.log_path = tmp_path / "log.csv"
+        self.proc = subprocess.Popen(
+            [*CLI, "emulate", "--json", str(self.report_path), "--log", str(self.log_path), *args],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        self.path = self.proc.stdout.readline().strip()
+        assert self.path.startswith("/dev/"), self.proc.stderr.read()
+        self.output = ""
+
+    def finish(self):
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT)
+        out, _ = self.proc.communicate(timeout=10)
+        self.output = out
+        assert self.proc.returncode == 0
+        report = json.loads(self.report_path.read_text())
+        rows = self.log_path.read_text().splitlines()[1:]
+        log = [[float(x) for x in row.split(",")] for row in rows]
+        return report, np.array(log).reshape(-1, 32)
+
+    def kill(self):
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.communicate(timeout=10)
+
+
+@pytest.fixture
+def emulator(tmp_path):
+    emulators = []
+
+    def start(*args):
+        emu = Emulator(tmp_path, *args)
+        emulators.append(emu)
+        return emu
+
+    yield start
+    for emu in emulators:
+        emu.kill()
+
+
+def stream(path, *args, timeout=30):
+    return subprocess.run(
+        [*CLI, "stream", "--device", path, *args], capture_output=True, text=True, timeout=timeout
+    )
+
+
+def align(received, expected):
+    """Each received frame is the next (or a later, if a deadline was skipped) core frame."""
+    k = -1
+    for levels in received:
+        for step in range(1, 60):
+            if np.array_equal(levels, expected[(k + step) % len(expected)]):
+                k += step
+                break
+        else:
+            raise AssertionError(f"received frame after trace frame {k} is not the core's")
+    return k
+
+
+def test_stream_into_the_emulator_end_to_end(emulator, tmp_path):
+    emu = emulator("--rate", "100")
+    proc = stream(
+        emu.path, "--shape", "circle:2.5,3,2", "--method", "IM", "--mu", "0.33", "--gamma", "0.7",
+        "--rate", "100", "--seconds", "1.5", "--no-dither", "--record", str(tmp_path / "sent.npz"),
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "frames:" in proc.stdout and "interval error:" in proc.stdout
+    report, log = emu.finish()
+    assert report["bad_frames"] == {k: 0 for k in report["bad_frames"]}
+    assert report["seq_gaps"] == 0
+    with np.load(tmp_path / "sent.npz") as sent:
+        assert report["frames"] == len(sent["seq"]) == len(log)  # every frame decoded
+    seqs = log[:, 1].astype(int)
+    assert ((np.diff(seqs) % 256) == 1).all()  # no gaps
+    levels = log[:, 2:].astype(np.uint8)
+    assert not levels[-1].any()  # the last frame is all off
+    scene_trace = tc.Trace(tc.Circle((2.5, 3.0), 2.0), 2.0, 0.5)
+    _, expected = tc.render_frames(
+        scene_trace, "IM", sampling=tc.Sampling(100.0, "box", 4), mu=0.33, gamma=0.7
+    )
+    expected = tc.quantize(expected, 23).reshape(-1, 30)  # channel order = row * cols + col
+    assert align(levels[:-1], expected) >= len(levels) - 2
+    assert levels[:-1].any(axis=1).sum() > 100  # lit frames were really checked
+
+
+def test_emulator_closing_mid_stream_stops_the_streamer_with_a_message(emulator):
+    emu = emulator("--close-after", "0.6")
+    proc = stream(
+        emu.path, "--shape", "line:0.5,1.84,4.5,4.16", "--method", "AS", "--seconds", "20"
+    )
+    assert proc.returncode == 1  # stopped by the failure, well before its 20 s
+    assert "device disconnected" in proc.stdout + proc.stderr
+    assert "stopped" in proc.stdout
+    report, _ = emu.finish()
+    assert report["frames"] > 0 and report["events"][-1][1] == "closed"
+
+
+def test_sigkilled_streamer_is_turned_off_by_the_watchdog(emulator):
+    emu = emulator()
+    proc = subprocess.Popen(
+        [*CLI, "stream", "--device", emu.path, "--shape", "circle:2.5,3,2", "--method", "CT",
+         "--pause", "0", "--seconds", "60"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    )  # fmt: skip
+    time.sleep(1.5)
+    proc.kill()  # no chance to send all-off
+    proc.wait(10)
+    time.sleep(0.6)
+    report, log = emu.finish()
+    assert report["watchdog_trips"] == 1
+    assert log[-1, 2:].any()  # the last frame received had a tactor on
+    (trip,) = [t for t, e in report["events"] if e == "watchdog"]
+    silence = trip - log[-1, 0]
+    assert 0.25 <= silence < 0.25 + 0.05  # off 250 ms after the last frame (+ a poll)
+    assert not np.array(report["last_levels"]).any()
+
+
+def test_garbage_and_truncated_frames_are_counted_not_fatal(emulator):
+    from tactile_core.wire import crc8, encode_frame
+
+    emu = emulator()
+    fd = os.open(emu.path, os.O_RDWR | os.O_NOCTTY)
+    try:
+        good = encode_frame(1, [3] * 30)
+        bad_crc = bytearray(encode_frame(2, [3] * 30))
+        bad_crc[10] ^= 0x01
+        from cobs import cobs
+
+        payload = bytes([0x46, 3, 30]) + bytes([30] * 30)
+        out_of_range = cobs.encode(payload + bytes([crc8(payload)])) + b"\x00"
+        for chunk in [
+            b"\xde\xad\xbe\xef\x00",  # garbage
+            good[:12] + b"\x00",  # truncated
+            bytes(bad_crc),
+            encode_frame(4, [3] * 29),  # wrong N
+            out_of_range,
+            os.urandom(3000).replace(b"\x00", b"\x01") + b"\x00",  # long noise
+            good,
+        ]:
+            os.write(fd, chunk)
+            time.sleep(0.02)
+        time.sleep(0.1)
+    finally:
+        os.close(fd)
+    report, log = emu.finish()
+    assert report["frames"] == 1 and len(log) == 1
+    bad = report["bad_frames"]
+    assert report["crc_errors"] == 1 and bad["range"] == 1
+    assert sum(bad.values()) == 6
+    assert "received 1 frames" in emu.output
+
+
+def test_ctrl_c_turns_the_array_off_and_reports(emulator):
+    emu = emulator()
+    proc = subprocess.Popen(
+        [*CLI, "stream", "--device", emu.path, "--shape", "square:2.5,3.5,4", "--method", "MM",
+         "--mu", "1", "--pause", "0", "--seconds", "60"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    time.sleep(1.5)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=10)
+    assert proc.returncode == 0, err
+    assert "stopped: all off" in out
+    report, log = emu.finish()
+    assert log[:-1, 2:].any() and not log[-1, 2:].any()
+    assert report["watchdog_trips"] == 0
+
+
+def test_normal_interpreter_exit_sends_all_off(emulator):
+    emu = emulator()
+    script = (
+        "import time, tactile_core as tc\n"
+        "from tactile_core.link import SerialLink\n"
+        "from tactile_core.scene import Scene\n"
+        "from tactile_core.streamer import Streamer\n"
+        f"link = SerialLink({emu.path!r})\n"
+        "scene = Scene(tc.Circle((2.5, 3), 2), mu=1.0, pause_s=0.0)\n"
+        "s = Streamer(link, scene=scene)\n"
+        "s.start()\n"
+        "time.sleep(1.0)\n"
+        "# exits without stop(): atexit must turn the array off\n"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=30
+    )
+    assert proc.returncode == 0, proc.stderr
+    time.sleep(0.4)
+    report, log = emu.finish()
+    assert log[:-1, 2:].any() and not log[-1, 2:].any()
+    assert report["watchdog_trips"] == 0
+
+
+def test_stream_to_a_missing_device_says_so():
+    proc = stream("/dev/ttyNOPE9", "--shape", "circle:2.5,3,2", "--method", "AS", "--seconds", "1")
+    assert proc.returncode == 1
+    assert "no such port: /dev/ttyNOPE9" in proc.stderr
+
+
+def test_stream_bad_arguments_exit_2():
+    proc = stream(
+        "sim", "--shape", "circle:2.5,3,2", "--method", "AS", "--mu", "nan", "--seconds", "1"
+    )
+    assert proc.returncode == 2 and "mu" in proc.stderr
+    proc = stream("sim", "--shape", "circle:2.5,3,2", "--method", "AS", "--profile", "/nope.json")
+    assert proc.returncode == 2 and "no such file" in proc.stderr
