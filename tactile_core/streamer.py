@@ -214,6 +214,9 @@ class Streamer:
         self._saved_switch = None
         self.last_levels = np.zeros(self.profile.grid.shape, dtype=np.uint8)
         """Levels of the last frame written, ``(rows, cols)`` uint8, for display."""
+        self.last_frame = (None, None)
+        """``(scene, trace_time_s)`` of the last frame written (time None while off), one
+        tuple assigned at once so a reader on another thread sees a consistent pair."""
         self.last_seq = None
         channel_of_cell = np.empty(self.profile.channels, dtype=np.intp)
         channel_of_cell[self.profile.array.channel_index] = np.arange(self.profile.channels)
@@ -459,6 +462,7 @@ class Streamer:
                 levels, lit = self._levels(plan, k, dither, lit)
                 try:
                     sent = self._write(seq, levels)
+                    self.last_frame = (plan.scene, k / plan.rate if plan.active else None)
                 except LinkError as exc:
                     self._count("errors")
                     self._set(state="disconnected", status=str(exc))

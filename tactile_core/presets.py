@@ -1,0 +1,166 @@
+"""Presets: a tuned scene saved as versioned JSON, with the built-in ones of the paper.
+
+A preset file::
+
+    {
+      "format": "tactile-preset", "version": 1,
+      "name": "Experiment 1 line", "notes": "...",
+      "device_profile": "palm-5x6",
+      "method": "AS", "mu": 0.33, "gamma": 0.7,
+      "shape": {"type": "line", "p0": [0.5, 1.84], "p1": [4.5, 4.16]},
+      "trace": {"duration_s": 2.0, "pause_s": 0.5, "direction": "forward", "repeat": true},
+      "rate_hz": 300.0, "filter": "box", "subsamples": 4, "dither": true
+    }
+
+Loading validates everything before returning: a malformed or out-of-range file raises
+:class:`PresetError` naming the file and the field, and nothing else changes. Writes are atomic
+(a temporary file in the same folder, then a rename), so a crash never leaves half a preset.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+from .assets import assets_dir
+from .device import write_json_atomic
+from .scene import Scene
+from .shapes import shape_from_dict
+
+FORMAT = "tactile-preset"
+VERSION = 1
+
+_SCENE_KEYS = ("method", "mu", "gamma", "rate_hz", "filter", "subsamples", "dither")
+_TRACE_KEYS = ("duration_s", "pause_s", "direction", "repeat")
+
+
+class PresetError(ValueError):
+    """A preset that cannot be used; the message names the file, the field and the problem."""
+
+
+@dataclass(frozen=True)
+class Preset:
+    """A named scene with its device profile and notes."""
+
+    scene: Scene
+    name: str = "untitled"
+    notes: str = ""
+    device_profile: str = "palm-5x6"
+
+    def to_dict(self) -> dict:
+        """The JSON form."""
+        s = self.scene
+        return {
+            "format": FORMAT,
+            "version": VERSION,
+            "name": self.name,
+            "notes": self.notes,
+            "device_profile": self.device_profile,
+            "method": s.method,
+            "mu": s.mu,
+            "gamma": s.gamma,
+            "shape": None if s.shape is None else s.shape.to_dict(),
+            "trace": {
+                "duration_s": s.duration_s,
+                "pause_s": s.pause_s,
+                "direction": s.direction,
+                "repeat": s.repeat,
+            },
+            "rate_hz": s.rate_hz,
+            "filter": s.filter,
+            "subsamples": s.subsamples,
+            "dither": s.dither,
+        }
+
+
+def preset_from_dict(data, source: str = "preset") -> Preset:
+    """Validate a preset's JSON object; :class:`PresetError` names the bad field."""
+    if not isinstance(data, dict):
+        raise PresetError(f"{source}: a preset must be a JSON object, got {type(data).__name__}")
+    if data.get("format") != FORMAT:
+        raise PresetError(
+            f"{source}: field 'format' must be {FORMAT!r}, got {data.get('format')!r}"
+        )
+    version = data.get("version")
+    if isinstance(version, bool) or not isinstance(version, int) or version < 1:
+        raise PresetError(f"{source}: field 'version' must be an integer >= 1, got {version!r}")
+    if version > VERSION:
+        raise PresetError(
+            f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
+        )
+    for key in ("name", "notes", "device_profile"):
+        if key in data and not isinstance(data[key], str):
+            raise PresetError(f"{source}: field '{key}' must be a string, got {data[key]!r}")
+    if "shape" not in data:
+        raise PresetError(f"{source}: field 'shape' is missing")
+    try:
+        shape = shape_from_dict(data["shape"])
+    except ValueError as exc:
+        raise PresetError(f"{source}: field {exc}") from None
+    kwargs = {}
+    for key in _SCENE_KEYS:
+        if key in data:
+            kwargs[key] = data[key]
+    trace = data.get("trace", {})
+    if not isinstance(trace, dict):
+        raise PresetError(f"{source}: field 'trace' must be an object, got {trace!r}")
+    for key in _TRACE_KEYS:
+        if key in trace:
+            kwargs[key] = trace[key]
+    for key, value in kwargs.items():
+        if key in ("dither", "repeat"):
+            if not isinstance(value, bool):
+                raise PresetError(f"{source}: field '{key}' must be true or false, got {value!r}")
+        elif key in ("method", "filter", "direction"):
+            if not isinstance(value, str):
+                raise PresetError(f"{source}: field '{key}' must be a string, got {value!r}")
+        elif isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise PresetError(f"{source}: field '{key}' must be a number, got {value!r}")
+    try:
+        scene = Scene(shape, **kwargs)
+    except ValueError as exc:
+        field = str(exc).split(" ")[0]
+        where = f"trace.{field}" if field in _TRACE_KEYS else field
+        raise PresetError(f"{source}: field '{where}': {exc}") from None
+    return Preset(
+        scene=scene,
+        name=data.get("name", Path(source).stem),
+        notes=data.get("notes", ""),
+        device_profile=data.get("device_profile", "palm-5x6"),
+    )
+
+
+def load_preset(path) -> Preset:
+    """Read and validate a preset file.
+
+    Raises
+    ------
+    PresetError
+        When the file is missing, unreadable, not JSON, or invalid; nothing is changed.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise PresetError(f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise PresetError(f"{path}: cannot read: {exc}") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise PresetError(f"{path}: not valid JSON: {exc.msg} at line {exc.lineno}") from None
+    except RecursionError:
+        raise PresetError(f"{path}: not valid JSON: nested too deeply") from None
+    return preset_from_dict(data, source=str(path))
+
+
+def save_preset(preset: Preset, path) -> Path:
+    """Write a preset atomically (temporary file, then rename)."""
+    return write_json_atomic(path, preset.to_dict())
+
+
+def builtin_presets() -> dict[str, Path]:
+    """Bundled presets for the paper's conditions, by file stem, in file-name order."""
+    folder = assets_dir() / "presets"
+    return {p.stem: p for p in sorted(folder.glob("*.json"))}
