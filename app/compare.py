@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import datetime as dt
 import random
+import time
 from pathlib import Path
 
 import numpy as np
@@ -44,11 +45,14 @@ class CompareView(QtWidgets.QWidget):
             self.curves[name].setXLink(first)
         grid.setRowStretch(0, 3)
         grid.setRowStretch(1, 2)
-        self._shape = None
-        state.scene_changed.connect(self._on_state_scene_changed)
-        self._on_state_scene_changed(state.scene)
+        self._shown_scene = None
 
-    def _on_state_scene_changed(self, scene) -> None:
+    def _refresh(self) -> None:
+        """Recompute the four methods' curves if the scene changed since last time."""
+        scene = self.state.scene
+        if scene is self._shown_scene:
+            return
+        self._shown_scene = scene
         if scene.shape is None:
             return
         outline = scene.shape.outline()
@@ -70,7 +74,14 @@ class CompareView(QtWidgets.QWidget):
             self.heatmaps[name].set_outline(outline)
 
     def tick(self, scene, t, phase_s) -> None:
-        """Show every method's corrected frame at trace parameter ``t`` (None while off)."""
+        """Show every method's corrected frame at trace parameter ``t`` (None while off).
+
+        Called by the display timer only while the view is visible; its curves are brought up
+        to date here, at most every 100 ms, so a hidden compare view costs nothing."""
+        now = time.perf_counter()
+        if scene is not self._shown_scene and now - getattr(self, "_last_refresh", 0.0) > 0.1:
+            self._last_refresh = now
+            self._refresh()
         for name in METHODS:
             heat = self.heatmaps[name]
             if t is None or scene.shape is None:

@@ -210,22 +210,43 @@ class CurvesView(pg.PlotWidget):
         self.curves = None
 
     def set_curves(self, curves, colors: dict, period_s: float, raw: bool = True) -> None:
-        """Show ``curves`` (:class:`tactile_core.curves.ActivationCurves`)."""
+        """Show ``curves`` (:class:`tactile_core.curves.ActivationCurves`).
+
+        When the same tactors are active as before (a change of mu or gamma), the existing
+        plot items get new data in place; otherwise they are rebuilt.
+        """
+        same = (
+            self.curves is not None
+            and self.curves.cells == curves.cells
+            and len(self._lines) == len(curves.cells) * (2 if raw else 1)
+        )
         self.curves = curves
-        for item in self._lines:
-            self.removeItem(item)
-        self._lines = []
-        for i, cell in enumerate(curves.cells):
-            color = colors[cell]
-            solid = self.plot(curves.time_s, curves.corrected[:, i], pen=pg.mkPen(color, width=2))
-            self._lines.append(solid)
-            if raw:
-                dashed = self.plot(
-                    curves.time_s,
-                    curves.raw[:, i],
-                    pen=pg.mkPen(color, width=1, style=QtCore.Qt.PenStyle.DashLine),
+        if same:
+            step = 2 if raw else 1
+            for i in range(len(curves.cells)):
+                self._lines[i * step].setData(curves.time_s, curves.corrected[:, i])
+                if raw:
+                    self._lines[i * step + 1].setData(curves.time_s, curves.raw[:, i])
+        else:
+            for item in self._lines:
+                self.removeItem(item)
+            self._lines = []
+            for i, cell in enumerate(curves.cells):
+                color = colors[cell]
+                solid = self.plot(
+                    curves.time_s, curves.corrected[:, i], pen=pg.mkPen(color, width=2)
                 )
-                self._lines.append(dashed)
+                self._lines.append(solid)
+                if raw:
+                    dashed = self.plot(
+                        curves.time_s,
+                        curves.raw[:, i],
+                        pen=pg.mkPen(color, width=1, style=QtCore.Qt.PenStyle.DashLine),
+                    )
+                    self._lines.append(dashed)
+            # Moving the cursor repaints the plot; cached curves are blitted, not redrawn.
+            for item in self._lines:
+                item.curve.setCacheMode(QtWidgets.QGraphicsItem.CacheMode.DeviceCoordinateCache)
         duration = float(curves.time_s[-1]) if len(curves.time_s) else 0.0
         self.pause.setRegion((duration, max(duration, period_s)))
         self.setXRange(0, max(period_s, 1e-3), padding=0.01)

@@ -84,9 +84,11 @@ class MainWindow(QtWidgets.QMainWindow):
         Start from this preset (else the last session's scene, else the Experiment 1 line).
     restore : bool
         Restore the last session's scene and window layout (QSettings).
+    process : bool
+        Stream from a child process (default; see :class:`app.device.DeviceController`).
     """
 
-    def __init__(self, device_url=None, profile=None, preset=None, restore=True):
+    def __init__(self, device_url=None, profile=None, preset=None, restore=True, process=True):
         super().__init__()
         self.setWindowTitle("tactile-tuner")
         self.settings = QtCore.QSettings()
@@ -100,7 +102,7 @@ class MainWindow(QtWidgets.QMainWindow):
             scene = preset.scene
             self.preset_name, self.preset_notes = preset.name, preset.notes
         self.state = TunerState(scene)
-        self.device = DeviceController(self.state, profile)
+        self.device = DeviceController(self.state, profile, process=process)
         self._trace_cache = (None, None)
         self._display_times: list[float] = []
         self._draw_backup = None
@@ -155,7 +157,13 @@ class MainWindow(QtWidgets.QMainWindow):
         self.statusBar().showMessage("ready")
 
         # Wiring ------------------------------------------------------------------------------
-        self.state.scene_changed.connect(self._on_state_scene_changed)
+        # Scene changes arrive up to ~100 times a second while a slider is dragged: the array
+        # gets each one at once (DeviceController), the views are rebuilt at most every 40 ms.
+        self._views_timer = QtCore.QTimer(self)
+        self._views_timer.setSingleShot(True)
+        self._views_timer.setInterval(40)
+        self._views_timer.timeout.connect(lambda: self._on_state_scene_changed(self.state.scene))
+        self.state.scene_changed.connect(self._on_state_scene_changed_deferred)
         self.state.show_levels_changed.connect(self.heatmap.set_show_values)
         self.state.error_raised.connect(self.show_error)
         self.device.error_raised.connect(self.show_error)
@@ -390,6 +398,10 @@ class MainWindow(QtWidgets.QMainWindow):
         self.device_panel.status_label.setVisible(not blind)
 
     # --- views -------------------------------------------------------------------------------
+
+    def _on_state_scene_changed_deferred(self, _scene) -> None:
+        if not self._views_timer.isActive():
+            self._views_timer.start()
 
     def _on_state_scene_changed(self, scene) -> None:
         profile = self.device.profile

@@ -499,4 +499,14 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
             out(table.markdown())
             out("")
             tables.append(table)
+    if part in ("gui", "all"):
+        try:
+            from app.bench import gui_table  # Qt lives in the app, never in the core
+        except ImportError as exc:
+            out(f"(GUI benchmark skipped: {exc})")
+        else:
+            table = gui_table(seconds=3.0 if quick else 10.0)
+            out(table.markdown())
+            out("")
+            tables.append(table)
     return tables

@@ -264,7 +264,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_emulate)
 
     p = sub.add_parser("bench", help="print the speed/accuracy tables")
-    p.add_argument("--part", choices=("core", "device", "all"), default="all")
+    p.add_argument("--part", choices=("core", "device", "gui", "all"), default="all")
     p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")
     p.set_defaults(func=cmd_bench)
     return parser

@@ -39,13 +39,13 @@ def window(qtbot):
     win.resize(1200, 800)
     win.show()
     qtbot.waitExposed(win)
-    qtbot.waitUntil(lambda: win.device.link.frames > 5, timeout=5000)
+    qtbot.waitUntil(lambda: win.device.stats.frames > 5, timeout=10000)
     yield win
     win.close()
 
 
 def lit_levels(win):
-    return win.device.link.levels()
+    return win.device.sent_levels()
 
 
 def wait_for_levels(qtbot, win, predicate, timeout=3000):
@@ -330,12 +330,12 @@ def test_closing_the_window_turns_the_array_off(qtbot):
     qtbot.addWidget(win)
     win.show()
     win.state.update(mu=1.0, pause_s=0.0)
-    qtbot.waitUntil(lambda: win.device.link.levels().any(), timeout=3000)
-    sim = win.device.link
+    qtbot.waitUntil(lambda: win.device.sent_levels().any(), timeout=10000)
     win.close()
-    assert not win.device.streamer.running
-    assert not sim.levels().any()
-    assert sim.frames > 0
+    assert not win.device.streamer.running  # the stream process has ended
+    assert not win.device.sent_levels().any()  # and the last frame it sent was all off
+    stats = win.device.stats
+    assert stats.state == "stopped" and stats.status == "stopped: all off"
 
 
 def test_last_session_is_restored(qtbot):
@@ -369,8 +369,8 @@ def test_a_missing_port_is_reported_and_the_simulated_array_keeps_running(window
     qtbot.mouseClick(window.device_panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
     assert "no such port: /dev/ttyNOPE7" in window.last_error
     assert window.device.simulated and window.device.streamer.running
-    n = window.device.link.frames
-    qtbot.waitUntil(lambda: window.device.link.frames > n + 5, timeout=3000)
+    n = window.device.stats.frames
+    qtbot.waitUntil(lambda: window.device.stats.frames > n + 5, timeout=3000)
 
 
 def test_connect_to_an_emulated_device_and_disconnect(window, qtbot):

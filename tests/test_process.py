@@ -1,0 +1,106 @@
+"""The streamer in a child process: scenes in, frames out, all off whichever side dies."""
+
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import tactile_core as tc
+from tactile_core.emulator import Emulator
+from tactile_core.link import LinkError
+from tactile_core.process import StreamerProcess, open_stream
+from tactile_core.scene import Scene
+
+CIRCLE = tc.Circle((2.5, 3.0), 2.0)
+
+
+@pytest.fixture
+def emulator():
+    emu = Emulator()
+    path = emu.open()
+    stop = threading.Event()
+    thread = threading.Thread(target=emu.run, args=(stop.is_set,), daemon=True)
+    thread.start()
+    yield emu, path
+    stop.set()
+    thread.join(2)
+    emu.close()
+
+
+def wait(predicate, timeout=10.0):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if predicate():
+            return
+        time.sleep(0.01)
+    raise AssertionError("condition not met in time")
+
+
+def test_child_streams_scenes_and_turns_off_on_stop(emulator):
+    emu, path = emulator
+    stream = open_stream(path, scene=Scene(tc.Line((1.5, 2.5), (1.5, 2.5)), "CT", pause_s=0.0))
+    try:
+        wait(lambda: len(emu.levels) > 20)
+        assert emu.levels[-1][2 * 5 + 1] == 22  # cell (1, 2)
+        wait(lambda: stream.last_levels[2, 1] == 22)  # published back to the parent
+        scene, trace_time = stream.last_frame
+        assert scene is stream.scene and trace_time is not None
+        stream.set_scene(stream.scene.replace(shape=tc.Line((3.5, 4.5), (3.5, 4.5))))
+        wait(lambda: emu.levels[-1][4 * 5 + 3] == 22 and emu.levels[-1][2 * 5 + 1] == 0)
+        stream.all_off()
+        wait(lambda: not any(emu.levels[-1]))
+        assert stream.stats.state == "paused"
+    finally:
+        stats = stream.stop()
+    assert not stream.running
+    assert stats.state == "stopped" and stats.frames > 20
+    assert not any(emu.levels[-1]) and not stream.last_levels.any()
+
+
+def test_a_bad_port_is_reported_by_start_and_nothing_keeps_running():
+    stream = StreamerProcess("/dev/ttyNOPE3")
+    with pytest.raises(LinkError, match="no such port: /dev/ttyNOPE3"):
+        stream.start()
+    assert not stream.running
+
+
+def test_killing_the_parent_turns_the_array_off_without_the_watchdog(emulator):
+    emu, path = emulator
+    script = (
+        "import time, tactile_core as tc\n"
+        "from tactile_core.process import open_stream\n"
+        "from tactile_core.scene import Scene\n"
+        f"s = open_stream({path!r}, scene=Scene(tc.Circle((2.5, 3), 2), mu=1.0, pause_s=0.0))\n"
+        "print('streaming', flush=True)\n"
+        "time.sleep(60)\n"
+    )
+    parent = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    try:
+        assert parent.stdout.readline().strip() == "streaming"
+        wait(lambda: len(emu.levels) > 30 and any(emu.levels[-1]))
+        parent.send_signal(signal.SIGKILL)
+        parent.wait(10)
+        wait(lambda: not any(emu.levels[-1]), timeout=5.0)
+    finally:
+        if parent.poll() is None:
+            parent.kill()
+        parent.stdout.close()
+    assert emu.watchdog_trips == 0  # the child noticed and sent all-off itself
+    frames = len(emu.levels)
+    time.sleep(0.3)
+    assert len(emu.levels) == frames  # and it has stopped streaming
+
+
+def test_local_stream_has_the_same_interface():
+    stream = open_stream(None, scene=Scene(CIRCLE, mu=1.0), process=False)
+    try:
+        wait(lambda: stream.last_levels.any())
+        stream.all_off()
+        wait(lambda: not stream.last_levels.any())
+    finally:
+        stats = stream.stop()
+    assert stats.state == "stopped" and not np.asarray(stream.last_levels).any()
