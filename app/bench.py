@@ -31,15 +31,18 @@ def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
         from .window import MainWindow
 
         situations = (
-            ("Tune tab", True),
-            ("Compare tab (4 heatmaps, 4 plots)", True),
-            ("Tune tab, mu slider dragged", True),
-            ("Tune tab, stream as a thread of the GUI", False),
-            ("Tune tab, mu slider dragged, stream as a thread", False),
+            ("Tune tab", True, False),
+            ("Compare tab (4 heatmaps, 4 plots)", True, False),
+            ("Tune tab, mu slider dragged", True, False),
+            ("Tune tab, mu slider dragged, real-time priority", True, True),
+            ("Tune tab, stream as a thread of the GUI", False, False),
+            ("Tune tab, mu slider dragged, stream as a thread", False, False),
         )
-        for situation, process in situations:
+        for situation, process, realtime in situations:
             emu = _EmulatorProcess(tmpdir, rate_hz, f"gui-{len(rows)}")
-            window = MainWindow(device_url=emu.path, restore=False, process=process)
+            window = MainWindow(
+                device_url=emu.path, restore=False, process=process, realtime=realtime
+            )
             window.resize(1400, 900)
             window.show()
             scene = window.state.scene.replace(
@@ -80,6 +83,7 @@ def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
                     f"{(len(ticks) - 1) / (ticks[-1] - ticks[0]):.1f}",
                     f"{np.percentile(interval, 99):.1f}",
                     f"{received_hz:.1f}",
+                    f"{stats.interval_error_p50_ms:.3f} / {stats.interval_error_p99_ms:.3f}",
                     f"{np.percentile(err, 50):.3f} / {np.percentile(err, 99):.3f}",
                     f"{stats.late}",
                     f"{stats.skipped}",
@@ -92,6 +96,7 @@ def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
         "display Hz",
         "display p99 interval ms",
         "received Hz",
+        "sender interval err p50 / p99 ms",
         "emulator interval err p50 / p99 ms",
         "late > 1 ms",
         "skipped",
@@ -102,6 +107,91 @@ def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
         f"{rate_hz:g} Hz into `tactile emulate` for {seconds:g} s per row; the display timer asks "
         "for 60 Hz. 'mu slider dragged': the mu box changes 30 times a second, so 30 new scenes "
         "a second reach the streamer. The stream runs in its own process unless the row says "
-        "'as a thread' (the streamer in the GUI's process, sharing its interpreter lock)."
+        "'as a thread' (the streamer in the GUI's process, sharing its interpreter lock). "
+        "Sender: intervals between writes in the streaming process; emulator: between receipts "
+        "in `tactile emulate`, itself an ordinary process competing with the GUI for the two "
+        "cores. 'real-time priority': `--realtime` (SCHED_FIFO for the output thread)."
     )
     return Table("The tuner while streaming", headers, rows, notes)
+
+
+def _latencies(report, log, marks) -> np.ndarray:
+    """Milliseconds from each change to the first received frame showing it (changes that a
+    later change overtook before any frame showed them are left out)."""
+    received = report["started_monotonic"] + log[:, 0]
+    out = []
+    for k, (when, channel) in enumerate(marks):
+        after = np.flatnonzero((received >= when) & (log[:, 2 + channel] > 0))
+        next_change = marks[k + 1][0] if k + 1 < len(marks) else np.inf
+        if len(after) and received[after[0]] < next_change:
+            out.append(received[after[0]] - when)
+    return np.array(out) * 1e3
+
+
+def gui_latency_table(rate_hz: float = 300.0, changes: int = 30):
+    """Parameter change in the tuner to the first changed frame on the wire (via the process)."""
+    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+    from PySide6 import QtCore, QtWidgets
+
+    import tactile_core as tc
+    from tactile_core.bench import Table, _EmulatorProcess
+
+    app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
+    rows = []
+    with tempfile.TemporaryDirectory() as tmpdir:
+        QtCore.QCoreApplication.setOrganizationName("tactile-tuner-bench")
+        QtCore.QSettings.setDefaultFormat(QtCore.QSettings.Format.IniFormat)
+        QtCore.QSettings.setPath(
+            QtCore.QSettings.Format.IniFormat, QtCore.QSettings.Scope.UserScope, tmpdir
+        )
+        from .window import MainWindow
+
+        for process in (True, False):
+            emu = _EmulatorProcess(tmpdir, rate_hz, f"latency-{process}")
+            window = MainWindow(device_url=emu.path, restore=False, process=process)
+            window.resize(1400, 900)
+            window.show()
+            corners = (tc.Line((0.5, 0.5), (0.5, 0.5)), tc.Line((4.5, 5.5), (4.5, 5.5)))
+            window.state.update(shape=corners[0], method="CT", rate_hz=rate_hz, dither=False)
+            marks = []
+            rng = np.random.default_rng(2)
+
+            loop = QtCore.QEventLoop()
+
+            def change(i, marks=marks, window=window, corners=corners, loop=loop, rng=rng):
+                # Each change schedules the next, ~70 ms later at a random phase of the frame,
+                # so that a busy moment of the GUI cannot fire two at once.
+                if i == changes:
+                    QtCore.QTimer.singleShot(300, loop.quit)
+                    return
+                target = corners[(i + 1) % 2]
+                marks.append((time.monotonic(), 29 if target is corners[1] else 0))
+                window.state.update(shape=target)
+                delay = 70 + int(rng.uniform(0, 1000.0 / rate_hz))
+                QtCore.QTimer.singleShot(delay, lambda: change(i + 1))
+
+            QtCore.QTimer.singleShot(400, lambda change=change: change(0))
+            loop.exec()
+            window.close()
+            report, log = emu.finish()
+            lat = _latencies(report, log, marks)
+            target_ms = 1000.0 / rate_hz + 1.0
+            rows.append(
+                [
+                    "own process" if process else "thread of the GUI",
+                    f"{len(lat)} / {changes}",
+                    f"{np.median(lat):.2f}",
+                    f"{lat.max():.2f}",
+                    f"{target_ms:.2f}",
+                    f"{(lat <= target_ms).mean() * 100:.0f}",
+                ]
+            )
+    app.processEvents()
+    return Table(
+        "Parameter change in the tuner to the wire",
+        ["stream", "changes seen", "median ms", "max ms", "target ms", "% within target"],
+        rows,
+        f"The tuner streaming at {rate_hz:g} Hz into `tactile emulate`; the shape is switched "
+        f"{changes} times through the tuner's state (as a control does) at random phases; "
+        "latency from the change to the emulator's receipt of the first frame of the new shape.",
+    )

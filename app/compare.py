@@ -32,10 +32,15 @@ class CompareView(QtWidgets.QWidget):
         self.heatmaps = {}
         self.curves = {}
         for i, (name, method) in enumerate(METHODS.items()):
-            heat = HeatmapView(title=f"{name}: {method.title}", colorbar=False)
-            heat.setMinimumSize(180, 200)
+            # Short titles: a plot item never shrinks below its title's width.
+            heat = HeatmapView(title=name, colorbar=False)
+            heat.setToolTip(f"{name}: {method.title}")
+            heat.plot.setLabel("bottom", "")
+            heat.plot.setLabel("left", "")
+            heat.setMinimumSize(120, 160)
             curve = CurvesView(title=f"{name} activation")
-            curve.setMinimumHeight(120)
+            curve.setMinimumSize(120, 120)
+            curve.setLabel("left", "")
             grid.addWidget(heat, 0, i)
             grid.addWidget(curve, 1, i)
             self.heatmaps[name] = heat
@@ -45,6 +50,8 @@ class CompareView(QtWidgets.QWidget):
             self.curves[name].setXLink(first)
         grid.setRowStretch(0, 3)
         grid.setRowStretch(1, 2)
+        for column in range(4):
+            grid.setColumnStretch(column, 1)
         self._shown_scene = None
 
     def _refresh(self) -> None:

@@ -30,6 +30,8 @@ class DeviceController(QtCore.QObject):
     profile : DeviceProfile, optional
     process : bool
         Stream from a child process (default) or from a thread of this one.
+    realtime : bool
+        Ask for real-time priority for the output thread (Linux, with privileges).
     """
 
     status_changed = QtCore.Signal(object)
@@ -41,11 +43,12 @@ class DeviceController(QtCore.QObject):
     _status_from_thread = QtCore.Signal(object)
 
     def __init__(self, state: TunerState, profile: DeviceProfile | None = None, parent=None,
-                 process: bool = True):  # fmt: skip
+                 process: bool = True, realtime: bool = False):  # fmt: skip
         super().__init__(parent)
         self.state = state
         self.profile = profile or default_profile()
         self.process = process
+        self.realtime = realtime
         self.url: str | None = None
         # Emitted from a worker thread; Qt queues it to this object's (the GUI) thread.
         self._status_from_thread.connect(self.status_changed.emit)
@@ -60,6 +63,7 @@ class DeviceController(QtCore.QObject):
             on_status=self._status_from_thread.emit,
             reconnect=url is not None,
             process=self.process,
+            realtime=self.realtime,
         )
 
     def _switch(self, url) -> bool:

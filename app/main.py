@@ -33,6 +33,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="tab to show first (useful with --screenshot)",
     )
     p.add_argument("--no-restore", action="store_true", help="ignore the last session's state")
+    p.add_argument(
+        "--realtime",
+        action="store_true",
+        help="real-time priority for the stream (Linux; needs an rtprio limit or root)",
+    )
     return p
 
 
@@ -63,6 +68,7 @@ def main(argv=None) -> int:
         profile=profile,
         preset=preset,
         restore=not (args.no_restore or args.screenshot),
+        realtime=args.realtime,
     )
 
     def excepthook(kind, value, tb):  # an error in a slot: report it, keep running

@@ -59,6 +59,39 @@ class ControlsPanel(QtWidgets.QWidget):
         self._updating = False
         layout = QtWidgets.QVBoxLayout(self)
 
+        # Playback and view -------------------------------------------------------------------
+        box = QtWidgets.QGroupBox("Playback and view")
+        grid = QtWidgets.QGridLayout(box)
+        self.play_button = QtWidgets.QPushButton("Pause (Space)")
+        self.play_button.setObjectName("play")
+        self.play_button.clicked.connect(lambda: self._set(playing=not self.state.scene.playing))
+        self.restart_button = QtWidgets.QPushButton("Restart")
+        self.restart_button.clicked.connect(self.state.restart)
+        self.off_button = QtWidgets.QPushButton("All off (Esc)")
+        self.off_button.setObjectName("all_off")
+        self.off_button.setStyleSheet("font-weight: bold; color: #b00000;")
+        self.off_button.clicked.connect(self.all_off_requested.emit)
+        grid.addWidget(self.play_button, 0, 0)
+        grid.addWidget(self.restart_button, 0, 1)
+        grid.addWidget(self.off_button, 0, 2)
+        self.view_buttons = QtWidgets.QButtonGroup(self)
+        row = QtWidgets.QHBoxLayout()
+        for i, mode in enumerate(VIEW_MODES):
+            button = QtWidgets.QRadioButton(mode)
+            button.setObjectName(f"view_{mode}")
+            self.view_buttons.addButton(button, i)
+            row.addWidget(button)
+        self.view_buttons.idClicked.connect(lambda i: self.state.set_view_mode(VIEW_MODES[i]))
+        grid.addLayout(row, 1, 0, 1, 3)
+        self.levels_check = QtWidgets.QCheckBox("values in cells")
+        self.levels_check.toggled.connect(self.state.set_show_levels)
+        self.draw_check = QtWidgets.QCheckBox("draw mode (drag on the heatmap)")
+        self.draw_check.setToolTip(DRAW_HELP)
+        self.draw_check.toggled.connect(self.draw_mode_toggled.emit)
+        grid.addWidget(self.levels_check, 2, 0)
+        grid.addWidget(self.draw_check, 2, 1, 1, 2)
+        layout.addWidget(box)
+
         # Method ------------------------------------------------------------------------------
         box = QtWidgets.QGroupBox("Method (keys 1-4)")
         grid = QtWidgets.QVBoxLayout(box)
@@ -153,38 +186,6 @@ class ControlsPanel(QtWidgets.QWidget):
         self.dither_check.toggled.connect(lambda on: self._set(dither=on))
         layout.addWidget(box)
 
-        # Playback and view -------------------------------------------------------------------
-        box = QtWidgets.QGroupBox("Playback and view")
-        grid = QtWidgets.QGridLayout(box)
-        self.play_button = QtWidgets.QPushButton("Pause (Space)")
-        self.play_button.setObjectName("play")
-        self.play_button.clicked.connect(lambda: self._set(playing=not self.state.scene.playing))
-        self.restart_button = QtWidgets.QPushButton("Restart")
-        self.restart_button.clicked.connect(self.state.restart)
-        self.off_button = QtWidgets.QPushButton("All off (Esc)")
-        self.off_button.setObjectName("all_off")
-        self.off_button.setStyleSheet("font-weight: bold; color: #b00000;")
-        self.off_button.clicked.connect(self.all_off_requested.emit)
-        grid.addWidget(self.play_button, 0, 0)
-        grid.addWidget(self.restart_button, 0, 1)
-        grid.addWidget(self.off_button, 0, 2)
-        self.view_buttons = QtWidgets.QButtonGroup(self)
-        row = QtWidgets.QHBoxLayout()
-        for i, mode in enumerate(VIEW_MODES):
-            button = QtWidgets.QRadioButton(mode)
-            button.setObjectName(f"view_{mode}")
-            self.view_buttons.addButton(button, i)
-            row.addWidget(button)
-        self.view_buttons.idClicked.connect(lambda i: self.state.set_view_mode(VIEW_MODES[i]))
-        grid.addLayout(row, 1, 0, 1, 3)
-        self.levels_check = QtWidgets.QCheckBox("values in cells")
-        self.levels_check.toggled.connect(self.state.set_show_levels)
-        self.draw_check = QtWidgets.QCheckBox("draw mode (drag on the heatmap)")
-        self.draw_check.setToolTip(DRAW_HELP)
-        self.draw_check.toggled.connect(self.draw_mode_toggled.emit)
-        grid.addWidget(self.levels_check, 2, 0)
-        grid.addWidget(self.draw_check, 2, 1, 1, 2)
-        layout.addWidget(box)
         layout.addStretch(1)
 
         state.scene_changed.connect(self.refresh)
@@ -229,6 +230,16 @@ class ControlsPanel(QtWidgets.QWidget):
             self.state.error_raised.emit(str(exc))
             return
         self.state.update(shape=shape)
+
+    def set_felt_available(self, available: bool) -> None:
+        """'felt' needs the device profile's motor response curve."""
+        button = self.view_buttons.button(VIEW_MODES.index("felt"))
+        button.setEnabled(available)
+        button.setToolTip(
+            "" if available else "the device profile has no motor response curve ('response')"
+        )
+        if not available and self.state.view_mode == "felt":
+            self.state.set_view_mode("sent")
 
     def set_draw_mode(self, on: bool) -> None:
         """Reflect draw mode: MM and IM are unavailable on free points."""

@@ -215,17 +215,23 @@ class CurvesView(pg.PlotWidget):
         When the same tactors are active as before (a change of mu or gamma), the existing
         plot items get new data in place; otherwise they are rebuilt.
         """
+        previous = self.curves
         same = (
-            self.curves is not None
-            and self.curves.cells == curves.cells
+            previous is not None
+            and previous.cells == curves.cells
             and len(self._lines) == len(curves.cells) * (2 if raw else 1)
         )
         self.curves = curves
         if same:
             step = 2 if raw else 1
+            # A change of mu or gamma leaves the raw curves as they were: skip them.
+            raw_changed = raw and not (
+                np.array_equal(previous.time_s, curves.time_s)
+                and np.array_equal(previous.raw, curves.raw)
+            )
             for i in range(len(curves.cells)):
                 self._lines[i * step].setData(curves.time_s, curves.corrected[:, i])
-                if raw:
+                if raw_changed:
                     self._lines[i * step + 1].setData(curves.time_s, curves.raw[:, i])
         else:
             for item in self._lines:

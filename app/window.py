@@ -86,9 +86,13 @@ class MainWindow(QtWidgets.QMainWindow):
         Restore the last session's scene and window layout (QSettings).
     process : bool
         Stream from a child process (default; see :class:`app.device.DeviceController`).
+    realtime : bool
+        Ask for real-time priority for the stream's output thread.
     """
 
-    def __init__(self, device_url=None, profile=None, preset=None, restore=True, process=True):
+    def __init__(
+        self, device_url=None, profile=None, preset=None, restore=True, process=True, realtime=False
+    ):
         super().__init__()
         self.setWindowTitle("tactile-tuner")
         self.settings = QtCore.QSettings()
@@ -102,7 +106,7 @@ class MainWindow(QtWidgets.QMainWindow):
             scene = preset.scene
             self.preset_name, self.preset_notes = preset.name, preset.notes
         self.state = TunerState(scene)
-        self.device = DeviceController(self.state, profile, process=process)
+        self.device = DeviceController(self.state, profile, process=process, realtime=realtime)
         self._trace_cache = (None, None)
         self._display_times: list[float] = []
         self._draw_backup = None
@@ -158,10 +162,10 @@ class MainWindow(QtWidgets.QMainWindow):
 
         # Wiring ------------------------------------------------------------------------------
         # Scene changes arrive up to ~100 times a second while a slider is dragged: the array
-        # gets each one at once (DeviceController), the views are rebuilt at most every 40 ms.
+        # gets each one at once (DeviceController), the views are rebuilt at most every 50 ms.
         self._views_timer = QtCore.QTimer(self)
         self._views_timer.setSingleShot(True)
-        self._views_timer.setInterval(40)
+        self._views_timer.setInterval(50)
         self._views_timer.timeout.connect(lambda: self._on_state_scene_changed(self.state.scene))
         self.state.scene_changed.connect(self._on_state_scene_changed_deferred)
         self.state.show_levels_changed.connect(self.heatmap.set_show_values)
@@ -178,6 +182,7 @@ class MainWindow(QtWidgets.QMainWindow):
         QtWidgets.QApplication.instance().installEventFilter(self._key_filter)
 
         self._on_state_scene_changed(self.state.scene)
+        self.controls.set_felt_available(self.device.profile.response is not None)
         self.display_timer = QtCore.QTimer(self)
         self.display_timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
         self.display_timer.timeout.connect(self._on_display_timer_timeout)
@@ -415,7 +420,7 @@ class MainWindow(QtWidgets.QMainWindow):
             direction=scene.direction,
             mu=scene.mu,
             gamma=scene.gamma,
-            samples=800,
+            samples=400,
         )
         self._curves = curves
         colors = cell_colors(curves.cells)
@@ -423,13 +428,11 @@ class MainWindow(QtWidgets.QMainWindow):
         self.heatmap.set_cell_frames(colors)
         self.heatmap.set_outline(None if self.heatmap.drawing else scene.shape.outline())
         if not self.blind.active:
-            self.curves.plotItem.setTitle(
-                f"Activation curves: {scene.method} (solid corrected, dashed raw; colours as the "
-                "framed cells)"
-            )
+            self.curves.plotItem.setTitle(f"{scene.method} activation: solid corrected, dashed raw")
 
     def _on_device_connection_changed(self, description: str) -> None:
         self.statusBar().showMessage(f"streaming to {description}", 5000)
+        self.controls.set_felt_available(self.device.profile.response is not None)
 
     def _trace(self, scene):
         cached_scene, trace = self._trace_cache

@@ -432,9 +432,10 @@ def device_tables(rates=(100, 200, 300), seconds: float = 10.0, changes: int = 3
             report, log = emu.finish()
             received = report["started_monotonic"] + log[:, 0]
             latencies = []
-            for when, channel in marks:
+            for k, (when, channel) in enumerate(marks):
                 after = np.flatnonzero((received >= when) & (log[:, 2 + channel] > 0))
-                if len(after):
+                next_change = marks[k + 1][0] if k + 1 < len(marks) else np.inf
+                if len(after) and received[after[0]] < next_change:  # not overtaken
                     latencies.append(received[after[0]] - when)
             lat = np.array(latencies) * 1e3
             period_ms = 1e3 / rate
@@ -501,12 +502,12 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
             tables.append(table)
     if part in ("gui", "all"):
         try:
-            from app.bench import gui_table  # Qt lives in the app, never in the core
+            from app.bench import gui_latency_table, gui_table  # Qt lives in the app only
         except ImportError as exc:
             out(f"(GUI benchmark skipped: {exc})")
         else:
-            table = gui_table(seconds=3.0 if quick else 10.0)
-            out(table.markdown())
-            out("")
-            tables.append(table)
+            for table in (gui_table(seconds=3.0 if quick else 10.0), gui_latency_table()):
+                out(table.markdown())
+                out("")
+                tables.append(table)
     return tables

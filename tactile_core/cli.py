@@ -144,6 +144,7 @@ def cmd_stream(args) -> int:
         scene=scene,
         taps=[] if recorder is None else [recorder],
         reconnect=args.reconnect,
+        realtime=args.realtime,
         on_status=lambda stats: print(
             f"[{stats.state}] {stats.status}", file=sys.stderr, flush=True
         ),
@@ -245,6 +246,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-dither", action="store_true", help="plain rounding to device levels")
     p.add_argument("--record", default=None, help="record the frames sent to .csv or .npz")
     p.add_argument("--reconnect", action="store_true", help="keep retrying after the link fails")
+    p.add_argument(
+        "--realtime", action="store_true", help="real-time priority (Linux; rtprio or root)"
+    )
     p.set_defaults(func=cmd_stream)
 
     p = sub.add_parser("emulate", help="run the device emulator on a pseudo-terminal")

@@ -3,25 +3,31 @@
 A :class:`~tactile_core.streamer.Streamer` thread shares Python's global interpreter lock with
 every other thread of its process. A GUI repainting plots holds that lock for milliseconds at a
 time inside C++ drawing calls, and each frame waits that long: with the tuner's display running,
-an in-process stream at 300 Hz showed p99 interval errors of 5-12 ms. :class:`StreamerProcess`
-runs the same streamer in a child process (``spawn``) with the link opened there, so nothing in
-the parent can delay a frame.
+an in-process stream at 300 Hz showed p99 interval errors of 10-12 ms. :class:`StreamerProcess`
+runs the same streamer in a child process (``python -m tactile_core.process``) with the link
+opened there, so nothing in the parent can delay a frame.
 
 - Scenes go to the child through a pipe (a pickled :class:`~tactile_core.scene.Scene`, ~0.1 ms).
-- The child publishes, about 200 times a second, the last levels sent and the trace time of
-  the last frame into shared memory, and sends statistics through a second pipe.
-- If the parent dies the child sees the pipe close and stops: all off. If the child dies the
+- The child reports back, about 100 times a second, the levels and trace time of the last
+  frame sent (for display), and its statistics every 0.1 s.
+- If the parent dies, the child sees the pipe close and stops: all off. If the child dies, the
   parent reports it, and the array's watchdog turns it off.
+
+The child is a plain subprocess talking over two inherited pipes, not ``multiprocessing``:
+``spawn`` would re-import the parent's main script, so a caller without an
+``if __name__ == "__main__"`` guard would run its own top level twice.
 """
 
 from __future__ import annotations
 
 import atexit
-import math
-import multiprocessing as mp
+import os
+import subprocess
+import sys
 import threading
 import time
 import weakref
+from multiprocessing.connection import Connection
 
 import numpy as np
 
@@ -31,6 +37,8 @@ from .scene import Scene
 from .streamer import StreamStats
 
 _CHILDREN: weakref.WeakSet = weakref.WeakSet()
+PROCESS_SUPPORTED = os.name == "posix"
+"""Child-process streaming needs inherited pipe descriptors (POSIX); elsewhere threads."""
 
 
 @atexit.register
@@ -39,53 +47,55 @@ def _stop_children() -> None:
         child.stop(timeout=2.0)
 
 
-def _child_main(cmd, events, url, profile_data, scene, reconnect, levels, meta):
-    """Entry point of the child: open the link, stream, obey commands until told to stop."""
+def _serve(cmd: Connection, events: Connection) -> None:
+    """The child: open the link, stream, obey commands until told to stop or orphaned."""
     from .link import open_link
     from .streamer import Streamer
 
+    _, url, profile_data, scene, reconnect, realtime = cmd.recv()
     profile = profile_from_dict(profile_data, source="profile")
-    try:
-        link = open_link(url, profile)
-    except LinkError as exc:
-        events.send(("opened", False, str(exc)))
-        return
-    events.send(("opened", True, getattr(link, "description", str(url))))
     lock = threading.Lock()
 
-    def send(message):
+    def send(message) -> None:
         with lock:
             try:
                 events.send(message)
             except (OSError, EOFError):
                 pass
 
-    scene_ids = {}
-    if scene is not None:
-        scene_ids[id(scene)] = 0
+    try:
+        link = open_link(url, profile)
+    except LinkError as exc:
+        send(("opened", False, str(exc)))
+        return
+    send(("opened", True, getattr(link, "description", str(url))))
+    scene_ids = {} if scene is None else {id(scene): 0}
     streamer = Streamer(
-        link, profile, scene=scene, reconnect=reconnect, on_status=lambda s: send(("stats", s))
+        link,
+        profile,
+        scene=scene,
+        reconnect=reconnect,
+        realtime=realtime,
+        on_status=lambda s: send(("stats", s)),
     )
     streamer.start()
     alive = threading.Event()
     alive.set()
 
-    def publish_once():
+    def frame_message():
         frame_scene, trace_time = streamer.last_frame
-        levels[:] = streamer.last_levels.reshape(-1).tobytes()  # cell order
-        meta[0] = -1.0 if trace_time is None else trace_time
-        meta[1] = scene_ids.get(id(frame_scene), -1)
-        meta[2] = -1 if streamer.last_seq is None else streamer.last_seq
+        levels = streamer.last_levels.tobytes()  # cell order
+        return ("frame", (levels, trace_time, scene_ids.get(id(frame_scene), -1)))
 
-    def publish():
-        last = None
+    def publish() -> None:
+        last_stats = 0.0
         while alive.is_set():
-            publish_once()
+            send(frame_message())
             now = time.monotonic()
-            if last is None or now - last > 0.1:
-                last = now
+            if now - last_stats > 0.1:
+                last_stats = now
                 send(("stats", streamer.stats))
-            time.sleep(0.005)
+            time.sleep(0.01)
 
     publisher = threading.Thread(target=publish, name="publish", daemon=True)
     publisher.start()
@@ -109,9 +119,22 @@ def _child_main(cmd, events, url, profile_data, scene, reconnect, levels, meta):
         stats = streamer.stop()
         alive.clear()
         publisher.join(1.0)
-        publish_once()  # the all-off frame
         link.close()
+        send(frame_message())  # the all-off frame
         send(("stopped", stats))
+
+
+def main(argv=None) -> int:
+    """Entry point of the child: ``python -m tactile_core.process CMD_FD EVENTS_FD``."""
+    argv = sys.argv[1:] if argv is None else argv
+    cmd = Connection(int(argv[0]), writable=False)
+    events = Connection(int(argv[1]), readable=False)
+    try:
+        _serve(cmd, events)
+    finally:
+        events.close()
+        cmd.close()
+    return 0
 
 
 class StreamerProcess:
@@ -127,7 +150,7 @@ class StreamerProcess:
     on_status : callable, optional
         Called with a :class:`StreamStats` from a listener thread when the state or status
         changes (a GUI hands it to its own thread).
-    reconnect : bool
+    reconnect, realtime : bool
         Passed to the streamer.
 
     Raises
@@ -144,7 +167,9 @@ class StreamerProcess:
         scene=None,
         on_status=None,
         reconnect=False,
+        realtime=False,
     ):
+        self.realtime = realtime
         self.url = url
         self.profile = profile or default_profile()
         self.on_status = on_status
@@ -153,10 +178,8 @@ class StreamerProcess:
         self._scenes = {0: scene}
         self._next_id = 1
         self._stats = StreamStats(state="starting", status="starting the stream process")
-        self._ctx = mp.get_context("spawn")
-        n = self.profile.channels
-        self._levels = self._ctx.RawArray("B", n)
-        self._meta = self._ctx.RawArray("d", [-1.0, -1.0, -1.0])
+        self._levels = bytes(self.profile.channels)
+        self._frame = (-1, None)  # (scene id, trace time)
         self._proc = None
         self._cmd = None
         self._events = None
@@ -166,28 +189,32 @@ class StreamerProcess:
 
     def start(self, timeout: float = 20.0) -> StreamerProcess:
         """Start the child and wait until it has opened the link."""
-        cmd_parent, cmd_child = self._ctx.Pipe()
-        events_parent, events_child = self._ctx.Pipe(duplex=False)
-        self._proc = self._ctx.Process(
-            target=_child_main,
-            args=(cmd_child, events_child, self.url, self.profile.to_dict(), self._scene,
-                  self.reconnect, self._levels, self._meta),
-            name="tactile-stream-process",
-            daemon=True,
-        )  # fmt: skip
-        self._proc.start()
-        cmd_child.close()
-        events_child.close()
-        self._cmd, self._events = cmd_parent, events_parent
-        if not events_parent.poll(timeout):
-            self._proc.kill()
+        cmd_read, cmd_write = os.pipe()
+        events_read, events_write = os.pipe()
+        try:
+            self._proc = subprocess.Popen(
+                [sys.executable, "-m", "tactile_core.process", str(cmd_read), str(events_write)],
+                pass_fds=(cmd_read, events_write),
+                stdin=subprocess.DEVNULL,
+            )
+        finally:
+            os.close(cmd_read)
+            os.close(events_write)
+        self._cmd = Connection(cmd_write, readable=False)
+        self._events = Connection(events_read, writable=False)
+        self._send(
+            ("config", self.url, self.profile.to_dict(), self._scene, self.reconnect, self.realtime)
+        )
+        if not self._events.poll(timeout):
+            self._kill()
             raise LinkError(f"the stream process did not start within {timeout:g} s")
         try:
-            _, ok, message = events_parent.recv()
+            _, ok, message = self._events.recv()
         except (EOFError, OSError):
+            self._kill()
             raise LinkError("the stream process ended while opening the link") from None
         if not ok:
-            self._proc.join(2.0)
+            self._kill()
             raise LinkError(message)
         self.description = message
         _CHILDREN.add(self)
@@ -195,12 +222,31 @@ class StreamerProcess:
         self._listener.start()
         return self
 
+    def _kill(self) -> None:
+        if self._proc is not None and self._proc.poll() is None:
+            self._proc.kill()
+        if self._proc is not None:
+            self._proc.wait(2.0)
+        self._close_pipes()
+
+    def _close_pipes(self) -> None:
+        for conn in (self._cmd, self._events):
+            if conn is not None:
+                conn.close()
+        self._cmd = self._events = None
+
     def _listen(self) -> None:
+        events = self._events
         while True:
             try:
-                kind, payload = self._events.recv()
+                kind, payload = events.recv()
             except (EOFError, OSError):
                 break
+            if kind == "frame":
+                levels, trace_time, sid = payload
+                self._levels = levels
+                self._frame = (sid, trace_time)
+                continue
             with self._lock:
                 old = self._stats
                 self._stats = payload
@@ -219,9 +265,10 @@ class StreamerProcess:
                 self._stats = StreamStats(
                     **{**self._stats.__dict__, "state": "stopped", "status": "stream process ended"}
                 )
+            final = self._stats
         if self.on_status is not None:
             try:
-                self.on_status(self._stats)
+                self.on_status(final)
             except Exception:
                 pass
 
@@ -230,7 +277,7 @@ class StreamerProcess:
             return
         try:
             self._cmd.send(message)
-        except (OSError, EOFError, BrokenPipeError):
+        except (OSError, EOFError):
             pass  # the child is gone; the listener reports it
 
     # --- the Streamer API --------------------------------------------------------------------
@@ -238,7 +285,7 @@ class StreamerProcess:
     @property
     def running(self) -> bool:
         """True while the child is alive."""
-        return self._proc is not None and self._proc.is_alive()
+        return self._proc is not None and self._proc.poll() is None
 
     @property
     def scene(self) -> Scene | None:
@@ -269,16 +316,14 @@ class StreamerProcess:
         if self._proc is None:
             return self.stats
         self._send(("stop",))
-        self._proc.join(timeout)
-        if self._proc.is_alive():
+        try:
+            self._proc.wait(timeout)
+        except subprocess.TimeoutExpired:
             self._proc.kill()
-            self._proc.join(1.0)
+            self._proc.wait(2.0)
         if self._listener is not None:
-            self._listener.join(1.0)
-        for conn in (self._cmd, self._events):
-            if conn is not None:
-                conn.close()
-        self._cmd = self._events = None
+            self._listener.join(2.0)
+        self._close_pipes()
         _CHILDREN.discard(self)
         return self.stats
 
@@ -296,9 +341,9 @@ class StreamerProcess:
     @property
     def last_frame(self):
         """``(scene, trace_time_s)`` of the last frame sent (time None while off)."""
-        trace_time, sid = self._meta[0], int(self._meta[1])
+        sid, trace_time = self._frame
         scene = self._scenes.get(sid)
-        if trace_time < 0 or math.isnan(trace_time) or not self.running:
+        if not self.running:
             return scene, None
         return scene, trace_time
 
@@ -315,6 +360,7 @@ class LocalStream:
         scene=None,
         on_status=None,
         reconnect=False,
+        realtime=False,
     ):
         from .link import open_link
         from .streamer import Streamer
@@ -324,7 +370,12 @@ class LocalStream:
         self.link = open_link(url, self.profile)  # LinkError says why it cannot
         self.description = getattr(self.link, "description", str(url))
         self.streamer = Streamer(
-            self.link, self.profile, scene=scene, on_status=on_status, reconnect=reconnect
+            self.link,
+            self.profile,
+            scene=scene,
+            on_status=on_status,
+            reconnect=reconnect,
+            realtime=realtime,
         )
 
     def start(self) -> LocalStream:
@@ -354,14 +405,23 @@ class LocalStream:
 
 
 def open_stream(url=None, profile=None, *, scene=None, on_status=None, reconnect=False,
-                process=True):  # fmt: skip
+                process=True, realtime=False):  # fmt: skip
     """Open a link and start streaming to it, in a child process (default) or a thread.
+
+    ``process`` is ignored (a thread is used) where child processes are not supported;
+    ``realtime`` asks for real-time priority of the output thread (see ``Streamer``).
 
     Raises
     ------
     LinkError
         When the link cannot be opened; nothing keeps running.
     """
-    cls = StreamerProcess if process else LocalStream
-    stream = cls(url, profile, scene=scene, on_status=on_status, reconnect=reconnect)
+    cls = StreamerProcess if process and PROCESS_SUPPORTED else LocalStream
+    stream = cls(
+        url, profile, scene=scene, on_status=on_status, reconnect=reconnect, realtime=realtime
+    )
     return stream.start()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -20,6 +20,7 @@ from __future__ import annotations
 import atexit
 import ctypes
 import math
+import os
 import sys
 import threading
 import time
@@ -53,6 +54,24 @@ def _reduce_timer_slack() -> None:
             pass
 
 
+def _raise_priority() -> str:
+    """Try to give the calling thread real-time priority (SCHED_FIFO 10); say what happened.
+
+    Linux grants it to root or to users with an ``rtprio`` limit (``ulimit -r``, or
+    ``/etc/security/limits.conf``). The output thread sleeps most of each frame and spins at most
+    ``spin_s``, so it cannot starve the machine.
+    """
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(10))
+    except AttributeError:
+        return "real-time priority is not available on this system"
+    except PermissionError:
+        return "real-time priority not permitted (raise the rtprio limit: ulimit -r 10)"
+    except OSError as exc:
+        return f"real-time priority failed: {exc}"
+    return ""
+
+
 @dataclass(frozen=True)
 class StreamStats:
     """A snapshot of the streamer's statistics.
@@ -81,6 +100,8 @@ class StreamStats:
         steady rate (last 8192 intervals).
     elapsed_s : float
         Seconds since the thread started.
+    realtime : bool
+        True when the output thread runs with real-time priority.
     """
 
     state: str = "stopped"
@@ -97,6 +118,7 @@ class StreamStats:
     interval_error_p50_ms: float = 0.0
     interval_error_p99_ms: float = 0.0
     elapsed_s: float = 0.0
+    realtime: bool = False
 
     def summary(self) -> str:
         """Multi-line human summary (what ``tactile stream`` prints at the end)."""
@@ -112,6 +134,7 @@ class StreamStats:
                 f"p99 {self.interval_error_p99_ms:.3f} ms",
                 f"late (>1 ms):    {self.late}, skipped deadlines: {self.skipped}",
                 f"link errors:     {self.errors}",
+                f"priority:        {'real-time' if self.realtime else 'normal'}",
             ]
         )
 
@@ -163,6 +186,9 @@ class Streamer:
         While streaming, the interpreter's thread switch interval (``sys.setswitchinterval``)
         is lowered to this so the output thread gets the GIL back quickly from a busy GUI
         thread; restored on stop. None leaves it alone.
+    realtime : bool
+        Ask for real-time scheduling (SCHED_FIFO) of the output thread, so that other busy
+        processes cannot delay a frame (Linux, with privileges; the status says if refused).
 
     Examples
     --------
@@ -188,6 +214,7 @@ class Streamer:
         reconnect: bool = False,
         reconnect_interval_s: float = 0.5,
         switch_interval_s: float | None = 0.0005,
+        realtime: bool = False,
     ):
         if not 10.0 <= idle_rate_hz <= 1000.0:
             raise ValueError(f"idle_rate_hz must be within [10, 1000], got {idle_rate_hz!r}")
@@ -201,6 +228,8 @@ class Streamer:
         self.reconnect = reconnect
         self.reconnect_interval_s = reconnect_interval_s
         self.switch_interval_s = switch_interval_s
+        self.realtime = realtime
+        self._priority_note = ""
         self._wake = threading.Event()
         self._stopping = threading.Event()
         self._thread: threading.Thread | None = None
@@ -397,13 +426,16 @@ class Streamer:
                 f"requested, the link carries {self.profile.max_rate_hz:.0f} frames/s "
                 f"({self.profile.baud} baud, {self.profile.frame_bytes} bytes per frame)"
             )
-        return (
-            "streaming",
-            f"streaming {plan.scene.method} at {plan.rate:g} Hz to {self.link.description}",
+        note = f" ({self._priority_note})" if self._priority_note else ""
+        return "streaming", (
+            f"streaming {plan.scene.method} at {plan.rate:g} Hz to {self.link.description}{note}"
         )
 
     def _run(self) -> None:
         _reduce_timer_slack()
+        if self.realtime:
+            self._priority_note = _raise_priority()
+            self._set(realtime=not self._priority_note)
         self._started_at = time.perf_counter()
         seq = 0
         plan = None

@@ -336,3 +336,15 @@ def test_reconnects_after_the_device_drops_the_link():
         streamer.stop()
         link.close()
         server.close()
+
+
+def test_realtime_priority_is_granted_or_the_status_says_why():
+    taps = Taps()
+    streamer = Streamer(
+        SimulatedArray(), scene=Scene(CIRCLE, rate_hz=100.0), taps=[taps], realtime=True
+    )
+    with streamer:
+        taps.wait_for(5)
+        stats = streamer.stats
+    assert stats.realtime or "real-time priority" in stats.status
+    assert "priority:" in stats.summary()

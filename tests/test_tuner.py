@@ -434,3 +434,19 @@ def test_app_has_no_stray_top_level_message_boxes_after_errors(window):
     assert boxes and boxes[-1].text() == "test message"
     for box in boxes:
         box.close()
+
+
+def test_felt_view_needs_a_response_curve(qtbot, tmp_path):
+    from app.window import MainWindow
+    from tactile_core.device import default_profile, profile_from_dict
+
+    data = default_profile().to_dict()
+    data.pop("response")
+    win = MainWindow(profile=profile_from_dict(data), restore=False)
+    qtbot.addWidget(win)
+    felt = win.controls.view_buttons.button(3)
+    assert not felt.isEnabled() and "response" in felt.toolTip()
+    win.state.set_view_mode("felt")
+    win.controls.set_felt_available(False)
+    assert win.state.view_mode == "sent"
+    win.close()
