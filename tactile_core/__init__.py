@@ -12,18 +12,19 @@ the data of the activation curves. numpy only: no Qt is imported here.
 (5, 6, 5)
 """
 
+from ._version import __version__
 from .correction import correct, quantize
+from .experiments import ORDERS, Staircase, pairwise_wilcoxon
 from .geometry import PALM_ARRAY, ArraySpec, Grid
 from .methods import METHOD_NAMES, METHODS, get_method
 from .render import render, render_point, render_xy
 from .shapes import Circle, Line, Polyline, Shape, Square, parse_shape, shape_from_dict
 from .trace import LiveFrames, Sampling, Trace, render_frames
 
-__version__ = "0.1.0"
-
 __all__ = [
     "METHODS",
     "METHOD_NAMES",
+    "ORDERS",
     "PALM_ARRAY",
     "ArraySpec",
     "Circle",
@@ -34,9 +35,12 @@ __all__ = [
     "Sampling",
     "Shape",
     "Square",
+    "Staircase",
     "Trace",
+    "__version__",
     "correct",
     "get_method",
+    "pairwise_wilcoxon",
     "parse_shape",
     "quantize",
     "render",

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from ._version import __version__
 from .correction import check_correction, correct
 from .geometry import Grid
 from .methods import METHOD_NAMES, get_method
@@ -199,6 +199,39 @@ def cmd_emulate(args) -> int:
     return 0
 
 
+def cmd_analyze(args) -> int:
+    """Print the paper's tables and write its figures from a results folder."""
+    from .experiments.analysis import analyze
+
+    analyze(args.results)
+    return 0
+
+
+def cmd_simulate(args) -> int:
+    """Run every experiment with simulated participants into a results folder."""
+    from .experiments import RUNNERS, SimulatedParticipant, open_session
+
+    if args.participants < 1:
+        raise ValueError(f"participants must be >= 1, got {args.participants}")
+    experiments = args.experiments.split(",")
+    unknown = set(experiments) - set(RUNNERS)
+    if unknown:
+        raise ValueError(f"experiments must be among {', '.join(RUNNERS)}, got {sorted(unknown)}")
+    for i in range(args.participants):
+        session = open_session(args.results, f"sim{i + 1:02d}", index=i, seed=args.seed)
+        participant = SimulatedParticipant(seed=args.seed * 1000 + i)
+        for name in experiments:
+            runner = RUNNERS[name](session)
+            try:
+                participant.run(runner)
+            finally:
+                runner.close()
+    print(
+        f"simulated {args.participants} participant(s) ({', '.join(experiments)}) in {args.results}"
+    )
+    return 0
+
+
 def cmd_bench(args) -> int:
     """Print the benchmark tables."""
     from . import bench
@@ -267,8 +300,21 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.set_defaults(func=cmd_emulate)
 
+    p = sub.add_parser("analyze", help="the paper's tables and figures from a results folder")
+    p.add_argument("results", metavar="RESULTS_DIR")
+    p.set_defaults(func=cmd_analyze)
+
+    p = sub.add_parser("simulate", help="run the experiments with simulated participants")
+    p.add_argument("results", metavar="RESULTS_DIR")
+    p.add_argument("--participants", type=int, default=12)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument(
+        "--experiments", default="exp1,exp2,exp3", help="comma-separated (and calibration)"
+    )
+    p.set_defaults(func=cmd_simulate)
+
     p = sub.add_parser("bench", help="print the speed/accuracy tables")
-    p.add_argument("--part", choices=("core", "device", "gui", "all"), default="all")
+    p.add_argument("--part", choices=("core", "device", "gui", "experiments", "all"), default="all")
     p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")
     p.set_defaults(func=cmd_bench)
     return parser

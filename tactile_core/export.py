@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from ._version import __version__
 from .correction import check_correction, correct, quantize
 from .curves import ActivationCurves
 

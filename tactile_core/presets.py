@@ -31,8 +31,8 @@ from .shapes import shape_from_dict
 FORMAT = "tactile-preset"
 VERSION = 1
 
-_SCENE_KEYS = ("method", "mu", "gamma", "rate_hz", "filter", "subsamples", "dither")
-_TRACE_KEYS = ("duration_s", "pause_s", "direction", "repeat")
+_SCENE_KEYS = ("method", "mu", "gamma", "rate_hz", "filter", "subsamples", "dither", "gain")
+_TRACE_KEYS = ("duration_s", "pause_s", "direction", "repeat", "emphasis")
 
 
 class PresetError(ValueError):
@@ -66,11 +66,13 @@ class Preset:
                 "pause_s": s.pause_s,
                 "direction": s.direction,
                 "repeat": s.repeat,
+                "emphasis": s.emphasis,
             },
             "rate_hz": s.rate_hz,
             "filter": s.filter,
             "subsamples": s.subsamples,
             "dither": s.dither,
+            "gain": s.gain,
         }
 
 

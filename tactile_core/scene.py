@@ -43,6 +43,12 @@ class Scene:
         Temporal dithering of the quantisation.
     playing : bool
         False: the array is all off (paused); the trace clock stops.
+    gain : float
+        Master intensity in [0, 1] multiplying every corrected intensity before calibration
+        and quantisation (1 by default; the calibration procedure uses it to present one
+        tactor at a chosen drive).
+    emphasis : float
+        Corner emphasis of the trace in [0, 0.9] (see :class:`~tactile_core.trace.Trace`).
     epoch : int
         Changing it restarts the trace from its beginning.
     """
@@ -60,6 +66,8 @@ class Scene:
     subsamples: int = 4
     dither: bool = True
     playing: bool = True
+    gain: float = 1.0
+    emphasis: float = 0.0
     epoch: int = 0
 
     def __post_init__(self):
@@ -83,6 +91,10 @@ class Scene:
         )
         for name in ("repeat", "dither", "playing"):
             object.__setattr__(self, name, bool(getattr(self, name)))
+        object.__setattr__(self, "gain", _validate.in_range("gain", self.gain, 0.0, 1.0))
+        object.__setattr__(
+            self, "emphasis", _validate.in_range("emphasis", self.emphasis, 0.0, 0.9)
+        )
         object.__setattr__(self, "epoch", _validate.integer("epoch", self.epoch, 0))
 
     @property
@@ -94,7 +106,9 @@ class Scene:
         """The :class:`Trace` of the scene's shape and timing."""
         if self.shape is None:
             raise ValueError("shape is None: an idle scene has no trace")
-        return Trace(self.shape, self.duration_s, self.pause_s, self.direction, self.repeat)
+        return Trace(
+            self.shape, self.duration_s, self.pause_s, self.direction, self.repeat, self.emphasis
+        )
 
     def sampling(self, rate_hz: float | None = None) -> Sampling:
         """The :class:`Sampling` at ``rate_hz`` (default: the scene's rate)."""

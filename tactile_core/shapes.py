@@ -261,6 +261,11 @@ class Shape:
         """Largest coordinate magnitude the shape's points are computed from."""
         raise NotImplementedError
 
+    @property
+    def corners(self) -> tuple:
+        """Trace parameters of the shape's corners, for corner emphasis (none by default)."""
+        return ()
+
     @cached_property
     def snap_tol(self) -> float:
         """Snap tolerance for this shape's points (see ``tactile_core.geometry.SNAP_ULPS``)."""
@@ -398,6 +403,13 @@ class Circle(Shape):
         return TWO_PI * self.radius
 
     @property
+    def corners(self):
+        """A circle has none; the diagonal points (t = 1/8, 3/8, 5/8, 7/8, where a square of
+        the same centre has its corners) are used, so that corner emphasis warps circles and
+        squares in the same way and only their geometry differs."""
+        return (0.125, 0.375, 0.625, 0.875)
+
+    @property
     def spec(self):
         return "circle:" + _fmt(*self.center, self.radius)
 
@@ -515,6 +527,23 @@ class Polyline(Shape):
         return max(abs(c) for p in self.points for c in p)
 
     @property
+    def corners(self):
+        """Parameters of the vertices where the path changes direction."""
+        strokes = self.strokes
+        breaks = self._segments[2]
+        out = []
+        for j in range(1, len(strokes.piece_stroke)):
+            if strokes.piece_stroke[j] != strokes.piece_stroke[j - 1]:
+                out.append(float(breaks[j]))
+        if (
+            self.closed
+            and len(strokes.piece_stroke) > 1
+            and strokes.piece_stroke[0] != strokes.piece_stroke[-1]
+        ):
+            out.append(0.0)
+        return tuple(sorted(out))
+
+    @property
     def length(self) -> float:
         """Length of the path in grid units (including the closing segment if closed)."""
         starts, ends, _ = self._segments
@@ -591,6 +620,10 @@ class Square(Shape):
     @property
     def scale(self):
         return max(map(abs, self.center)) + self.edge / 2.0
+
+    @property
+    def corners(self):
+        return self.polyline.corners
 
     @property
     def snap_tol(self):

@@ -1,0 +1,542 @@
+"""The paper's experiments (section 3.4) and a per-tactor calibration, as runners without Qt.
+
+A runner is a state machine that a user interface drives: :attr:`Runner.current` is the trial
+to present (what the array plays, what to ask, which answers are valid); :meth:`Runner.answer`
+records the answer as one CSV row, flushed to disk before it returns, and moves on. The tuner
+drives runners from the keyboard; tests and study planning drive them with simulated
+participants (:mod:`tactile_core.experiments.participants`). Starting a runner again on the
+same session folder resumes it: the recorded answers are replayed and checked against what the
+session's seed generates.
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, field
+
+from .. import _validate
+from ..scene import Scene
+from ..shapes import Circle, Line, Square
+from .results import ResultsWriter, Session, now, read_rows
+from .staircase import Staircase
+from .stats import apply_order
+
+METHODS = ("CT", "MM", "AS", "IM")
+DIRECTIONS = ("up", "down", "left", "right")
+SHAPES = ("circle", "square")
+MU, GAMMA = 0.33, 0.7
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One question: what the array plays and what the participant is asked.
+
+    Attributes
+    ----------
+    experiment, stage : str
+        E.g. ``"exp2"`` and ``"L3"``.
+    index : int
+        Trial number within the stage (0-based).
+    kind : str
+        The answer expected: ``"continue"`` (any key; instructions or rest), ``"prepare"``
+        (free switching with keys 1-4, then continue), ``"rating"`` (0-100), ``"direction"``
+        (up/down/left/right), ``"shape"`` (circle/square), ``"detect"`` (yes/no).
+    prompt : str
+        What the screen says.
+    scene : Scene or None
+        What the array plays (None: all off).
+    options : tuple of str
+        Valid answers for the choice kinds.
+    time_limit_s : float or None
+        After this long without an answer, the UI answers None (a timeout).
+    info : dict
+        The condition, recorded with the answer.
+    """
+
+    experiment: str
+    stage: str
+    index: int
+    kind: str
+    prompt: str
+    scene: Scene | None = None
+    options: tuple = ()
+    time_limit_s: float | None = None
+    info: dict = field(default_factory=dict, compare=False)
+
+
+class Runner:
+    """Base of the experiment runners: trial generation, answers, results rows, resuming.
+
+    Parameters
+    ----------
+    session : Session
+        Where results go and what seeds the random choices.
+    write : bool
+        Write results (False for dry runs).
+    """
+
+    experiment = ""
+    fields: tuple = ()
+
+    def __init__(self, session: Session, *, write: bool = True):
+        self.session = session
+        self.rng = random.Random(f"{session.seed}:{session.participant}:{self.experiment}")
+        self._after: dict = {}
+        self._gen = self._trials()
+        self.current: Trial | None = next(self._gen, None)
+        self.done = 0
+        path = f"{session.folder}/{self.experiment}.csv"
+        self._replay(read_rows(path))
+        self._writer = ResultsWriter(path, self.fields) if write else None
+
+    # --- for subclasses ----------------------------------------------------------------------
+
+    def _trials(self):
+        """Generator: yield trials, receive each answer."""
+        raise NotImplementedError
+
+    def _row(self, trial: Trial, answer) -> dict:
+        """The results row of ``trial`` answered ``answer`` (after :attr:`_after` is set)."""
+        raise NotImplementedError
+
+    def _feedback(self, trial: Trial, answer) -> str:
+        return ""
+
+    # --- driving -----------------------------------------------------------------------------
+
+    @property
+    def finished(self) -> bool:
+        """True once every trial is answered."""
+        return self.current is None
+
+    def check_answer(self, trial: Trial, answer):
+        """Validate an answer for ``trial``; return it normalised."""
+        kind = trial.kind
+        if kind in ("continue", "prepare"):
+            return "continue"
+        if kind == "rating":
+            value = _validate.real("answer", answer)
+            if not (0 <= value <= 100 and float(value).is_integer()):
+                raise ValueError(f"answer must be a whole number from 0 to 100, got {answer!r}")
+            return int(value)
+        if answer is None and trial.time_limit_s is not None:
+            return None  # timed out
+        if answer not in trial.options:
+            raise ValueError(f"answer must be one of {', '.join(trial.options)}, got {answer!r}")
+        return answer
+
+    def answer(self, answer, rt_s: float | None = None) -> str:
+        """Record the answer to the current trial, advance, and return the feedback text.
+
+        Raises
+        ------
+        ValueError
+            If the answer is not valid for the trial (nothing is recorded), or the runner has
+            finished.
+        """
+        trial = self.current
+        if trial is None:
+            raise ValueError("answer: the experiment has finished")
+        value = self.check_answer(trial, answer)
+        feedback = self._feedback(trial, value)
+        self._after = {}
+        try:
+            nxt = self._gen.send(value)
+        except StopIteration:
+            nxt = None
+        row = self._row(trial, value)
+        row.update(
+            participant=self.session.participant,
+            stage=trial.stage,
+            trial=trial.index,
+            rt_s="" if rt_s is None else f"{rt_s:.3f}",
+            time=now(),
+        )
+        if self._writer is not None:
+            self._writer.write(row)
+        self.current = nxt
+        self.done += 1
+        return feedback
+
+    def _replay(self, rows: list[dict]) -> None:
+        """Feed recorded answers back in (resuming); check they fit this session."""
+        for i, row in enumerate(rows):
+            trial = self.current
+            if (
+                trial is None
+                or row.get("stage") != trial.stage
+                or int(row.get("trial", -1)) != trial.index
+            ):
+                raise ValueError(
+                    f"{self.session.folder}/{self.experiment}.csv row {i + 1} does not match this "
+                    f"session's trials (stage {row.get('stage')!r}, trial {row.get('trial')!r})"
+                )
+            self._check_recorded(trial, row)
+            value = self._recorded_answer(trial, row)
+            self._after = {}
+            try:
+                self.current = self._gen.send(value)
+            except StopIteration:
+                self.current = None
+            self.done += 1
+
+    def _recorded_answer(self, trial: Trial, row: dict):
+        answer = row.get("answer", "")
+        if trial.kind == "rating":
+            return int(answer)
+        if trial.kind in ("continue", "prepare"):
+            return "continue"
+        return None if answer in ("", "None") else answer
+
+    def _check_recorded(self, trial: Trial, row: dict) -> None:
+        for key, value in trial.info.items():
+            if key in row and row[key] not in ("", str(value)):
+                raise ValueError(
+                    f"{self.experiment}.csv: recorded {key} {row[key]!r} differs from the "
+                    f"session's {value!r}: different seed or software?"
+                )
+
+    def progress(self) -> tuple[int, int]:
+        """``(answered, total)`` trials."""
+        return self.done, self.total
+
+    total = 0
+
+    def close(self) -> None:
+        """Close the results file."""
+        if self._writer is not None:
+            self._writer.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+def _continue(experiment, stage, index, prompt) -> Trial:
+    return Trial(experiment, stage, index, "continue", prompt)
+
+
+class Experiment1(Runner):
+    """Experiment 1 (paper 3.4.2): subjective ratings of the four methods.
+
+    A preparation stage (the Experiment 1 line, slope 0.58 left to right, 2 s per trace; keys
+    1-4 switch freely between the methods under a shuffled mapping; a letter key goes on), then
+    0-100 ratings of quality, then smoothness, then thickness for each method in the
+    participant's counterbalanced order, on the line and then on the circle (radius 2,
+    centred, counter-clockwise), traced repeatedly with a 0.5 s pause; mu = 0.33, gamma = 0.7.
+    """
+
+    experiment = "exp1"
+    fields = ("participant", "stage", "trial", "property", "method", "mapping", "switches",
+              "answer", "rt_s", "time")  # fmt: skip
+    LINE = Line((0.5, 1.84), (4.5, 4.16))
+    CIRCLE = Circle((2.5, 3.0), 2.0)
+    PROPERTIES = ("quality", "smoothness", "thickness")
+    total = 1 + 2 * 3 * 4
+
+    def __init__(self, session, **kwargs):
+        self.mapping: list[str] = []
+        self.key = 1
+        self.switches = 0
+        super().__init__(session, **kwargs)
+
+    @staticmethod
+    def scene(shape, method) -> Scene:
+        """The scene of a rating trial."""
+        return Scene(shape, method, MU, GAMMA, duration_s=2.0, pause_s=0.5)
+
+    def select(self, key: int) -> Scene:
+        """Preparation stage: the scene of the method behind number key ``key`` (1-4)."""
+        key = _validate.integer("key", key, 1, 4)
+        if self.current is None or self.current.kind != "prepare":
+            raise ValueError("select: keys 1-4 switch methods only in the preparation stage")
+        if key != self.key:
+            self.switches += 1
+        self.key = key
+        return self.scene(self.LINE, self.mapping[key - 1])
+
+    def _trials(self):
+        order = apply_order(self.session.order(self.experiment), METHODS)
+        self.mapping = list(METHODS)
+        self.rng.shuffle(self.mapping)
+        yield Trial(
+            "exp1", "prepare", 0, "prepare",
+            "Press 1, 2, 3 and 4 as often as you like to feel four renderings of a line. "
+            "Press a letter key when you are ready to rate them.",
+            scene=self.scene(self.LINE, self.mapping[0]),
+            options=("1", "2", "3", "4"),
+            info={"mapping": "".join(m[0] for m in self.mapping)},
+        )  # fmt: skip
+        for stage, shape, noun in (("line", self.LINE, "line"), ("circle", self.CIRCLE, "circle")):
+            index = 0
+            for prop in self.PROPERTIES:
+                for method in order:
+                    yield Trial(
+                        "exp1", stage, index, "rating",
+                        f"Rate the {prop} of this {noun} from 0 to 100 (type the number, Enter).",
+                        scene=self.scene(shape, method),
+                        info={"property": prop, "method": method},
+                    )  # fmt: skip
+                    index += 1
+
+    def _row(self, trial, answer):
+        if trial.kind == "prepare":
+            return {"mapping": " ".join(self.mapping), "switches": self.switches, "answer": ""}
+        return {**trial.info, "answer": answer}
+
+    def _check_recorded(self, trial, row):
+        if trial.kind == "prepare":
+            if row.get("mapping") and row["mapping"] != " ".join(self.mapping):
+                raise ValueError("exp1.csv: the recorded key mapping differs from the session's")
+            return
+        super()._check_recorded(trial, row)
+
+
+CONDITIONS_EXP2 = {
+    "L1": ((2.0, 3.0), 0.33, 0.7),  # midpoint at a cell corner
+    "L2": ((2.0, 3.0), 0.0, 1.4),
+    "L3": ((2.5, 3.5), 0.33, 0.7),  # midpoint at a tactor centre
+    "L4": ((2.5, 3.5), 0.0, 1.4),
+}
+"""Experiment 2's conditions: line midpoint, mu, gamma. The paper does not say which corner or
+tactor; these are next to the array's centre (the tactor is Experiment 3's centre)."""
+
+
+def direction_line(midpoint, length: float, direction: str) -> Line:
+    """A line of ``length`` through ``midpoint`` traced in ``direction`` (up/down/left/right)."""
+    x, y = midpoint
+    h = length / 2.0
+    ends = {
+        "right": ((x - h, y), (x + h, y)),
+        "left": ((x + h, y), (x - h, y)),
+        "up": ((x, y - h), (x, y + h)),
+        "down": ((x, y + h), (x, y - h)),
+    }
+    return Line(*ends[direction])
+
+
+class Experiment2(Runner):
+    """Experiment 2 (paper 3.4.3): the shortest line whose direction can be told (AS only).
+
+    Four stages (L1-L4 in the participant's counterbalanced order) of 30 four-alternative
+    questions: a line through the stage's midpoint, traced repeatedly (2 s, 0.5 s pause) up,
+    down, left or right at random; answered with the arrow keys; text feedback, with the right
+    answer when wrong. The length starts at 2.0 units, x 0.685 after two correct answers in a
+    row, x 1.46 after each wrong one (capped at 4 units, the longest line the array can hold
+    around these midpoints). The estimate per stage is the mean of the last two peaks and two
+    valleys.
+    """
+
+    experiment = "exp2"
+    fields = ("participant", "stage", "trial", "midpoint", "mu", "gamma", "length", "direction",
+              "answer", "correct", "next_length", "reversal", "rt_s", "time")  # fmt: skip
+    QUESTIONS = 30
+    total = 4 * (QUESTIONS + 1)
+
+    def __init__(self, session, **kwargs):
+        self.staircases: dict[str, Staircase] = {}
+        super().__init__(session, **kwargs)
+
+    def _trials(self):
+        order = apply_order(self.session.order(self.experiment), list(CONDITIONS_EXP2))
+        for s, stage in enumerate(order):
+            yield _continue(
+                "exp2", f"rest-{stage}", 0,
+                "Remove your hand from the array and rest. Press a key to start the next stage."
+                if s else "Experiment 2: which way does a short line move? Press a key to start.",
+            )  # fmt: skip
+            midpoint, mu, gamma = CONDITIONS_EXP2[stage]
+            sc = Staircase(2.0, 0.685, 1.46, 2, 1, min_level=0.01, max_level=4.0)
+            self.staircases[stage] = sc
+            for i in range(self.QUESTIONS):
+                direction = self.rng.choice(DIRECTIONS)
+                length = sc.level
+                scene = Scene(
+                    direction_line(midpoint, length, direction), "AS", mu, gamma,
+                    duration_s=2.0, pause_s=0.5,
+                )  # fmt: skip
+                answer = yield Trial(
+                    "exp2", stage, i, "direction",
+                    "Which way does the line move? Arrow keys.",
+                    scene=scene, options=DIRECTIONS,
+                    info={"midpoint": f"{midpoint[0]:g} {midpoint[1]:g}", "mu": mu, "gamma": gamma,
+                          "length": f"{length:.6g}", "direction": direction},
+                )  # fmt: skip
+                reversals = len(sc.reversal_levels)
+                sc.update(answer == direction)
+                self._after = {
+                    "correct": int(answer == direction),
+                    "next_length": f"{sc.level:.6g}",
+                    "reversal": int(len(sc.reversal_levels) > reversals),
+                }
+
+    def _feedback(self, trial, answer):
+        if trial.kind != "direction":
+            return ""
+        right = trial.info["direction"]
+        return "Correct." if answer == right else f"Wrong: the line moved {right}."
+
+    def _row(self, trial, answer):
+        if trial.kind == "continue":
+            return {"answer": ""}
+        return {**trial.info, "answer": answer, **self._after}
+
+    def estimate(self, stage: str) -> float:
+        """The stage's 70.7% length: mean of its last two peaks and two valleys."""
+        return self.staircases[stage].estimate(4)
+
+
+class Experiment3(Runner):
+    """Experiment 3 (paper 3.4.4): circle or square, with each method.
+
+    For each method (in the participant's counterbalanced order), 10 questions, 5 circles and
+    5 squares in random order: a square of edge 4 or a circle of diameter 4.1 ("just over 4"),
+    centred on the centre column and the fourth row (2.5, 3.5), retraced continuously
+    counter-clockwise at 2 s per trace, mu = 0.33, gamma = 0.7; 20 s to answer (C or S);
+    feedback. ``emphasis`` (beyond the paper) slows the point near corners.
+    """
+
+    experiment = "exp3"
+    fields = ("participant", "stage", "trial", "method", "shape", "emphasis", "answer",
+              "correct", "timeout", "rt_s", "time")  # fmt: skip
+    SQUARE = Square((2.5, 3.5), 4.0)
+    CIRCLE = Circle((2.5, 3.5), 2.05)
+    QUESTIONS = 10
+    TIME_LIMIT_S = 20.0
+    total = 4 * (QUESTIONS + 1)
+
+    def __init__(self, session, emphasis: float | None = None, **kwargs):
+        if emphasis is None:
+            emphasis = float(session.parameters.get("exp3_emphasis", 0.0))
+        self.emphasis = _validate.in_range("emphasis", emphasis, 0.0, 0.9)
+        if session.parameters.get("exp3_emphasis", self.emphasis) != self.emphasis:
+            raise ValueError(
+                f"emphasis {self.emphasis:g} differs from the session's "
+                f"{session.parameters['exp3_emphasis']:g}"
+            )
+        session.parameters["exp3_emphasis"] = self.emphasis
+        session.save()
+        super().__init__(session, **kwargs)
+
+    def _trials(self):
+        order = apply_order(self.session.order(self.experiment), METHODS)
+        for s, method in enumerate(order):
+            yield _continue(
+                "exp3", f"rest-{method}", 0,
+                "Rest. Press a key when ready for the next set." if s
+                else "Experiment 3: is it a circle or a square? Press a key to start.",
+            )  # fmt: skip
+            shapes = list(SHAPES) * (self.QUESTIONS // 2)
+            self.rng.shuffle(shapes)
+            for i, name in enumerate(shapes):
+                shape = self.CIRCLE if name == "circle" else self.SQUARE
+                scene = Scene(shape, method, MU, GAMMA, duration_s=2.0, pause_s=0.0,
+                              emphasis=self.emphasis)  # fmt: skip
+                answer = yield Trial(
+                    "exp3", method, i, "shape",
+                    "Circle or square? Press C or S (20 s).",
+                    scene=scene, options=SHAPES, time_limit_s=self.TIME_LIMIT_S,
+                    info={"method": method, "shape": name, "emphasis": f"{self.emphasis:g}"},
+                )  # fmt: skip
+                self._after = {"correct": int(answer == name), "timeout": int(answer is None)}
+
+    def _feedback(self, trial, answer):
+        if trial.kind != "shape":
+            return ""
+        right = trial.info["shape"]
+        if answer is None:
+            return f"Time is up: it was a {right}."
+        return "Correct." if answer == right else f"Wrong: it was a {right}."
+
+    def _row(self, trial, answer):
+        if trial.kind == "continue":
+            return {"answer": ""}
+        return {**trial.info, "answer": "" if answer is None else answer, **self._after}
+
+
+class Calibration(Runner):
+    """Per-tactor detection thresholds (beyond the paper; its section 4.2 calls for them).
+
+    Each tactor in turn (in random order) vibrates alone for 0.5 s at a drive level set by a
+    1-up/1-down staircase (start 0.5 of full drive, x 0.7 down after "felt", / 0.7 up after "not
+    felt"), converging on the level felt half the time; a tactor's threshold is the mean of its
+    last 6 reversals (after at most 24 trials). :meth:`calibration` turns the thresholds into
+    the device profile's per-tactor offset and gain, so that the median tactor is left as it is
+    and every other tactor's drive is mapped to feel like it.
+    """
+
+    experiment = "calibration"
+    fields = ("participant", "stage", "trial", "tactor", "level", "answer", "next_level",
+              "rt_s", "time")  # fmt: skip
+    MAX_TRIALS = 24
+    REVERSALS = 8
+
+    def __init__(self, session, grid=None, **kwargs):
+        from ..geometry import Grid
+
+        self.grid = grid or Grid()
+        self.total = self.grid.size * self.MAX_TRIALS
+        self.thresholds: dict[tuple, float] = {}
+        super().__init__(session, **kwargs)
+
+    def _trials(self):
+        cells = [(c, r) for r in range(self.grid.rows) for c in range(self.grid.cols)]
+        self.rng.shuffle(cells)
+        for col, row in cells:
+            sc = Staircase(0.5, 0.7, 1 / 0.7, 1, 1, min_level=0.02, max_level=1.0)
+            centre = (col + 0.5, row + 0.5)
+            for i in range(self.MAX_TRIALS):
+                level = sc.level
+                scene = Scene(Line(centre, centre), "CT", 0.0, 1.0, duration_s=0.5, pause_s=0.0,
+                              repeat=False, gain=level, dither=False)  # fmt: skip
+                answer = yield Trial(
+                    "calibration", f"c{col}r{row}", i, "detect",
+                    "Did you feel a vibration? Y or N (R to feel it again).",
+                    scene=scene, options=("yes", "no"),
+                    info={"tactor": f"{col} {row}", "level": f"{level:.6g}"},
+                )  # fmt: skip
+                sc.update(answer == "yes")
+                self._after = {"next_level": f"{sc.level:.6g}"}
+                if len(sc.reversal_levels) >= self.REVERSALS:
+                    break
+            n = min(6, len(sc.reversal_levels))
+            self.thresholds[(col, row)] = sc.estimate(n) if n else sc.level
+
+    def _row(self, trial, answer):
+        return {**trial.info, "answer": answer, **self._after}
+
+    def calibration(self) -> tuple[list[float], list[float]]:
+        """Per-tactor ``(offset, gain)`` in flat cell order from the measured thresholds.
+
+        With a tactor's threshold ``th`` and the median threshold ``t_ref``, perceived intensity
+        is modelled as linear in drive above threshold, ``(d - th) / (1 - th)``. Matching the
+        median tactor at every corrected intensity ``I`` gives
+        ``d = th + (1 - th) / (1 - t_ref) * (I - t_ref)``: gain ``(1 - th) / (1 - t_ref)`` and
+        offset ``th - t_ref * gain``. ``I = t_ref`` maps to the tactor's own threshold and ``I = 1``
+        to full drive.
+        """
+        if len(self.thresholds) < self.grid.size:
+            raise ValueError(
+                f"calibration needs all {self.grid.size} thresholds, has {len(self.thresholds)}"
+            )
+        import statistics
+
+        t_ref = statistics.median(self.thresholds.values())
+        offset, gain = [], []
+        for i in range(self.grid.size):
+            th = self.thresholds[self.grid.cell(i)]
+            g = (1.0 - th) / (1.0 - t_ref) if t_ref < 1.0 else 1.0
+            offset.append(min(max(th - t_ref * g, -1.0), 1.0))
+            gain.append(min(max(g, 1e-3), 10.0))
+        return offset, gain
+
+
+RUNNERS = {
+    "exp1": Experiment1,
+    "exp2": Experiment2,
+    "exp3": Experiment3,
+    "calibration": Calibration,
+}
+"""Runner classes by experiment name."""
