@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import time
@@ -27,11 +28,19 @@ from tactile_core.render import point_entries
 
 from .compare import BlindPanel, CompareView
 from .device import DeviceController
+from .experiments import ExperimentsPanel
 from .panels import DRAW_HELP, ControlsPanel, DevicePanel
 from .state import TunerState
 from .views import CorrectionView, CurvesView, HeatmapView, cell_colors
 
 DISPLAY_HZ = 60
+HIDDEN_BLIND = (
+    "Blind A/B in progress: the display is hidden so that it does not give the method away. "
+    "Reveal in the Blind A/B tab to see it again."
+)
+HIDDEN_EXPERIMENT = (
+    "An experiment is running: the display is hidden so that it does not give the stimulus away."
+)
 
 
 class _KeyFilter(QtCore.QObject):
@@ -50,7 +59,12 @@ class _KeyFilter(QtCore.QObject):
         key = event.key()
         if key == QtCore.Qt.Key.Key_Escape:
             self.window.all_off()
+            if self.window.experiments.running:
+                self.window.experiments.pause()
             return False  # dialogs still see Esc
+        if self.window.experiments.running:
+            # A run owns the keyboard (its rating box takes digits and Enter itself).
+            return self.window.experiments.handle_key(event)
         focus = QtWidgets.QApplication.focusWidget()
         typing = isinstance(
             focus,
@@ -124,10 +138,7 @@ class MainWindow(QtWidgets.QMainWindow):
         tune.addWidget(self.heatmap)
         tune.addWidget(right)
         tune.setSizes([420, 560])
-        self.hidden_label = QtWidgets.QLabel(
-            "Blind A/B in progress: the display is hidden so that it does not give the method "
-            "away. Reveal in the Blind A/B tab to see it again."
-        )
+        self.hidden_label = QtWidgets.QLabel(HIDDEN_BLIND)
         self.hidden_label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
         self.hidden_label.setWordWrap(True)
         self.tune_stack = QtWidgets.QStackedWidget()
@@ -136,10 +147,12 @@ class MainWindow(QtWidgets.QMainWindow):
 
         self.compare = CompareView(self.state)
         self.blind = BlindPanel(self.state)
+        self.experiments = ExperimentsPanel(self.state, lambda: self.device.profile.name)
         self.tabs = QtWidgets.QTabWidget()
         self.tabs.addTab(self.tune_stack, "Tune")
         self.tabs.addTab(self.compare, "Compare")
         self.tabs.addTab(self.blind, "Blind A/B")
+        self.tabs.addTab(self.experiments, "Experiments")
         self.setCentralWidget(self.tabs)
 
         # Docks -------------------------------------------------------------------------------
@@ -151,6 +164,7 @@ class MainWindow(QtWidgets.QMainWindow):
         dock.setObjectName("controls_dock")
         dock.setWidget(scroll)
         self.addDockWidget(QtCore.Qt.DockWidgetArea.LeftDockWidgetArea, dock)
+        self.controls_dock = dock
         self.device_panel = DevicePanel(self.device)
         dock = QtWidgets.QDockWidget("Device", self)
         dock.setObjectName("device_dock")
@@ -178,6 +192,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.heatmap.point_drawn.connect(self._on_heatmap_point_drawn)
         self.heatmap.draw_released.connect(self._on_heatmap_draw_released)
         self.blind.blind_changed.connect(self._on_blind_changed)
+        self.experiments.running_changed.connect(self._on_experiments_running_changed)
+        self.experiments.error_raised.connect(self.show_error)
+        self.experiments.save_profile_requested = self.save_calibrated_profile
         self._key_filter = _KeyFilter(self)
         QtWidgets.QApplication.instance().installEventFilter(self._key_filter)
 
@@ -395,6 +412,45 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def _on_heatmap_draw_released(self) -> None:
         self.state.update(playing=False)
+
+    def _on_experiments_running_changed(self, running: bool) -> None:
+        """A run hides everything that shows the stimulus (participants see the screen). A
+        calibration run measures raw drive, so a calibrated profile is set aside meanwhile."""
+        runner = self.experiments.runner
+        if running and runner is not None and runner.experiment == "calibration":
+            if self.device.profile.calibrated:
+                self._profile_before_calibration = self.device.profile
+                self.device.set_profile(
+                    dataclasses.replace(self.device.profile, offset=None, gain=None)
+                )
+        elif not running and getattr(self, "_profile_before_calibration", None) is not None:
+            self.device.set_profile(self._profile_before_calibration)
+            self._profile_before_calibration = None
+        self.hidden_label.setText(HIDDEN_EXPERIMENT if running else HIDDEN_BLIND)
+        self.tune_stack.setCurrentIndex(1 if running or self.blind.active else 0)
+        self.tabs.setTabEnabled(0, not running)
+        self.tabs.setTabEnabled(1, not running)
+        self.tabs.setTabEnabled(2, not running)
+        # The controls show the stimulus (a line's ends give its direction away): hide them.
+        self.controls_dock.setVisible(not running)
+        self.device_panel.status_label.setVisible(not running)
+
+    def save_calibrated_profile(self, path) -> bool:
+        """Save the device profile with the last calibration run's offsets and gains, and use
+        it."""
+        calibration = self.experiments.last_calibration
+        if calibration is None:
+            self.show_error("no calibration has finished yet")
+            return False
+        try:
+            profile = self.device.profile.with_calibration(*calibration)
+            profile.save(path)
+        except (ValueError, OSError) as exc:
+            self.show_error(f"could not save the calibrated profile: {exc}")
+            return False
+        self.device.set_profile(load_profile(path))
+        self.statusBar().showMessage(f"calibrated profile saved to {path} and in use", 10_000)
+        return True
 
     def _on_blind_changed(self, blind: bool) -> None:
         self.tune_stack.setCurrentIndex(1 if blind else 0)

@@ -493,3 +493,13 @@ def test_corner_emphasis_slows_the_point_near_corners():
     np.testing.assert_allclose(line.parameter(times)[0], times / 2.0)
     with pytest.raises(ValueError, match="emphasis"):
         tc.Trace(square, emphasis=0.95)
+
+
+def test_staircase_accepts_numpy_booleans_and_0_or_1():
+    sc = tc.Staircase()
+    sc.update(np.True_)
+    sc.update(1)
+    assert sc.level == pytest.approx(1.37)
+    for bad in (2, 0.5, "yes", None):
+        with pytest.raises(ValueError, match="correct"):
+            sc.update(bad)

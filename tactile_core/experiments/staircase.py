@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from .. import _validate
 
 
@@ -88,7 +90,10 @@ class Staircase:
 
     def update(self, correct: bool) -> float:
         """Record the answer to the current level; return the next level to present."""
-        if not isinstance(correct, (bool, int)) or isinstance(correct, float):
+        if not (
+            isinstance(correct, (bool, np.bool_))
+            or (isinstance(correct, int) and correct in (0, 1))
+        ):
             raise ValueError(f"correct must be True or False, got {correct!r}")
         correct = bool(correct)
         presented = self.level

@@ -1,0 +1,270 @@
+"""The tuner's Experiments tab, driven from the keyboard against the simulated array."""
+
+import csv
+
+import pytest
+from PySide6 import QtCore
+
+import tactile_core as tc
+
+
+@pytest.fixture(autouse=True)
+def isolated_settings(tmp_path, monkeypatch):
+    QtCore.QCoreApplication.setOrganizationName("tactile-tuner-tests")
+    QtCore.QSettings.setDefaultFormat(QtCore.QSettings.Format.IniFormat)
+    QtCore.QSettings.setPath(
+        QtCore.QSettings.Format.IniFormat,
+        QtCore.QSettings.Scope.UserScope,
+        str(tmp_path / "settings"),
+    )
+    import app.experiments
+
+    monkeypatch.setattr(app.experiments, "GAP_S", 0.01)  # no pause between questions in tests
+
+
+@pytest.fixture
+def window(qtbot, tmp_path):
+    from app.window import MainWindow
+
+    win = MainWindow(restore=False)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    panel = win.experiments
+    panel.folder_edit.setText(str(tmp_path / "results"))
+    panel.participant_edit.setText("P01")
+    win.tabs.setCurrentWidget(panel)
+    yield win
+    panel.stop()
+    win.close()
+
+
+def choose(panel, name):
+    panel.experiment_combo.setCurrentIndex(panel.experiment_combo.findData(name))
+
+
+def press(qtbot, win, key, text=""):
+    qtbot.keyClick(win.experiments.prompt, key)
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def wait_trial(qtbot, panel, kind):
+    qtbot.waitUntil(
+        lambda: panel.runner is not None and panel.runner.current is not None
+        and panel.runner.current.kind == kind and not panel.gap_timer.isActive(),
+        timeout=3000,
+    )  # fmt: skip
+
+
+def test_experiment3_by_keyboard_hides_the_display_and_records_every_answer(
+    window, qtbot, tmp_path
+):
+    panel = window.experiments
+    choose(panel, "exp3")
+    assert panel.start()
+    assert window.tune_stack.currentIndex() == 1 and not window.tabs.isTabEnabled(0)
+    assert not window.controls_dock.isVisible()  # its shape fields would give the answer away
+    assert not window.device_panel.status_label.isVisible()  # so would "streaming MM at ..."
+    assert "Experiment 3" in panel.prompt.text()
+    Key = QtCore.Qt.Key
+    answered = 0
+    while panel.runner is not None:
+        trial = panel.runner.current
+        if trial.kind == "continue":
+            press(qtbot, window, Key.Key_G)
+        else:
+            wait_trial(qtbot, panel, "shape")
+            trial = panel.runner.current
+            # the array plays the trial's stimulus
+            assert window.state.scene.shape == trial.scene.shape
+            assert window.state.scene.method == trial.info["method"]
+            press(qtbot, window, Key.Key_C if trial.info["shape"] == "circle" else Key.Key_S)
+            answered += 1
+            qtbot.waitUntil(
+                lambda: panel.runner is None or not panel.gap_timer.isActive(), timeout=2000
+            )
+    assert answered == 40
+    assert "Finished" in panel.prompt.text()
+    assert window.tune_stack.currentIndex() == 0 and window.tabs.isTabEnabled(0)
+    assert window.controls_dock.isVisible()
+    data = rows(tmp_path / "results" / "participant-P01" / "exp3.csv")
+    questions = [r for r in data if r["stage"] in ("CT", "MM", "AS", "IM")]
+    assert len(questions) == 40 and all(r["correct"] == "1" for r in questions)
+    assert all(float(r["rt_s"]) >= 0 for r in questions)
+    assert not window.state.scene.playing  # the array is off at the end
+
+
+def test_experiment3_time_limit_records_a_timeout(window, qtbot, monkeypatch, tmp_path):
+    from tactile_core.experiments import runners
+
+    monkeypatch.setattr(runners.Experiment3, "TIME_LIMIT_S", 0.3)
+    panel = window.experiments
+    choose(panel, "exp3")
+    panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    wait_trial(qtbot, panel, "shape")
+    assert "s left" in panel.countdown.text()
+    qtbot.waitUntil(lambda: panel.runner.done == 2, timeout=3000)  # nobody answered
+    assert panel.feedback.text().startswith("Time is up: it was a")
+    data = rows(tmp_path / "results" / "participant-P01" / "exp3.csv")
+    assert data[-1]["timeout"] == "1" and data[-1]["answer"] == ""
+
+
+def test_experiment1_preparation_keys_and_ratings_then_stop_and_resume(window, qtbot, tmp_path):
+    panel = window.experiments
+    choose(panel, "exp1")
+    panel.start()
+    Key = QtCore.Qt.Key
+    mapping = panel.runner.mapping
+    for key, qt_key in ((3, Key.Key_3), (1, Key.Key_1), (4, Key.Key_4)):
+        press(qtbot, window, qt_key)
+        assert window.state.scene.method == mapping[key - 1]  # the hidden mapping plays
+    press(qtbot, window, Key.Key_R)  # a letter: on to the ratings
+    assert panel.runner.current.kind == "rating" and panel.rating_edit.isVisible()
+    for value in ("85", "40"):
+        qtbot.keyClicks(panel.rating_edit, value)
+        qtbot.keyClick(panel.rating_edit, Key.Key_Return)
+    qtbot.keyClicks(panel.rating_edit, "100")
+    qtbot.keyClick(panel.rating_edit, Key.Key_Return)
+    done = panel.runner.done
+    assert done == 4
+    panel.stop()
+    assert "resume" in panel.prompt.text()
+    panel.start()  # the same participant: resumes
+    assert panel.runner.done == done and panel.runner.current.kind == "rating"
+    data = rows(tmp_path / "results" / "participant-P01" / "exp1.csv")
+    assert [r["answer"] for r in data[1:]] == ["85", "40", "100"]
+    assert data[0]["mapping"] == " ".join(mapping) and int(data[0]["switches"]) >= 2
+
+
+def test_experiment2_arrow_keys_and_feedback(window, qtbot):
+    panel = window.experiments
+    choose(panel, "exp2")
+    panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    arrows = {"up": QtCore.Qt.Key.Key_Up, "down": QtCore.Qt.Key.Key_Down,
+              "left": QtCore.Qt.Key.Key_Left, "right": QtCore.Qt.Key.Key_Right}  # fmt: skip
+    for i in range(6):
+        wait_trial(qtbot, panel, "direction")
+        trial = panel.runner.current
+        assert window.state.scene.method == "AS"
+        right = trial.info["direction"]
+        answer = right if i % 2 == 0 else next(d for d in arrows if d != right)
+        press(qtbot, window, arrows[answer])
+        expected = "Correct." if answer == right else f"Wrong: the line moved {right}."
+        assert panel.feedback.text() == expected
+
+
+def test_escape_during_a_run_turns_the_array_off_and_pauses(window, qtbot):
+    panel = window.experiments
+    choose(panel, "exp2")
+    panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    wait_trial(qtbot, panel, "direction")
+    trial = panel.runner.current
+    qtbot.keyClick(panel.prompt, QtCore.Qt.Key.Key_Escape)
+    assert not window.state.scene.playing
+    assert "Paused" in panel.prompt.text()
+    press(qtbot, window, QtCore.Qt.Key.Key_Up)  # ignored while paused
+    assert panel.runner.current is trial
+    qtbot.keyClick(panel.prompt, QtCore.Qt.Key.Key_Return)
+    assert window.state.scene.playing and window.state.scene.shape == trial.scene.shape
+
+
+def test_calibration_presents_one_tactor_at_the_staircase_level(window, qtbot):
+    panel = window.experiments
+    choose(panel, "calibration")
+    panel.start()
+    trial = panel.runner.current
+    col, row = map(int, trial.info["tactor"].split())
+    scene = window.state.scene
+    assert scene.gain == pytest.approx(float(trial.info["level"])) and scene.method == "CT"
+
+    # Only that tactor, at half drive: floor(0.5 * 22 + 0.5) = 11 (the pulse lasts 0.5 s).
+    def only_that_tactor():
+        levels = window.device.sent_levels()
+        return levels[row, col] == 11 and levels.sum() == 11
+
+    qtbot.waitUntil(only_that_tactor, timeout=5000)
+    press(qtbot, window, QtCore.Qt.Key.Key_Y)
+    qtbot.waitUntil(
+        lambda: panel.runner.current is not trial and not panel.gap_timer.isActive(), timeout=2000
+    )
+    assert float(panel.runner.current.info["level"]) == pytest.approx(0.35)  # felt: x 0.7
+    press(qtbot, window, QtCore.Qt.Key.Key_R)  # feel it again: still the same trial
+    assert panel.runner.done == 1
+
+
+def test_saving_a_calibrated_profile_puts_it_to_use(window, tmp_path):
+    window.experiments.last_calibration = ([0.05] * 30, [0.9] * 30)
+    path = tmp_path / "calibrated.json"
+    assert window.save_calibrated_profile(path)
+    assert window.device.profile.calibrated
+    assert window.device.profile.offset[0] == pytest.approx(0.05)
+    from tactile_core.device import load_profile
+
+    assert load_profile(path).gain[29] == pytest.approx(0.9)
+
+
+def test_bad_participant_id_is_refused(window):
+    panel = window.experiments
+    panel.participant_edit.setText("../../etc")
+    assert not panel.start()
+    assert "participant" in window.last_error and not panel.running
+
+
+def test_analyze_button_shows_the_tables(window, tmp_path):
+    from tactile_core.cli import main
+
+    assert (
+        main(
+            ["simulate", str(tmp_path / "results"), "--participants", "4", "--experiments", "exp3"]
+        )
+        == 0
+    )
+    assert window.experiments.run_analysis()
+    text = window.experiments.output.toPlainText()
+    assert "Table 2" in text and "CT, MM" in text
+
+
+def test_scene_gain_scales_what_is_sent(window, qtbot):
+    window.tabs.setCurrentIndex(0)
+    window.state.update(shape=tc.Line((2.5, 3.5), (2.5, 3.5)), method="CT", pause_s=0.0, gain=0.5,
+                        dither=False)  # fmt: skip
+    qtbot.waitUntil(lambda: window.device.sent_levels()[3, 2] == 11, timeout=5000)
+
+
+def test_an_experiment_runs_against_a_port(window, qtbot):
+    import threading
+
+    from tactile_core.emulator import Emulator
+
+    emulator = Emulator()
+    path = emulator.open()
+    stop = threading.Event()
+    thread = threading.Thread(target=emulator.run, args=(stop.is_set,), daemon=True)
+    thread.start()
+    try:
+        window.device_panel.port_combo.setCurrentText(path)
+        qtbot.mouseClick(window.device_panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
+        assert not window.device.simulated, window.last_error
+        panel = window.experiments
+        choose(panel, "exp3")
+        panel.start()
+        press(qtbot, window, QtCore.Qt.Key.Key_G)
+        for _ in range(2):
+            wait_trial(qtbot, panel, "shape")
+            n = len(emulator.levels)
+            qtbot.waitUntil(lambda n=n: len(emulator.levels) > n + 30, timeout=5000)
+            assert any(any(levels) for levels in emulator.levels[n:])  # the stimulus is on the wire
+            press(qtbot, window, QtCore.Qt.Key.Key_C)
+        panel.stop()
+        qtbot.waitUntil(lambda: not any(emulator.levels[-1]), timeout=3000)
+    finally:
+        stop.set()
+        thread.join(2)
+        emulator.close()
