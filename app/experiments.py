@@ -42,7 +42,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
     running_changed = QtCore.Signal(bool)
     error_raised = QtCore.Signal(str)
     calibration_done = QtCore.Signal(object)
-    """``(offset, gain)`` lists when a calibration run finishes."""
+    """``(offset, gain, threshold)`` lists when a calibration run finishes."""
 
     def __init__(self, state: TunerState, device_profile_name=lambda: "palm-5x6", parent=None):
         super().__init__(parent)

@@ -168,6 +168,12 @@ class ControlsPanel(QtWidgets.QWidget):
         self.subsamples_spin.setRange(1, 64)
         self.subsamples_spin.setKeyboardTracking(False)
         self.dither_check = QtWidgets.QCheckBox("temporal dithering")
+        self.emphasis_spin = _spin(0.0, 0.9, 0.1, 2)
+        self.emphasis_spin.setToolTip(
+            "Corner emphasis: the point slows down near the shape's corners (0 = constant speed)"
+        )
+        self.gain_spin = _spin(0.0, 1.0, 0.05, 2)
+        self.gain_spin.setToolTip("Master intensity: multiplies every corrected intensity")
         form.addRow("duration", self.duration_spin)
         form.addRow("pause", self.pause_spin)
         form.addRow("direction", self.direction_combo)
@@ -175,6 +181,8 @@ class ControlsPanel(QtWidgets.QWidget):
         form.addRow("filter", self.filter_combo)
         form.addRow("box sub-samples", self.subsamples_spin)
         form.addRow("", self.dither_check)
+        form.addRow("corner emphasis", self.emphasis_spin)
+        form.addRow("master intensity", self.gain_spin)
         self.duration_spin.valueChanged.connect(lambda v: self._set(duration_s=v))
         self.pause_spin.valueChanged.connect(lambda v: self._set(pause_s=v))
         self.direction_combo.currentIndexChanged.connect(
@@ -184,6 +192,8 @@ class ControlsPanel(QtWidgets.QWidget):
         self.filter_combo.currentTextChanged.connect(lambda t: self._set(filter=t))
         self.subsamples_spin.valueChanged.connect(lambda v: self._set(subsamples=v))
         self.dither_check.toggled.connect(lambda on: self._set(dither=on))
+        self.emphasis_spin.valueChanged.connect(lambda v: self._set(emphasis=v))
+        self.gain_spin.valueChanged.connect(lambda v: self._set(gain=v))
         layout.addWidget(box)
 
         layout.addStretch(1)
@@ -300,6 +310,8 @@ class ControlsPanel(QtWidgets.QWidget):
             self.subsamples_spin.setValue(scene.subsamples)
             self.subsamples_spin.setEnabled(scene.filter == "box")
             self.dither_check.setChecked(scene.dither)
+            self.emphasis_spin.setValue(scene.emphasis)
+            self.gain_spin.setValue(scene.gain)
             self.play_button.setText("Pause (Space)" if scene.playing else "Play (Space)")
             self.view_buttons.button(VIEW_MODES.index(self.state.view_mode)).setChecked(True)
         finally:

@@ -18,7 +18,8 @@ A profile (``assets/devices/palm-5x6.json`` is the paper's array) holds::
       },
       "calibration": {                      # optional, one value per tactor, row-major
         "offset": [0.0, ...],               #   added to a lit tactor's drive, within [-1, 1]
-        "gain": [1.0, ...]                  #   multiplies it, within (0, 10]
+        "gain": [1.0, ...],                 #   multiplies it, within (0, 10]
+        "threshold": [0.25, ...]            #   optional: measured detection thresholds, [0, 1]
       }
     }
 
@@ -71,6 +72,8 @@ class DeviceProfile:
         ``(drive, output)`` of the motor response curve, if known.
     offset, gain : tuple of float, length rows * cols, or None
         Per-tactor calibration in flat cell order (``row * cols + col``).
+    threshold : tuple of float or None
+        The detection thresholds the calibration was computed from (informational).
     description : str
     path : str or None
         Where the profile was loaded from.
@@ -82,6 +85,7 @@ class DeviceProfile:
     response: tuple | None = None
     offset: tuple | None = None
     gain: tuple | None = None
+    threshold: tuple | None = None
     description: str = ""
     path: str | None = field(default=None, compare=False)
 
@@ -150,16 +154,20 @@ class DeviceProfile:
             data["response"] = {"drive": list(self.response[0]), "output": list(self.response[1])}
         if self.offset is not None:
             data["calibration"] = {"offset": list(self.offset), "gain": list(self.gain)}
+            if self.threshold is not None:
+                data["calibration"]["threshold"] = list(self.threshold)
         return data
 
     def save(self, path) -> Path:
         """Write the profile as JSON, atomically (temporary file, then rename)."""
         return write_json_atomic(path, self.to_dict())
 
-    def with_calibration(self, offset, gain) -> DeviceProfile:
+    def with_calibration(self, offset, gain, threshold=None) -> DeviceProfile:
         """A copy with per-tactor calibration (validated like a loaded file)."""
         data = self.to_dict()
         data["calibration"] = {"offset": list(map(float, offset)), "gain": list(map(float, gain))}
+        if threshold is not None:
+            data["calibration"]["threshold"] = list(map(float, threshold))
         return profile_from_dict(data, source=self.path or self.name)
 
 
@@ -304,7 +312,7 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
             )
         response = (tuple(drive.tolist()), tuple(output.tolist()))
 
-    offset = gain = None
+    offset = gain = threshold = None
     if data.get("calibration") is not None:
         cal = data["calibration"]
         if not isinstance(cal, dict):
@@ -324,6 +332,13 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
         if np.any(gain <= 0) or np.any(gain > 10):
             raise ProfileError(f"{source}: field 'calibration.gain' values must be within (0, 10]")
         offset, gain = tuple(offset.tolist()), tuple(gain.tolist())
+        if cal.get("threshold") is not None:
+            threshold = _numbers(cal["threshold"], "calibration.threshold", source, size)
+            if np.any(threshold < 0) or np.any(threshold > 1):
+                raise ProfileError(
+                    f"{source}: field 'calibration.threshold' values must be within [0, 1]"
+                )
+            threshold = tuple(threshold.tolist())
     return DeviceProfile(
         name=name,
         array=array,
@@ -331,6 +346,7 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
         response=response,
         offset=offset,
         gain=gain,
+        threshold=threshold,
         description=description,
         path=None,
     )

@@ -393,7 +393,7 @@ def test_calibration_finds_each_tactors_threshold(tmp_path):
     runner.close()
     errors = [runner.thresholds[c] - truth[c] for c in truth]
     assert np.median(np.abs(errors)) < 0.05
-    offset, gain = runner.calibration()
+    offset, gain, thresholds = runner.calibration()
     import statistics
 
     t_ref = statistics.median(runner.thresholds.values())
@@ -402,9 +402,11 @@ def test_calibration_finds_each_tactors_threshold(tmp_path):
         th = runner.thresholds[grid.cell(i)]
         assert offset[i] + gain[i] * t_ref == pytest.approx(th)  # threshold to threshold
         assert offset[i] + gain[i] * 1.0 == pytest.approx(1.0)  # full stays full
-    profile = tc.PALM_ARRAY and __import__("tactile_core.device", fromlist=["x"]).default_profile()
-    calibrated = profile.with_calibration(offset, gain)
+    from tactile_core.device import default_profile
+
+    calibrated = default_profile().with_calibration(offset, gain, thresholds)
     assert calibrated.calibrated
+    assert calibrated.threshold[0] == pytest.approx(runner.thresholds[(0, 0)])
 
 
 # --- analysis ----------------------------------------------------------------------------

@@ -155,6 +155,9 @@ def test_shape_controls_edit_the_shape(window):
     window.controls.duration_spin.setValue(3.0)
     window.controls.filter_combo.setCurrentText("point")
     assert window.state.scene.duration_s == 3.0 and window.state.scene.filter == "point"
+    window.controls.emphasis_spin.setValue(0.5)  # corner emphasis, selectable in the tuner
+    window.controls.gain_spin.setValue(0.8)
+    assert window.state.scene.emphasis == 0.5 and window.state.scene.gain == 0.8
 
 
 def test_curves_and_heatmap_frames_share_colours(window):

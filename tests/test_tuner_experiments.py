@@ -200,7 +200,7 @@ def test_calibration_presents_one_tactor_at_the_staircase_level(window, qtbot):
 
 
 def test_saving_a_calibrated_profile_puts_it_to_use(window, tmp_path):
-    window.experiments.last_calibration = ([0.05] * 30, [0.9] * 30)
+    window.experiments.last_calibration = ([0.05] * 30, [0.9] * 30, [0.3] * 30)
     path = tmp_path / "calibrated.json"
     assert window.save_calibrated_profile(path)
     assert window.device.profile.calibrated
@@ -208,6 +208,7 @@ def test_saving_a_calibrated_profile_puts_it_to_use(window, tmp_path):
     from tactile_core.device import load_profile
 
     assert load_profile(path).gain[29] == pytest.approx(0.9)
+    assert load_profile(path).threshold[3] == pytest.approx(0.3)
 
 
 def test_bad_participant_id_is_refused(window):

@@ -507,8 +507,8 @@ class Calibration(Runner):
     def _row(self, trial, answer):
         return {**trial.info, "answer": answer, **self._after}
 
-    def calibration(self) -> tuple[list[float], list[float]]:
-        """Per-tactor ``(offset, gain)`` in flat cell order from the measured thresholds.
+    def calibration(self) -> tuple[list[float], list[float], list[float]]:
+        """Per-tactor ``(offset, gain, threshold)`` in flat cell order from the measurements.
 
         With a tactor's threshold ``th`` and the median threshold ``t_ref``, perceived intensity
         is modelled as linear in drive above threshold, ``(d - th) / (1 - th)``. Matching the
@@ -524,13 +524,14 @@ class Calibration(Runner):
         import statistics
 
         t_ref = statistics.median(self.thresholds.values())
-        offset, gain = [], []
+        offset, gain, threshold = [], [], []
         for i in range(self.grid.size):
             th = self.thresholds[self.grid.cell(i)]
             g = (1.0 - th) / (1.0 - t_ref) if t_ref < 1.0 else 1.0
             offset.append(min(max(th - t_ref * g, -1.0), 1.0))
             gain.append(min(max(g, 1e-3), 10.0))
-        return offset, gain
+            threshold.append(th)
+        return offset, gain, threshold
 
 
 RUNNERS = {
