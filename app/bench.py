@@ -5,6 +5,7 @@ Run by ``tactile bench --part gui`` (it needs Qt, so it lives in ``app``).
 
 from __future__ import annotations
 
+import contextlib
 import os
 import tempfile
 import time
@@ -12,22 +13,32 @@ import time
 import numpy as np
 
 
-def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
-    """Rows: display refresh and stream statistics with the tuner running, per situation."""
+@contextlib.contextmanager
+def _offscreen_app():
+    """A QApplication (offscreen unless a display is set) whose settings go to a temporary
+    folder, so a benchmark never touches the user's last session."""
     os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
     from PySide6 import QtCore, QtWidgets
 
-    import tactile_core as tc
-    from tactile_core.bench import GAMMA, MU, Table, _EmulatorProcess
-
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
-    rows = []
     with tempfile.TemporaryDirectory() as tmpdir:
         QtCore.QCoreApplication.setOrganizationName("tactile-tuner-bench")
         QtCore.QSettings.setDefaultFormat(QtCore.QSettings.Format.IniFormat)
         QtCore.QSettings.setPath(
             QtCore.QSettings.Format.IniFormat, QtCore.QSettings.Scope.UserScope, tmpdir
         )
+        yield app, tmpdir
+
+
+def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
+    """Rows: display refresh and stream statistics with the tuner running, per situation."""
+    from PySide6 import QtCore
+
+    import tactile_core as tc
+    from tactile_core.bench import GAMMA, MU, Table, _EmulatorProcess
+
+    rows = []
+    with _offscreen_app() as (app, tmpdir):
         from .window import MainWindow
 
         situations = (
@@ -130,20 +141,13 @@ def _latencies(report, log, marks) -> np.ndarray:
 
 def gui_latency_table(rate_hz: float = 300.0, changes: int = 30):
     """Parameter change in the tuner to the first changed frame on the wire (via the process)."""
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-    from PySide6 import QtCore, QtWidgets
+    from PySide6 import QtCore
 
     import tactile_core as tc
     from tactile_core.bench import Table, _EmulatorProcess
 
-    app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
     rows = []
-    with tempfile.TemporaryDirectory() as tmpdir:
-        QtCore.QCoreApplication.setOrganizationName("tactile-tuner-bench")
-        QtCore.QSettings.setDefaultFormat(QtCore.QSettings.Format.IniFormat)
-        QtCore.QSettings.setPath(
-            QtCore.QSettings.Format.IniFormat, QtCore.QSettings.Scope.UserScope, tmpdir
-        )
+    with _offscreen_app() as (app, tmpdir):
         from .window import MainWindow
 
         for process in (True, False):

@@ -35,10 +35,7 @@ same on tactors whose thresholds and sensitivities differ (paper section 4.2).
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
-import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -46,6 +43,7 @@ import numpy as np
 
 from .assets import asset_path
 from .geometry import ArraySpec, Grid
+from .jsonfile import read_json, write_json_atomic
 from .wire import frame_length
 
 FORMAT = "tactile-device-profile"
@@ -169,23 +167,6 @@ class DeviceProfile:
         if threshold is not None:
             data["calibration"]["threshold"] = list(map(float, threshold))
         return profile_from_dict(data, source=self.path or self.name)
-
-
-def write_json_atomic(path, data) -> Path:
-    """Write ``data`` as indented JSON to ``path`` through a temporary file and a rename."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            json.dump(data, f, indent=2)
-            f.write("\n")
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
 
 
 def _field(data, key, source, *, required=True, default=None):
@@ -373,19 +354,8 @@ def load_profile(path_or_name=None) -> DeviceProfile:
             path = asset_path("devices", f"{path_or_name}.json")
         except FileNotFoundError:
             raise ProfileError(f"{path_or_name}: no such profile file or bundled profile") from None
+    data = read_json(path, ProfileError)
     source = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ProfileError(f"{source}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ProfileError(f"{source}: cannot read: {exc}") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ProfileError(f"{source}: not valid JSON: {exc.msg} at line {exc.lineno}") from None
-    except RecursionError:
-        raise ProfileError(f"{source}: not valid JSON: nested too deeply") from None
     return dataclasses.replace(profile_from_dict(data, source=source), path=source)
 
 

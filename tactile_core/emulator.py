@@ -10,7 +10,6 @@ report: frames, rate, p50/p99 interval error, CRC errors, watchdog trips, last l
 
 from __future__ import annotations
 
-import json
 import os
 import select
 import time
@@ -19,6 +18,7 @@ import tty
 import numpy as np
 
 from .device import DeviceProfile, default_profile
+from .jsonfile import write_json_atomic
 from .wire import WATCHDOG_S, FrameReader
 
 
@@ -185,5 +185,4 @@ class Emulator:
 
     def save_report(self, path) -> None:
         """The report as JSON."""
-        with open(path, "w", encoding="utf-8") as f:
-            json.dump(self.report(), f, indent=2)
+        write_json_atomic(path, self.report())

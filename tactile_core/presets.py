@@ -19,12 +19,11 @@ Loading validates everything before returning: a malformed or out-of-range file 
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 from .assets import assets_dir
-from .device import write_json_atomic
+from .jsonfile import read_json, write_json_atomic
 from .scene import Scene
 from .shapes import shape_from_dict
 
@@ -141,20 +140,7 @@ def load_preset(path) -> Preset:
     PresetError
         When the file is missing, unreadable, not JSON, or invalid; nothing is changed.
     """
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise PresetError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise PresetError(f"{path}: cannot read: {exc}") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise PresetError(f"{path}: not valid JSON: {exc.msg} at line {exc.lineno}") from None
-    except RecursionError:
-        raise PresetError(f"{path}: not valid JSON: nested too deeply") from None
-    return preset_from_dict(data, source=str(path))
+    return preset_from_dict(read_json(path, PresetError), source=str(path))
 
 
 def save_preset(preset: Preset, path) -> Path:

@@ -33,7 +33,7 @@ import numpy as np
 
 from .device import DeviceProfile, default_profile, profile_from_dict
 from .link import LinkError
-from .scene import Scene
+from .scene import Scene, check_scene
 from .streamer import StreamStats
 
 _CHILDREN: weakref.WeakSet = weakref.WeakSet()
@@ -294,8 +294,7 @@ class StreamerProcess:
 
     def set_scene(self, scene: Scene | None) -> None:
         """Hand a new scene to the child (it takes effect at its next frame)."""
-        if scene is not None and not isinstance(scene, Scene):
-            raise ValueError(f"scene must be a Scene or None, got {scene!r}")
+        check_scene(scene)
         sid = self._next_id
         self._next_id += 1
         self._scene = scene

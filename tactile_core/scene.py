@@ -19,6 +19,13 @@ from .shapes import Shape, shape_from_dict
 from .trace import DIRECTIONS, FILTERS, LiveFrames, Sampling, Trace
 
 
+def check_scene(scene):
+    """Return ``scene`` if it is a :class:`Scene` or None; else ``ValueError`` naming it."""
+    if scene is not None and not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a Scene or None, got {scene!r}")
+    return scene
+
+
 @dataclass(frozen=True)
 class Scene:
     """What to render and how.

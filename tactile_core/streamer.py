@@ -32,7 +32,7 @@ import numpy as np
 from .correction import Dither, quantize1
 from .device import DeviceProfile, default_profile
 from .link import LinkError
-from .scene import Scene
+from .scene import Scene, check_scene
 from .wire import encode_frame
 
 _RUNNING: weakref.WeakSet = weakref.WeakSet()
@@ -300,8 +300,7 @@ class Streamer:
 
     def set_scene(self, scene: Scene | None) -> None:
         """Swap in a new scene; the output thread uses it from its next frame."""
-        if scene is not None and not isinstance(scene, Scene):
-            raise ValueError(f"scene must be a Scene or None, got {scene!r}")
+        check_scene(scene)
         self._scene = scene
         self._wake.set()
 

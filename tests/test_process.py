@@ -3,32 +3,17 @@
 import signal
 import subprocess
 import sys
-import threading
 import time
 
 import numpy as np
 import pytest
 
 import tactile_core as tc
-from tactile_core.emulator import Emulator
 from tactile_core.link import LinkError
 from tactile_core.process import StreamerProcess, open_stream
 from tactile_core.scene import Scene
 
 CIRCLE = tc.Circle((2.5, 3.0), 2.0)
-
-
-@pytest.fixture
-def emulator():
-    emu = Emulator()
-    path = emu.open()
-    stop = threading.Event()
-    thread = threading.Thread(target=emu.run, args=(stop.is_set,), daemon=True)
-    thread.start()
-    yield emu, path
-    stop.set()
-    thread.join(2)
-    emu.close()
 
 
 def wait(predicate, timeout=10.0):
@@ -40,8 +25,8 @@ def wait(predicate, timeout=10.0):
     raise AssertionError("condition not met in time")
 
 
-def test_child_streams_scenes_and_turns_off_on_stop(emulator):
-    emu, path = emulator
+def test_child_streams_scenes_and_turns_off_on_stop(emulator_thread):
+    emu, path = emulator_thread
     stream = open_stream(path, scene=Scene(tc.Line((1.5, 2.5), (1.5, 2.5)), "CT", pause_s=0.0))
     try:
         wait(lambda: len(emu.levels) > 20)
@@ -68,8 +53,8 @@ def test_a_bad_port_is_reported_by_start_and_nothing_keeps_running():
     assert not stream.running
 
 
-def test_killing_the_parent_turns_the_array_off_without_the_watchdog(emulator):
-    emu, path = emulator
+def test_killing_the_parent_turns_the_array_off_without_the_watchdog(emulator_thread):
+    emu, path = emulator_thread
     script = (
         "import time, tactile_core as tc\n"
         "from tactile_core.process import open_stream\n"

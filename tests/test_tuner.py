@@ -6,7 +6,6 @@ import json
 import math
 import subprocess
 import sys
-import threading
 
 import numpy as np
 import pytest
@@ -376,31 +375,18 @@ def test_a_missing_port_is_reported_and_the_simulated_array_keeps_running(window
     qtbot.waitUntil(lambda: window.device.stats.frames > n + 5, timeout=3000)
 
 
-def test_connect_to_an_emulated_device_and_disconnect(window, qtbot):
-    from tactile_core.emulator import Emulator
-
-    emulator = Emulator()
-    path = emulator.open()
-    stop = threading.Event()
-    thread = threading.Thread(target=emulator.run, args=(stop.is_set,), daemon=True)
-    thread.start()
-    try:
-        window.state.update(mu=1.0, pause_s=0.0)
-        window.device_panel.port_combo.setCurrentText(path)
-        qtbot.mouseClick(window.device_panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
-        assert not window.device.simulated, window.last_error
-        qtbot.waitUntil(
-            lambda: len(emulator.levels) > 30 and any(emulator.levels[-1]), timeout=5000
-        )
-        qtbot.waitUntil(lambda: "achieved" in window.device_panel.status_label.text(), timeout=3000)
-        qtbot.mouseClick(window.device_panel.disconnect_button, QtCore.Qt.MouseButton.LeftButton)
-        assert window.device.simulated
-        qtbot.wait(50)
-        assert not any(emulator.levels[-1])  # all off before letting go of the device
-    finally:
-        stop.set()
-        thread.join(2)
-        emulator.close()
+def test_connect_to_an_emulated_device_and_disconnect(window, qtbot, emulator_thread):
+    emulator, path = emulator_thread
+    window.state.update(mu=1.0, pause_s=0.0)
+    window.device_panel.port_combo.setCurrentText(path)
+    qtbot.mouseClick(window.device_panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
+    assert not window.device.simulated, window.last_error
+    qtbot.waitUntil(lambda: len(emulator.levels) > 30 and any(emulator.levels[-1]), timeout=5000)
+    qtbot.waitUntil(lambda: "achieved" in window.device_panel.status_label.text(), timeout=3000)
+    qtbot.mouseClick(window.device_panel.disconnect_button, QtCore.Qt.MouseButton.LeftButton)
+    assert window.device.simulated
+    qtbot.wait(50)
+    assert not any(emulator.levels[-1])  # all off before letting go of the device
 
 
 def test_screenshot_command(tmp_path):

@@ -239,33 +239,20 @@ def test_scene_gain_scales_what_is_sent(window, qtbot):
     qtbot.waitUntil(lambda: window.device.sent_levels()[3, 2] == 11, timeout=5000)
 
 
-def test_an_experiment_runs_against_a_port(window, qtbot):
-    import threading
-
-    from tactile_core.emulator import Emulator
-
-    emulator = Emulator()
-    path = emulator.open()
-    stop = threading.Event()
-    thread = threading.Thread(target=emulator.run, args=(stop.is_set,), daemon=True)
-    thread.start()
-    try:
-        window.device_panel.port_combo.setCurrentText(path)
-        qtbot.mouseClick(window.device_panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
-        assert not window.device.simulated, window.last_error
-        panel = window.experiments
-        choose(panel, "exp3")
-        panel.start()
-        press(qtbot, window, QtCore.Qt.Key.Key_G)
-        for _ in range(2):
-            wait_trial(qtbot, panel, "shape")
-            n = len(emulator.levels)
-            qtbot.waitUntil(lambda n=n: len(emulator.levels) > n + 30, timeout=5000)
-            assert any(any(levels) for levels in emulator.levels[n:])  # the stimulus is on the wire
-            press(qtbot, window, QtCore.Qt.Key.Key_C)
-        panel.stop()
-        qtbot.waitUntil(lambda: not any(emulator.levels[-1]), timeout=3000)
-    finally:
-        stop.set()
-        thread.join(2)
-        emulator.close()
+def test_an_experiment_runs_against_a_port(window, qtbot, emulator_thread):
+    emulator, path = emulator_thread
+    window.device_panel.port_combo.setCurrentText(path)
+    qtbot.mouseClick(window.device_panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
+    assert not window.device.simulated, window.last_error
+    panel = window.experiments
+    choose(panel, "exp3")
+    panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    for _ in range(2):
+        wait_trial(qtbot, panel, "shape")
+        n = len(emulator.levels)
+        qtbot.waitUntil(lambda n=n: len(emulator.levels) > n + 30, timeout=5000)
+        assert any(any(levels) for levels in emulator.levels[n:])  # the stimulus is on the wire
+        press(qtbot, window, QtCore.Qt.Key.Key_C)
+    panel.stop()
+    qtbot.waitUntil(lambda: not any(emulator.levels[-1]), timeout=3000)

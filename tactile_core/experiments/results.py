@@ -14,14 +14,13 @@ from __future__ import annotations
 
 import csv
 import datetime as dt
-import json
 import os
 import re
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from .._version import __version__
-from ..device import write_json_atomic
+from ..jsonfile import read_json, write_json_atomic
 from .stats import order_for
 
 SESSION_FILE = "session.json"
@@ -99,10 +98,10 @@ def open_session(
     folder = root / f"participant-{participant}"
     path = folder / SESSION_FILE
     if path.exists():
+        data = read_json(path)
         try:
-            data = json.loads(path.read_text(encoding="utf-8"))
             return Session(**{**data, "folder": str(folder)})
-        except (ValueError, TypeError) as exc:
+        except TypeError as exc:
             raise ValueError(f"{path}: cannot resume this session: {exc}") from None
     root.mkdir(parents=True, exist_ok=True)
     if index is None:
