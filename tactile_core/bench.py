@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .correction import quantize
+from .correction import Dither, quantize
 from .geometry import Grid
 from .methods import METHOD_NAMES
 from .shapes import Circle, Line, Square
@@ -247,7 +247,7 @@ def accuracy_table(
     for rate in rates:
         for filt, s in filters:
             sampling = Sampling(rate, filt, s)
-            e_err, e_err_q, o_err, o_err_q = [], [], [], []
+            e_err, e_err_q, o_err, o_err_q, e_err_d, o_err_d = [], [], [], [], [], []
             for name, method in scenes:
                 trace = Trace(SCENES[name])
                 periods = 2 if abs(trace.period_s * rate - round(trace.period_s * rate)) else 1
@@ -256,12 +256,14 @@ def accuracy_table(
                     trace, method, sampling=sampling, mu=MU, gamma=GAMMA, grid=grid, n_frames=n
                 )
                 quantised = quantize(frames, levels) / (levels - 1)
+                dithered = Dither(grid.size, levels).frames(frames) / (levels - 1)
                 ref_e, ref_o = refs[name, method]
                 lit = ref_e > 0
                 interior = lit & (ref_o > 0)  # onsets after the trace starts
                 for fr, e_list, o_list in (
                     (frames, e_err, o_err),
                     (quantised, e_err_q, o_err_q),
+                    (dithered, e_err_d, o_err_d),
                 ):
                     energy, onsets = _frame_metrics(fr, rate, trace.period_s, periods, grid)
                     e_list.extend(np.abs(energy[lit] - ref_e[lit]) / ref_e[lit])
@@ -281,6 +283,7 @@ def accuracy_table(
             live = LiveFrames(Trace(SCENES["circle"]), "AS", sampling, MU, GAMMA, grid)
             live_cost = best_time(_cycling(live.compute, live.cycle), repeat=3)
             e_err, e_err_q = np.array(e_err) * 100, np.array(e_err_q) * 100
+            e_err_d = np.array(e_err_d) * 100
             o_err, o_err_q = np.array(o_err) * 1e3, np.array(o_err_q) * 1e3
             rows.append(
                 [
@@ -293,6 +296,8 @@ def accuracy_table(
                     f"{e_err_q.mean():.3f}",
                     f"{e_err_q.max():.2f}",
                     f"{o_err_q.max():.2f}",
+                    f"{e_err_d.mean():.3f}",
+                    f"{e_err_d.max():.2f}",
                     f"{cost / 750 * 1e6:.2f}",
                     f"{live_cost * 1e6:.1f}",
                 ]
@@ -307,6 +312,8 @@ def accuracy_table(
         f"{levels} levels: energy mean %",
         f"{levels} levels: energy max %",
         f"{levels} levels: onset max ms",
+        f"{levels} levels dithered: energy mean %",
+        f"{levels} levels dithered: energy max %",
         "batch us/frame",
         "live us/frame",
     ]
@@ -316,8 +323,9 @@ def accuracy_table(
         "trace + 0.5 s pause). Energy: relative error of the time integral of the corrected "
         "intensity over one period. Onset: first frame a tactor is on vs. when it turns on, "
         "for tactors that turn on after the trace starts. The level columns quantise the "
-        f"frames to {levels} levels first. Costs: AS on the circle, batch `render_frames` "
-        "per frame and the scalar live path per frame."
+        f"frames to {levels} levels first, by rounding or with temporal dithering (error "
+        "feedback per tactor, the streamer's default). Costs: AS on the circle, batch "
+        "`render_frames` per frame and the scalar live path per frame."
     )
     return Table("Speed against accuracy", headers, rows, notes)
 

@@ -40,11 +40,6 @@ class ActivationCurves:
         """``(k,)`` time of each tactor's first sample with nonzero intensity, in seconds."""
         return self.time_s[np.argmax(self.raw > 0.0, axis=0)]
 
-    def durations_s(self) -> np.ndarray:
-        """``(k,)`` seconds each tactor is on (sample count times the sample spacing)."""
-        dt = self.time_s[1] - self.time_s[0] if len(self.time_s) > 1 else 0.0
-        return (self.raw > 0.0).sum(axis=0) * dt
-
 
 def activation_curves(
     shape,

@@ -63,10 +63,6 @@ class Grid:
         """Coordinates ``(x, y)`` of the tactor of cell ``(col, row)``, in grid units."""
         return (col + 0.5, row + 0.5)
 
-    def contains(self, col: int, row: int) -> bool:
-        """True when cell ``(col, row)`` is part of the grid."""
-        return 0 <= col < self.cols and 0 <= row < self.rows
-
     def flat(self, col: int, row: int) -> int:
         """Flat index ``row * cols + col`` of cell ``(col, row)`` (the default channel)."""
         return row * self.cols + col
@@ -140,12 +136,6 @@ class ArraySpec:
     def channel_index(self) -> np.ndarray:
         """``(size,)`` int array: flat cell index of each channel, for ``flat[channel_index]``."""
         return np.asarray(self.channels, dtype=np.intp)
-
-    def to_channels(self, frame) -> np.ndarray:
-        """Reorder a frame (``(..., rows, cols)``) into channel order, shape ``(..., size)``."""
-        frame = np.asarray(frame)
-        flat = frame.reshape((*frame.shape[:-2], self.grid.size))
-        return flat[..., self.channel_index]
 
 
 PALM_ARRAY = ArraySpec()

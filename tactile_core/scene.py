@@ -15,7 +15,7 @@ from . import _validate
 from .correction import check_correction
 from .geometry import Grid
 from .methods import get_method
-from .shapes import Shape, shape_from_dict
+from .shapes import Shape
 from .trace import DIRECTIONS, FILTERS, LiveFrames, Sampling, Trace
 
 
@@ -130,27 +130,3 @@ class Scene:
     def replace(self, **changes) -> Scene:
         """A copy with ``changes`` (validated)."""
         return dataclasses.replace(self, **changes)
-
-    def to_dict(self) -> dict:
-        """JSON-ready fields (the shape as :meth:`Shape.to_dict`)."""
-        data = dataclasses.asdict(self)
-        data["shape"] = None if self.shape is None else self.shape.to_dict()
-        data.pop("epoch")
-        return data
-
-    @classmethod
-    def from_dict(cls, data: dict) -> Scene:
-        """Build a scene from :meth:`to_dict` output; ``ValueError`` names a bad field."""
-        if not isinstance(data, dict):
-            raise ValueError(f"scene must be an object, got {type(data).__name__}")
-        fields = {f.name for f in dataclasses.fields(cls)} - {"epoch"}
-        unknown = set(data) - fields
-        if unknown:
-            raise ValueError(f"scene has unknown field(s): {', '.join(sorted(unknown))}")
-        kwargs = dict(data)
-        if kwargs.get("shape") is not None:
-            kwargs["shape"] = shape_from_dict(kwargs["shape"])
-        try:
-            return cls(**kwargs)
-        except TypeError as exc:
-            raise ValueError(f"scene: {exc}") from None

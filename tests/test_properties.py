@@ -175,7 +175,7 @@ def test_mm_durations_equal_for_full_cells_and_proportional_at_the_ends(p0, p1):
 def test_reversing_a_line_reverses_the_frames(p0, p1, method):
     t = np.arange(1025) / 1024  # dyadic: 1 - t is exact
     forward = tc.render(tc.Line(p0, p1), method, t)
-    backward = tc.render(tc.Line(p1, p0), method, 1.0 - t)
+    backward = tc.render(tc.Line(p0, p1).reversed(), method, 1.0 - t)
     np.testing.assert_array_equal(forward, backward)
 
 
