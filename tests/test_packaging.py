@@ -1,0 +1,24 @@
+"""The wheel must carry every package of the source tree (pyproject lists them explicitly,
+because assets/ is mapped into tactile_core._assets)."""
+
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_every_source_package_is_listed_in_pyproject():
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    listed = set(config["packages"])
+    found = {
+        ".".join(init.parent.relative_to(ROOT).parts)
+        for top in ("tactile_core", "app")
+        for init in (ROOT / top).rglob("__init__.py")
+        if "__pycache__" not in init.parts
+    }
+    assert found <= listed, f"missing from pyproject packages: {sorted(found - listed)}"
+    mapped = {name for name in listed if name.startswith("tactile_core._assets")}
+    assert config["package-dir"]["tactile_core._assets"] == "assets"
+    for name in mapped - {"tactile_core._assets"}:
+        folder = ROOT / "assets" / name.split(".")[-1]
+        assert folder.is_dir() and any(folder.glob("*.json")), name
