@@ -1,8 +1,9 @@
 """The wheel must carry every package of the source tree (pyproject lists them explicitly,
 because assets/ is mapped into tactile_core._assets)."""
 
-import tomllib
 from pathlib import Path
+
+import tomllib
 
 ROOT = Path(__file__).resolve().parents[1]
 
