@@ -33,3 +33,19 @@ def emulator_thread():
     stop.set()
     thread.join(2)
     emulator.close()
+
+
+@pytest.fixture
+def qt_settings(tmp_path):
+    """QSettings in a temporary folder, so GUI tests never read or write a user's session."""
+    from PySide6 import QtCore
+
+    QtCore.QCoreApplication.setOrganizationName("tactile-tuner-tests")
+    QtCore.QCoreApplication.setApplicationName("tactile-tuner-tests")
+    QtCore.QSettings.setDefaultFormat(QtCore.QSettings.Format.IniFormat)
+    QtCore.QSettings.setPath(
+        QtCore.QSettings.Format.IniFormat,
+        QtCore.QSettings.Scope.UserScope,
+        str(tmp_path / "settings"),
+    )
+    return tmp_path / "settings"

@@ -15,18 +15,7 @@ import tactile_core as tc
 from tactile_core.presets import Preset, builtin_presets
 from tactile_core.scene import Scene
 
-
-@pytest.fixture(autouse=True)
-def isolated_settings(tmp_path):
-    QtCore.QCoreApplication.setOrganizationName("tactile-tuner-tests")
-    QtCore.QCoreApplication.setApplicationName("tactile-tuner-tests")
-    QtCore.QSettings.setDefaultFormat(QtCore.QSettings.Format.IniFormat)
-    QtCore.QSettings.setPath(
-        QtCore.QSettings.Format.IniFormat,
-        QtCore.QSettings.Scope.UserScope,
-        str(tmp_path / "settings"),
-    )
-    yield
+pytestmark = pytest.mark.usefixtures("qt_settings")
 
 
 @pytest.fixture

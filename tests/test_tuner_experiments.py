@@ -9,14 +9,7 @@ import tactile_core as tc
 
 
 @pytest.fixture(autouse=True)
-def isolated_settings(tmp_path, monkeypatch):
-    QtCore.QCoreApplication.setOrganizationName("tactile-tuner-tests")
-    QtCore.QSettings.setDefaultFormat(QtCore.QSettings.Format.IniFormat)
-    QtCore.QSettings.setPath(
-        QtCore.QSettings.Format.IniFormat,
-        QtCore.QSettings.Scope.UserScope,
-        str(tmp_path / "settings"),
-    )
+def quick_runs(qt_settings, monkeypatch):
     import app.experiments
 
     monkeypatch.setattr(app.experiments, "GAP_S", 0.01)  # no pause between questions in tests
