@@ -24,3 +24,17 @@ def on_fraction(frames):
     n = len(frames)
     counts = (frames > 0).sum(axis=0)
     return {(int(c), int(r)): counts[r, c] / n for r, c in zip(*np.nonzero(counts))}
+
+
+def align(received, expected):
+    """Match each received frame (levels) to the next equal frame of ``expected`` (a later one
+    if the streamer skipped deadlines); return the last trace frame index matched."""
+    k = -1
+    for levels in received:
+        for step in range(1, 60):
+            if np.array_equal(levels, expected[(k + step) % len(expected)]):
+                k += step
+                break
+        else:
+            raise AssertionError(f"frame after trace frame {k} is not a rendering of the core")
+    return k

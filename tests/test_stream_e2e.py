@@ -16,6 +16,8 @@ import pytest
 
 import tactile_core as tc
 
+from .helpers import align
+
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
@@ -70,19 +72,6 @@ def stream(path, *args, timeout=30):
     return subprocess.run(
         [*CLI, "stream", "--device", path, *args], capture_output=True, text=True, timeout=timeout
     )
-
-
-def align(received, expected):
-    """Each received frame is the next (or a later, if a deadline was skipped) core frame."""
-    k = -1
-    for levels in received:
-        for step in range(1, 60):
-            if np.array_equal(levels, expected[(k + step) % len(expected)]):
-                k += step
-                break
-        else:
-            raise AssertionError(f"received frame after trace frame {k} is not the core's")
-    return k
 
 
 def test_stream_into_the_emulator_end_to_end(emulator, tmp_path):
