@@ -49,7 +49,7 @@ def scatter(entries, n: int, grid: Grid) -> np.ndarray:
     ----------
     entries : list of (cols, rows, values)
         Per entry, cell indices (float arrays of shape (n,)) and intensities (array of shape
-        (n,) or a scalar). Within one sample the entries' cells must be distinct.
+        (n,) or a scalar). Entries naming the same cell in one sample add up.
     n : int
         Number of samples.
     grid : Grid
@@ -73,7 +73,7 @@ def scatter(entries, n: int, grid: Grid) -> np.ndarray:
             code += width + 1.0
             index = table[code.astype(np.intp)]
         index += base
-        flat[index] = values
+        flat[index] += values  # one index per sample within an entry: no repeats
     return out[:, : grid.size].reshape(n, grid.rows, grid.cols)
 
 

@@ -36,6 +36,50 @@ from .geometry import cell_floor, clamp, snap_tolerance
 TWO_PI = 2.0 * math.pi
 
 
+@dataclass(frozen=True)
+class Run:
+    """One stroke as the trace passes along it, in trace order.
+
+    Attributes
+    ----------
+    stroke : int
+        Row of the strokes' table.
+    axis : int
+        Major axis: 0 for x, 1 for y.
+    t_in, t_out : float
+        Trace parameters where the point enters and leaves the stroke, ``t_in < t_out``. For a
+        stroke of a closed shape that the trace passes at its start and end (a circle's right
+        arc, a square's right edge), ``t_in < 0`` or ``t_out > 1``: the parameter wraps.
+    u_in, u_out : float
+        Major-axis coordinates where the point enters and leaves the stroke.
+    """
+
+    stroke: int
+    axis: int
+    t_in: float
+    t_out: float
+    u_in: float
+    u_out: float
+    arc: tuple | None = None  # (centre u, radius, which arc) for circle arcs
+
+    def t_at(self, u: float) -> float:
+        """Trace parameter at which the point is at major coordinate ``u`` on this stroke."""
+        if self.arc is None:
+            span = self.u_out - self.u_in
+            if span == 0.0:
+                return self.t_in
+            return self.t_in + (u - self.u_in) / span * (self.t_out - self.t_in)
+        centre, r, which = self.arc
+        q = min(max((u - centre) / r, -1.0), 1.0) if r > 0.0 else 0.0
+        if which == 0:  # right arc: y = cy + r sin(2 pi t), t in [-1/8, 1/8]
+            return math.asin(q) / TWO_PI
+        if which == 1:  # top: x = cx + r cos(2 pi t), t in [1/8, 3/8]
+            return math.acos(q) / TWO_PI
+        if which == 2:  # left: t in [3/8, 5/8]
+            return 0.5 - math.asin(q) / TWO_PI
+        return 1.0 - math.acos(q) / TWO_PI  # bottom: t in [5/8, 7/8]
+
+
 class Strokes:
     """The pieces of a shape along which the midpoint methods work.
 
@@ -73,6 +117,10 @@ class Strokes:
             for r in self.table.tolist()
         ]
 
+    def runs(self) -> list[Run]:
+        """The strokes as the trace passes them, in trace order (see :class:`Run`)."""
+        raise NotImplementedError
+
     def locate(self, t: np.ndarray) -> np.ndarray | None:
         """Stroke index (int array, shape of ``t``) of the point at each parameter ``t``.
 
@@ -109,7 +157,8 @@ class LineStrokes(Strokes):
     stroke, whose ``u`` is always ``u0``).
     """
 
-    def __init__(self, ends, breaks, piece_stroke, tol):
+    def __init__(self, ends, breaks, piece_stroke, tol, closed=False):
+        self.closed = closed
         ends = np.asarray(ends, dtype=np.float64).reshape(-1, 4)
         dx = ends[:, 2] - ends[:, 0]
         dy = ends[:, 3] - ends[:, 1]
@@ -121,6 +170,7 @@ class LineStrokes(Strokes):
         u1 = np.where(xmajor, ends[:, 2], ends[:, 3])
         v1 = np.where(xmajor, ends[:, 3], ends[:, 2])
         swap = u1 < u0
+        self._trace_u = np.column_stack([u0, u1]).tolist()  # entry and exit, in trace order
         u0, v0, u1, v1 = (
             np.where(swap, u1, u0),
             np.where(swap, v1, v0),
@@ -133,6 +183,22 @@ class LineStrokes(Strokes):
         self.piece_stroke = np.asarray(piece_stroke, dtype=np.intp)
         self._breaks = self.breaks.tolist()
         self._piece_stroke = self.piece_stroke.tolist()
+
+    def runs(self):
+        breaks, stroke_of = self._breaks, self._piece_stroke
+        groups = []  # [stroke, t_in, t_out] of consecutive pieces on one stroke
+        for j, s in enumerate(stroke_of):
+            if groups and groups[-1][0] == s:
+                groups[-1][2] = breaks[j + 1]
+            else:
+                groups.append([s, breaks[j], breaks[j + 1]])
+        if self.closed and len(groups) > 1 and groups[0][0] == groups[-1][0]:
+            first = groups.pop(0)  # the trace starts inside this stroke: one run, wrapping
+            groups[-1][2] = first[2] + 1.0
+        return [
+            Run(s, int(self.table[s, 0]), t_in, t_out, *self._trace_u[s])
+            for s, t_in, t_out in groups
+        ]
 
     def locate(self, t):
         if self.count == 1:
@@ -184,6 +250,12 @@ class ArcStrokes(Strokes):
         _, y315 = point(7 / 8)
         xlo, xhi = min(x45, x135), max(x45, x135)
         ylo, yhi = min(y45, y315), max(y45, y315)
+        self._runs = [
+            Run(0, 1, -0.125, 0.125, ylo, yhi, (cy, r, 0)),
+            Run(1, 0, 0.125, 0.375, xhi, xlo, (cx, r, 1)),
+            Run(2, 1, 0.375, 0.625, yhi, ylo, (cy, r, 2)),
+            Run(3, 0, 0.625, 0.875, xlo, xhi, (cx, r, 3)),
+        ]
         self._build(
             axis=[1, 0, 1, 0],
             lo=[ylo, xlo, ylo, xlo],
@@ -194,6 +266,9 @@ class ArcStrokes(Strokes):
             d=[_reciprocal(r)] * 4,
             tol=tol,
         )
+
+    def runs(self):
+        return list(self._runs)
 
     def locate(self, t):
         q = 8.0 * t
@@ -520,7 +595,7 @@ class Polyline(Shape):
             runs[-1][1] = first[1]
             stroke_of = [(s - 1) if s > 0 else len(runs) - 1 for s in stroke_of]
         stroke_ends = [tuple(starts[a]) + tuple(ends[b]) for a, b in runs]
-        return LineStrokes(stroke_ends, breaks, stroke_of, self.snap_tol)
+        return LineStrokes(stroke_ends, breaks, stroke_of, self.snap_tol, closed=self.closed)
 
     @property
     def scale(self):

@@ -3,25 +3,38 @@
 On a stroke with major axis x, the point's x lies between the column centres
 ``x_k = floor(x - 0.5) + 0.5`` and ``x_k + 1``. MM's tactor of column ``k`` gets intensity
 ``x_k+1 - x`` and MM's tactor of column ``k + 1`` gets the rest, so intensities move linearly
-along the major axis and always sum to 1.
+along the major axis and always sum to 1 (y-major strokes likewise, axes swapped). Between a
+line's end and the centre of its end column the end tactor holds 1 (there is no column beyond
+to share with).
 
-Ends of strokes: while the point lies between a stroke's end and the centre of the end cell
-(``x`` before the first column's centre, or after the last column's centre), the end tactor keeps
-the full intensity 1 instead of sharing it with a column the stroke never reaches. Intensities
-therefore sum to 1 everywhere along lines, squares and circles (the paper states the
-interpolation only between two columns of the stroke). Where consecutive strokes meet at a
-polyline vertex or a circle's octant boundary, the tactors switch to the next stroke's; when
-the end cell's centre lies beyond the stroke's end, the last tactor carries ``1 - d`` at the
-junction (``d`` = distance to that centre), so the hand-over has a step of at most ``d < 0.5``.
+**Hand-overs between strokes.** The paper states the rule between two column centres of one
+stroke. A shape of several strokes (a circle's four octant arcs, a square's edges, a polygon's
+sides) also needs a rule where one stroke hands over to the next; applying the stroke rule up to
+the junction makes IM jump there (on the Experiment 3 circle a tactor went 1 -> 0 and its
+neighbour 0 -> 1 at each 45-degree point). Along the trace, IM therefore has *keyframes*, moments
+where one of MM's tactors has everything:
+
+- each tactor centre a stroke passes on its major axis: MM's tactor of that column (row);
+- a junction whose column (row) has no centre on the stroke before or after it (a *partial*
+  column, e.g. a square's corner between tactor centres): MM's tactor of that partial column,
+  which is the tactor of the cell containing the junction.
+
+Between two keyframes of one stroke the paper's rule applies. Across a junction, from the
+outgoing stroke's last keyframe to the incoming stroke's first, intensity moves linearly in
+``t`` (proportional to arc length for every shape here) from one keyframe's tactor to the
+next's. So IM is continuous along every shape, its tactors are MM's, at most two are lit, and
+raw intensities sum to 1. A shape of zero length lights the cell of its point, as MM does.
 """
 
 from __future__ import annotations
 
+import bisect
+import itertools
 import math
 
 import numpy as np
 
-from ..geometry import cell_split, cell_split1
+from ..geometry import SNAP_REL, cell_floor, cell_split, cell_split1
 from .midpoint import on_stroke, tactor_of_cell, to_cells
 
 NAME = "IM"
@@ -29,6 +42,167 @@ TITLE = "interpolated midpoint"
 BILEVEL = False
 NEEDS_SHAPE = True
 MAX_TACTORS = 2
+
+_T_TOL = SNAP_REL
+"""Snap tolerance for positions measured in ``t`` (within [0, 1]): 64 ulps of 1."""
+
+
+class Keyframes:
+    """IM's keyframes of one shape and the hand-over segments between them.
+
+    Parameters
+    ----------
+    keyframes : list of (t, (col, row), runs)
+        In trace order, ``t`` in [0, 1]; ``runs`` is the set of strokes (indices into the
+        shape's runs) the keyframe lies on as a centre or an open end (empty for a junction).
+    closed : bool
+        Wrap around: the segment after the last keyframe leads to the first.
+
+    Attributes
+    ----------
+    t : ndarray of float64, shape (n,)
+        Keyframe parameters, ascending; a closed shape's table starts with its last keyframe
+        minus 1 and ends with its first plus 1, so every ``t`` in [0, 1] has a segment.
+    cols, rows : ndarray of float64, shape (n,)
+        Each keyframe's tactor.
+    handover : ndarray of bool, shape (n - 1,)
+        True for a segment across a junction (linear in ``t``), False within one stroke (the
+        paper's rule).
+    """
+
+    def __init__(self, keyframes: list, closed: bool):
+        if closed:
+            (t_last, cell_last, runs_last), (t_first, cell_first, runs_first) = (
+                keyframes[-1],
+                keyframes[0],
+            )
+            keyframes = [
+                (t_last - 1.0, cell_last, runs_last),
+                *keyframes,
+                (t_first + 1.0, cell_first, runs_first),
+            ]
+        self.t = np.array([k[0] for k in keyframes])
+        self.cols = np.array([float(k[1][0]) for k in keyframes])
+        self.rows = np.array([float(k[1][1]) for k in keyframes])
+        self.handover = np.array([not (k0[2] & k1[2]) for k0, k1 in itertools.pairwise(keyframes)])
+        self.any_handover = bool(self.handover.any())
+        self._t1 = self.t.tolist()
+        self._cells1 = [k[1] for k in keyframes]
+        self._handover1 = self.handover.tolist()
+
+    def segment(self, t):
+        """Segment index of each ``t`` (array) and its share ``w`` of the later keyframe."""
+        j = np.searchsorted(self.t, t, side="right") - 1
+        np.clip(j, 0, len(self.handover) - 1, out=j)
+        t0, t1 = self.t.take(j), self.t.take(j + 1)
+        d0 = t - t0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            w = np.where(t1 > t0, d0 / (t1 - t0), 0.0)
+        w = np.where(np.abs(d0) <= _T_TOL, 0.0, np.where(np.abs(t1 - t) <= _T_TOL, 1.0, w))
+        return j, np.minimum(np.maximum(w, 0.0), 1.0)
+
+    def handover1(self, t: float) -> tuple | None:
+        """Scalar: the lit ``(col, row, value)`` if ``t`` is in a hand-over, else None."""
+        j = min(max(bisect.bisect_right(self._t1, t) - 1, 0), len(self._handover1) - 1)
+        if not self._handover1[j]:
+            return None
+        t0, t1 = self._t1[j], self._t1[j + 1]
+        if abs(t - t0) <= _T_TOL or t1 <= t0:
+            w = 0.0
+        elif abs(t1 - t) <= _T_TOL:
+            w = 1.0
+        else:
+            w = min(max((t - t0) / (t1 - t0), 0.0), 1.0)
+        (c0, r0), (c1, r1) = self._cells1[j], self._cells1[j + 1]
+        if (c0, r0) == (c1, r1):
+            return ((c0, r0, 1.0),)
+        return tuple((c, r, v) for c, r, v in ((c0, r0, 1.0 - w), (c1, r1, w)) if v > 0.0)
+
+
+def _mm_cell(strokes, stroke: int, major: int) -> tuple[int, int]:
+    """``(col, row)`` of MM's tactor of major cell ``major`` of stroke ``stroke``."""
+    params = strokes.rows1[stroke]
+    minor = tactor_of_cell(strokes, params, float(major))
+    col, row = to_cells(params[0] == 0, major, int(minor))
+    return int(col), int(row)
+
+
+def build_keyframes(shape) -> Keyframes | None:
+    """IM's keyframes of ``shape``, or None when it has no hand-over between strokes."""
+    strokes = shape.strokes
+    runs = strokes.runs()
+    tol = strokes.tol
+    if len(runs) < 2 or all(r.u_in == r.u_out for r in runs):
+        return None  # one stroke (the paper's rule alone), or a point
+    keyframes = []  # (t, cell, runs)
+    partial_in, partial_out = [], []
+    for index, run in enumerate(runs):
+        lo, hi = min(run.u_in, run.u_out) - tol, max(run.u_in, run.u_out) + tol
+        # Only the stroke's first and last centres matter: between them the paper's rule
+        # applies, whatever the stroke's length.
+        c_lo, c_hi = math.ceil(lo - 0.5) + 0.5, math.floor(hi - 0.5) + 0.5
+        if c_lo <= c_hi:
+            ends = (c_lo, c_hi) if run.u_out >= run.u_in else (c_hi, c_lo)
+            for c in ends[: 1 if c_lo == c_hi else 2]:
+                cell = _mm_cell(strokes, run.stroke, math.floor(c))
+                keyframes.append((run.t_at(c), cell, frozenset({index})))
+        for u, partial in ((run.u_in, partial_in), (run.u_out, partial_out)):
+            centre = int(cell_floor(u, tol)) + 0.5  # of the column the stroke ends in
+            partial.append(not lo <= centre <= hi)
+    junctions = [(i, i + 1) for i in range(len(runs) - 1)]
+    if shape.closed:
+        junctions.append((len(runs) - 1, 0))
+    for i, j in junctions:
+        if partial_out[i]:
+            cell = _mm_cell(strokes, runs[i].stroke, int(cell_floor(runs[i].u_out, tol)))
+        elif partial_in[j]:
+            cell = _mm_cell(strokes, runs[j].stroke, int(cell_floor(runs[j].u_in, tol)))
+        else:
+            continue
+        keyframes.append((runs[i].t_out, cell, frozenset()))
+    if shape.closed:
+        keyframes = [(t % 1.0, cell, on) for t, cell, on in keyframes]
+    else:  # the ends: the stroke's rule applies up to them from the stroke's own keyframes
+        first, last = runs[0], runs[-1]
+        cell = _mm_cell(strokes, first.stroke, int(cell_floor(first.u_in, tol)))
+        keyframes.append((0.0, cell, frozenset({0})))
+        cell = _mm_cell(strokes, last.stroke, int(cell_floor(last.u_out, tol)))
+        keyframes.append((1.0, cell, frozenset({len(runs) - 1})))
+    keyframes.sort(key=lambda k: k[0])
+    merged = []
+    for t, cell, on in keyframes:
+        # Keyframes at one place (a junction on a tactor centre, a line's end on one) light the
+        # same tactor: keep one, on every stroke it belongs to.
+        if merged and abs(t - merged[-1][0]) <= _T_TOL:
+            merged[-1] = (merged[-1][0], merged[-1][1], merged[-1][2] | on)
+        else:
+            merged.append((t, cell, on))
+    keys = Keyframes(merged, shape.closed)
+    return keys if keys.any_handover else None
+
+
+def keyframes_of(shape) -> Keyframes | None:
+    """The shape's IM keyframes, built once and kept with its strokes."""
+    strokes = shape.strokes
+    try:
+        return strokes.im_keyframes
+    except AttributeError:
+        strokes.im_keyframes = build_keyframes(shape)
+        return strokes.im_keyframes
+
+
+def _stroke_sample(shape, x, y, t, tol):
+    """The paper's rule on each point's own stroke: ``[(cols, rows, values)] * 2``."""
+    strokes = shape.strokes
+    params, xmajor, u = on_stroke(strokes, x, y, t)
+    k, w = cell_split(u - 0.5, tol)  # w: share of cell k + 1
+    pair = np.stack([k, k + 1.0])  # major cells k and k + 1, shape (2, n)
+    # Between a stroke's end and its end cell's centre, the end tactor keeps everything:
+    # w = 1 before the first centre (k < first), w = 0 after the last (k + 1 > last).
+    w = np.where(k < params[3], 1.0, w)
+    w = np.where(pair[1] > params[4], 0.0, w)
+    cols, rows = to_cells(xmajor, pair, tactor_of_cell(strokes, params, pair))
+    return [(cols[0], rows[0], 1.0 - w), (cols[1], rows[1], w)]
 
 
 def sample(shape, x, y, t, tol):
@@ -48,22 +222,35 @@ def sample(shape, x, y, t, tol):
     Returns
     -------
     list of (cols, rows, values)
-        MM's tactors of major cells ``k`` and ``k + 1`` and their intensities.
+        Two entries: MM's tactors around each point and their intensities (in a hand-over
+        both entries may name one tactor; the caller adds them up).
     """
-    strokes = shape.strokes
-    params, xmajor, u = on_stroke(strokes, x, y, t)
-    k, w = cell_split(u - 0.5, tol)  # w: share of cell k + 1
-    pair = np.stack([k, k + 1.0])  # major cells k and k + 1, shape (2, n)
-    # Between a stroke's end and its end cell's centre, the end tactor keeps everything:
-    # w = 1 before the first centre (k < first), w = 0 after the last (k + 1 > last).
-    w = np.where(k < params[3], 1.0, w)
-    w = np.where(pair[1] > params[4], 0.0, w)
-    cols, rows = to_cells(xmajor, pair, tactor_of_cell(strokes, params, pair))
-    return [(cols[0], rows[0], 1.0 - w), (cols[1], rows[1], w)]
+    entries = _stroke_sample(shape, x, y, t, tol)
+    keys = keyframes_of(shape)
+    if keys is None:
+        return entries
+    j, w = keys.segment(t)
+    across = keys.handover.take(j)
+    if not across.any():
+        return entries
+    j1 = j + 1
+    ends = (
+        (keys.cols.take(j), keys.rows.take(j), 1.0 - w),
+        (keys.cols.take(j1), keys.rows.take(j1), w),
+    )
+    return [
+        tuple(np.where(across, h, s) for h, s in zip(handover, stroke))
+        for handover, stroke in zip(ends, entries)
+    ]
 
 
 def sample1(shape, x, y, t, tol):
     """Scalar :func:`sample`: ``(col, row, value)`` tuples with nonzero intensity."""
+    keys = keyframes_of(shape)
+    if keys is not None:
+        lit = keys.handover1(t)
+        if lit is not None:
+            return lit
     strokes = shape.strokes
     row = strokes.rows1[strokes.locate1(t)]
     axis, lo, hi, first, last = row[:5]
