@@ -96,7 +96,7 @@ class CompareView(QtWidgets.QWidget):
                 heat.set_point(None)
             else:
                 frame = tc.render(scene.shape, name, t)
-                heat.set_frame(tc.correct(frame, scene.mu, scene.gamma))
+                heat.set_frame(tc.correct(frame, scene.mu, scene.gamma, gain=scene.gain))
                 heat.set_point(scene.shape.point(t))
             self.curves[name].set_cursor(phase_s)
 

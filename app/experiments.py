@@ -8,6 +8,7 @@ from pathlib import Path
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from tactile_core.device import default_profile
 from tactile_core.experiments import RUNNERS, open_session
 from tactile_core.experiments.analysis import analyze
 from tactile_core.scene import Scene
@@ -44,10 +45,14 @@ class ExperimentsPanel(QtWidgets.QWidget):
     calibration_done = QtCore.Signal(object)
     """``(offset, gain, threshold)`` lists when a calibration run finishes."""
 
-    def __init__(self, state: TunerState, device_profile_name=lambda: "palm-5x6", parent=None):
+    def __init__(self, state: TunerState, profile=None, stats=None, parent=None):
         super().__init__(parent)
         self.state = state
-        self.device_profile_name = device_profile_name
+        self.profile = profile or default_profile
+        """Callable: the device profile the run plays on (recorded in the session)."""
+        self.stats = stats
+        """Callable: the stream's :class:`StreamStats` now (None: no health recorded)."""
+        self._health0 = None
         self.runner = None
         self.trial_started = 0.0
         self._paused = False
@@ -158,16 +163,19 @@ class ExperimentsPanel(QtWidgets.QWidget):
             return False
         kind = self.experiment_combo.currentData()
         try:
+            profile = self.profile()
             session = open_session(
                 self.folder_edit.text().strip() or ".",
                 self.participant_edit.text().strip(),
                 seed=self.seed_spin.value(),
-                device_profile=self.device_profile_name(),
+                device_profile=profile.name,
             )
             if kind == "exp3":
-                runner = RUNNERS[kind](session, emphasis=self.emphasis_spin.value())
+                runner = RUNNERS[kind](
+                    session, emphasis=self.emphasis_spin.value(), profile=profile
+                )
             else:
-                runner = RUNNERS[kind](session)
+                runner = RUNNERS[kind](session, profile=profile)
         except (ValueError, OSError) as exc:
             self.error_raised.emit(str(exc))
             return False
@@ -227,10 +235,22 @@ class ExperimentsPanel(QtWidgets.QWidget):
             self.rating_edit.setFocus()
         self._play(trial.scene)
         self.trial_started = time.monotonic()
+        self._health0 = self._health_counts()
         if trial.time_limit_s:
             self.limit_timer.start(round(trial.time_limit_s * 1000))
             self.tick_timer.start(250)
             self._on_tick_timer_timeout()
+
+    def _health_counts(self) -> dict | None:
+        """The stream's counters now (for the per-trial health columns)."""
+        if self.stats is None:
+            return None
+        stats = self.stats()
+        return {
+            "late_frames": stats.late,
+            "skipped_frames": stats.skipped,
+            "link_errors": stats.errors,
+        }
 
     def _on_tick_timer_timeout(self) -> None:
         trial = self.runner.current if self.runner else None
@@ -247,8 +267,12 @@ class ExperimentsPanel(QtWidgets.QWidget):
             return False
         trial = runner.current
         rt = time.monotonic() - self.trial_started
+        health = None
+        now, before = self._health_counts(), self._health0
+        if now is not None and before is not None:
+            health = {key: now[key] - before[key] for key in now}
         try:
-            feedback = runner.answer(answer, rt_s=rt)
+            feedback = runner.answer(answer, rt_s=rt, health=health)
         except (ValueError, OSError) as exc:
             self.feedback.setText(str(exc))
             return False

@@ -173,7 +173,10 @@ class ControlsPanel(QtWidgets.QWidget):
             "Corner emphasis: the point slows down near the shape's corners (0 = constant speed)"
         )
         self.gain_spin = _spin(0.0, 1.0, 0.05, 2)
-        self.gain_spin.setToolTip("Master intensity: multiplies every corrected intensity")
+        self.gain_spin.setToolTip(
+            "Master intensity (0-1): scales the part above the threshold, "
+            "mu + gain (1 - mu) I^gamma"
+        )
         form.addRow("duration", self.duration_spin)
         form.addRow("pause", self.pause_spin)
         form.addRow("direction", self.direction_combo)

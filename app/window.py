@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 import time
@@ -147,7 +146,9 @@ class MainWindow(QtWidgets.QMainWindow):
 
         self.compare = CompareView(self.state)
         self.blind = BlindPanel(self.state)
-        self.experiments = ExperimentsPanel(self.state, lambda: self.device.profile.name)
+        self.experiments = ExperimentsPanel(
+            self.state, lambda: self.device.profile, lambda: self.device.stats
+        )
         self.tabs = QtWidgets.QTabWidget()
         self.tabs.addTab(self.tune_stack, "Tune")
         self.tabs.addTab(self.compare, "Compare")
@@ -420,9 +421,7 @@ class MainWindow(QtWidgets.QMainWindow):
         if running and runner is not None and runner.experiment == "calibration":
             if self.device.profile.calibrated:
                 self._profile_before_calibration = self.device.profile
-                self.device.set_profile(
-                    dataclasses.replace(self.device.profile, offset=None, gain=None)
-                )
+                self.device.set_profile(self.device.profile.without_calibration())
         elif not running and getattr(self, "_profile_before_calibration", None) is not None:
             self.device.set_profile(self._profile_before_calibration)
             self._profile_before_calibration = None
@@ -519,7 +518,7 @@ class MainWindow(QtWidgets.QMainWindow):
                 for i, v in point_entries(scene.shape, sample1, t, grid.cols, grid.rows):
                     values[i] = v
                 if mode == "corrected":
-                    values = tc.correct(values, scene.mu, scene.gamma)
+                    values = tc.correct(values, scene.mu, scene.gamma, gain=scene.gain)
             values = values.reshape(grid.shape)
             if self.state.show_levels:
                 labels = np.char.mod("%.2f", values)

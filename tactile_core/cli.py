@@ -124,7 +124,7 @@ def cmd_stream(args) -> int:
         rate_hz=args.rate,
         filter=args.filter,
         subsamples=args.subsamples,
-        dither=not args.no_dither,
+        dither=args.dither,
     )
     if args.seconds is not None and not args.seconds > 0:
         raise ValueError(f"seconds must be > 0, got {args.seconds!r}")
@@ -203,7 +203,7 @@ def cmd_analyze(args) -> int:
     """Print the paper's tables and write its figures from a results folder."""
     from .experiments.analysis import analyze
 
-    analyze(args.results)
+    analyze(args.results, paper_rounding=args.paper_rounding)
     return 0
 
 
@@ -273,10 +273,19 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
     p.add_argument(
-        "--filter", choices=("point", "box"), default="box", help="temporal filter (default box)"
+        "--filter",
+        choices=("point", "box"),
+        default="point",
+        help="temporal filter (default point: the paper's pipeline)",
     )
     p.add_argument("--subsamples", type=int, default=4, help="box filter sub-samples (default 4)")
-    p.add_argument("--no-dither", action="store_true", help="plain rounding to device levels")
+    dither = p.add_mutually_exclusive_group()
+    dither.add_argument(
+        "--dither", action="store_true", help="temporal dithering of the device levels"
+    )
+    dither.add_argument(
+        "--no-dither", action="store_true", help="plain rounding to device levels (the default)"
+    )
     p.add_argument("--record", default=None, help="record the frames sent to .csv or .npz")
     p.add_argument("--reconnect", action="store_true", help="keep retrying after the link fails")
     p.add_argument(
@@ -302,6 +311,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("analyze", help="the paper's tables and figures from a results folder")
     p.add_argument("results", metavar="RESULTS_DIR")
+    p.add_argument(
+        "--paper-rounding",
+        action="store_true",
+        help="round each p to 3 decimals before x 6, as the paper's tables did",
+    )
     p.set_defaults(func=cmd_analyze)
 
     p = sub.add_parser("simulate", help="run the experiments with simulated participants")

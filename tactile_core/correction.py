@@ -12,7 +12,7 @@ def check_correction(mu, gamma) -> tuple[float, float]:
     return _validate.in_range("mu", mu, 0.0, 1.0), _validate.positive("gamma", gamma)
 
 
-def correct(intensity, mu: float, gamma: float) -> np.ndarray:
+def correct(intensity, mu: float, gamma: float, *, gain: float = 1.0) -> np.ndarray:
     """Threshold/gamma correction: ``(1 - mu) I**gamma + mu`` where ``I > 0``; zero stays zero.
 
     Parameters
@@ -23,6 +23,9 @@ def correct(intensity, mu: float, gamma: float) -> np.ndarray:
         Threshold in [0, 1]: the smallest intensity a lit tactor receives.
     gamma : float
         Gamma, finite and > 0. Values below 1 raise low intensities, above 1 lower them.
+    gain : float, keyword-only
+        Master intensity in [0, 1] (beyond the paper): it scales only the part above the
+        threshold, ``mu + gain (1 - mu) I**gamma``, so no lit tactor drops below ``mu``.
 
     Returns
     -------
@@ -46,17 +49,18 @@ def correct(intensity, mu: float, gamma: float) -> np.ndarray:
     array([0.    , 0.5839, 1.    ])
     """
     mu, gamma = check_correction(mu, gamma)
+    gain = _validate.in_range("gain", gain, 0.0, 1.0)
     values = _validate.intensity_array("intensity", intensity)
     with np.errstate(under="ignore"):
-        adjusted = np.minimum(mu + (1.0 - mu) * np.power(values, gamma), 1.0)
+        adjusted = np.minimum(mu + gain * (1.0 - mu) * np.power(values, gamma), 1.0)
     return np.where(values > 0.0, adjusted, 0.0)
 
 
-def correct1(value: float, mu: float, gamma: float) -> float:
+def correct1(value: float, mu: float, gamma: float, gain: float = 1.0) -> float:
     """Scalar :func:`correct` for the live path; arguments are not checked."""
     if value <= 0.0:
         return 0.0
-    return min(mu + (1.0 - mu) * value**gamma, 1.0)
+    return min(mu + gain * (1.0 - mu) * value**gamma, 1.0)
 
 
 def check_levels(levels) -> int:

@@ -35,6 +35,8 @@ same on tactors whose thresholds and sensitivities differ (paper section 4.2).
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -43,7 +45,7 @@ import numpy as np
 
 from .assets import asset_path
 from .geometry import ArraySpec, Grid
-from .jsonfile import read_json, write_json_atomic
+from .jsonfile import read_json_digest, write_json_atomic
 from .wire import frame_length
 
 FORMAT = "tactile-device-profile"
@@ -75,6 +77,8 @@ class DeviceProfile:
     description : str
     path : str or None
         Where the profile was loaded from.
+    file_sha256 : str or None
+        SHA-256 of the bytes of that file (None for a profile built or changed in memory).
     """
 
     name: str
@@ -86,6 +90,7 @@ class DeviceProfile:
     threshold: tuple | None = None
     description: str = ""
     path: str | None = field(default=None, compare=False)
+    file_sha256: str | None = field(default=None, compare=False)
 
     @property
     def grid(self) -> Grid:
@@ -155,6 +160,39 @@ class DeviceProfile:
             if self.threshold is not None:
                 data["calibration"]["threshold"] = list(self.threshold)
         return data
+
+    @property
+    def sha256(self) -> str:
+        """SHA-256 of the profile's bytes: of its file if it is as loaded, else of its JSON form
+        (sorted keys, compact)."""
+        if self.file_sha256 is not None:
+            return self.file_sha256
+        text = json.dumps(self.to_dict(), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+    def record(self) -> dict:
+        """What an experiment session records of the profile: name, SHA-256 (of the file's
+        bytes, or of the JSON form if it was built or changed in memory), path, the
+        calibration applied."""
+        calibration = None
+        if self.offset is not None:
+            calibration = {"offset": list(self.offset), "gain": list(self.gain)}
+        return {
+            "name": self.name,
+            "sha256": self.sha256,
+            "sha256_of": "file" if self.file_sha256 is not None else "json",
+            "path": self.path,
+            "levels": self.levels,
+            "columns": self.grid.cols,
+            "rows": self.grid.rows,
+            "calibration": calibration,
+        }
+
+    def without_calibration(self) -> DeviceProfile:
+        """A copy with no per-tactor calibration (no longer the file it came from)."""
+        return dataclasses.replace(
+            self, offset=None, gain=None, threshold=None, path=None, file_sha256=None
+        )
 
     def save(self, path) -> Path:
         """Write the profile as JSON, atomically (temporary file, then rename)."""
@@ -354,9 +392,10 @@ def load_profile(path_or_name=None) -> DeviceProfile:
             path = asset_path("devices", f"{path_or_name}.json")
         except FileNotFoundError:
             raise ProfileError(f"{path_or_name}: no such profile file or bundled profile") from None
-    data = read_json(path, ProfileError)
+    data, digest = read_json_digest(path, ProfileError)
     source = str(path)
-    return dataclasses.replace(profile_from_dict(data, source=source), path=source)
+    profile = profile_from_dict(data, source=source)
+    return dataclasses.replace(profile, path=source, file_sha256=digest)
 
 
 def default_profile() -> DeviceProfile:

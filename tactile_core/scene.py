@@ -44,16 +44,19 @@ class Scene:
     rate_hz : float
         Requested frame rate (the streamer caps it at what the link carries).
     filter : {"point", "box"}
+        Temporal filter; ``"point"`` (the paper's pipeline) by default.
     subsamples : int
-        Sub-samples of the box filter.
+        Sub-samples of the box filter (used when ``filter`` is ``"box"``).
     dither : bool
-        Temporal dithering of the quantisation.
+        Temporal dithering of the quantisation; off (plain rounding, the paper's) by default.
     playing : bool
         False: the array is all off (paused); the trace clock stops.
     gain : float
-        Master intensity in [0, 1] multiplying every corrected intensity before calibration
-        and quantisation (1 by default; the calibration procedure uses it to present one
-        tactor at a chosen drive).
+        Master intensity in [0, 1], part of the correction: a lit tactor gets
+        ``mu + gain (1 - mu) I**gamma``, so the master intensity scales only the part above the
+        threshold and never pushes a lit tactor below ``mu`` (1 by default; the calibration
+        procedure, at ``mu = 0`` and ``gamma = 1``, uses it to present one tactor at a chosen
+        drive).
     emphasis : float
         Corner emphasis of the trace in [0, 0.9] (see :class:`~tactile_core.trace.Trace`).
     epoch : int
@@ -69,9 +72,9 @@ class Scene:
     direction: str = "forward"
     repeat: bool = True
     rate_hz: float = 300.0
-    filter: str = "box"
+    filter: str = "point"
     subsamples: int = 4
-    dither: bool = True
+    dither: bool = False
     playing: bool = True
     gain: float = 1.0
     emphasis: float = 0.0
@@ -124,9 +127,88 @@ class Scene:
     def live(self, grid: Grid, rate_hz: float | None = None) -> LiveFrames:
         """Frames of the scene at ``rate_hz``, for the output thread."""
         return LiveFrames(
-            self.trace(), self.method, self.sampling(rate_hz), self.mu, self.gamma, grid
+            self.trace(), self.method, self.sampling(rate_hz), self.mu, self.gamma, grid, self.gain
         )
 
     def replace(self, **changes) -> Scene:
         """A copy with ``changes`` (validated)."""
         return dataclasses.replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class Pipeline:
+    """How a scene's trace becomes device levels: frame rate, temporal filter, dithering.
+
+    The default is the paper's pipeline, which the experiments run unless told otherwise: point
+    sampling at the frame rate and plain rounding to the device levels (no temporal filter, no
+    dithering), so CT and MM stay strictly bi-level and the array plays its own levels only. The
+    frame rate is how often the host sends levels; it is not the PWM carrier of the array (about
+    300 Hz on the paper's array, which then holds each level for one or more PWM periods).
+
+    Parameters
+    ----------
+    rate_hz : float
+        Frames per second sent to the array (300 by default: one frame per PWM period of the
+        paper's array, within the 311 frames a second that 115200 baud carries).
+    filter : {"point", "box"}
+    subsamples : int
+        Sub-samples of the box filter (1 for point sampling).
+    dither : bool
+        Temporal dithering of the quantisation (error feedback per tactor).
+    """
+
+    rate_hz: float = 300.0
+    filter: str = "point"
+    subsamples: int = 1
+    dither: bool = False
+
+    def __post_init__(self):
+        Scene(None, rate_hz=self.rate_hz, filter=self.filter, subsamples=self.subsamples)
+        object.__setattr__(self, "rate_hz", float(self.rate_hz))
+        object.__setattr__(self, "subsamples", int(self.subsamples))
+        if not isinstance(self.dither, bool):
+            raise ValueError(f"dither must be true or false, got {self.dither!r}")
+
+    def apply(self, scene: Scene) -> Scene:
+        """``scene`` with this pipeline's rate, filter and dithering."""
+        return scene.replace(
+            rate_hz=self.rate_hz, filter=self.filter, subsamples=self.subsamples, dither=self.dither
+        )
+
+    @property
+    def is_paper(self) -> bool:
+        """True for point sampling and plain rounding, as the paper ran."""
+        return self.filter == "point" and not self.dither
+
+    def to_dict(self) -> dict:
+        """The JSON form (what ``session.json`` records)."""
+        return {
+            "rate_hz": self.rate_hz,
+            "filter": self.filter,
+            "subsamples": self.subsamples if self.filter == "box" else 1,
+            "dither": self.dither,
+        }
+
+    @classmethod
+    def from_dict(cls, data, source: str = "pipeline") -> Pipeline:
+        """Validate the JSON form; ``ValueError`` names the field."""
+        if not isinstance(data, dict):
+            raise ValueError(f"{source} must be an object, got {type(data).__name__}")
+        kwargs = {}
+        for key, kinds in (("rate_hz", (int, float)), ("filter", str), ("subsamples", int),
+                           ("dither", bool)):  # fmt: skip
+            if key not in data:
+                raise ValueError(f"{source}.{key} is missing")
+            value = data[key]
+            wrong_bool = isinstance(value, bool) and key != "dither"
+            if wrong_bool or not isinstance(value, kinds):
+                raise ValueError(f"{source}.{key} has the wrong type: {value!r}")
+            kwargs[key] = value
+        try:
+            return cls(**kwargs)
+        except ValueError as exc:
+            raise ValueError(f"{source}: {exc}") from None
+
+
+PAPER_PIPELINE = Pipeline()
+"""Point sampling at 300 frames a second, plain rounding: what the experiments run by default."""

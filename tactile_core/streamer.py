@@ -378,11 +378,8 @@ class Streamer:
             return levels, lit
         top = self.profile.levels - 1
         offset, gain = self._offset, self._gain
-        master = plan.scene.gain
         channel_of_cell = self._channel_of_cell
         for cell, value in plan.live.entries(k):
-            if master != 1.0:
-                value *= master
             if offset is not None:
                 value = min(max(offset[cell] + gain[cell] * value, 0.0), 1.0)
             ch = channel_of_cell[cell]

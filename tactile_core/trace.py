@@ -192,13 +192,13 @@ class Sampling:
     rate_hz : float
         Frames per second, > 0.
     filter : {"point", "box"}
-        See the module notes.
+        See the module notes; ``"point"`` (the paper's pipeline) by default.
     subsamples : int
         ``S``, sub-samples per frame for the box filter (1..1024); ignored by ``point``.
     """
 
     rate_hz: float = 300.0
-    filter: str = "box"
+    filter: str = "point"
     subsamples: int = 4
 
     def __post_init__(self):
@@ -244,6 +244,8 @@ def render_frames(
     n_frames: int | None = None,
     first_frame: int = 0,
     corrected: bool = True,
+    gain: float = 1.0,
+    phase_s: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Frames of a trace as they would be streamed.
 
@@ -263,6 +265,12 @@ def render_frames(
         Index of the first frame (frame ``k`` starts at ``k / rate_hz`` seconds).
     corrected : bool
         Filter corrected intensities (True, what is streamed) or raw ones (False).
+    gain : float, keyword-only
+        Master intensity in [0, 1], part of the correction (see
+        :func:`~tactile_core.correction.correct`).
+    phase_s : float, keyword-only
+        Where the frame clock stands when the trace starts: frame ``k`` starts at
+        ``k / rate_hz + phase_s`` seconds of the trace's clock (0: aligned to a frame).
 
     Returns
     -------
@@ -281,13 +289,14 @@ def render_frames(
     n_frames = _validate.integer("n_frames", n_frames, 0)
     first_frame = _validate.integer("first_frame", first_frame, 0)
     s = sampling.n_sub
-    start = (np.arange(n_frames) + first_frame) / sampling.rate_hz
+    phase_s = _validate.real("phase_s", phase_s)
+    start = (np.arange(n_frames) + first_frame) / sampling.rate_hz + phase_s
     times = (start[:, None] + sampling.offsets_s()[None, :]).reshape(-1)
     t, on = trace.parameter(times)
     samples = np.zeros((times.size, *grid.shape))
     samples[on] = render(trace.shape, m, t[on], grid=grid)
-    if corrected and (mu != 0.0 or gamma != 1.0):
-        samples = correct(samples, mu, gamma)
+    if corrected and (mu != 0.0 or gamma != 1.0 or gain != 1.0):
+        samples = correct(samples, mu, gamma, gain=gain)
     frames = samples.reshape((n_frames, s, *grid.shape)).mean(axis=1)
     return start, frames
 
@@ -325,9 +334,11 @@ class LiveFrames:
     sampling : Sampling
     mu, gamma : float
     grid : Grid
+    gain : float
+        Master intensity in [0, 1], part of the correction.
     """
 
-    def __init__(self, trace, method, sampling, mu, gamma, grid):
+    def __init__(self, trace, method, sampling, mu, gamma, grid, gain=1.0):
         if not isinstance(trace, Trace):
             raise ValueError(f"trace must be a Trace, got {trace!r}")
         if not isinstance(sampling, Sampling):
@@ -336,12 +347,13 @@ class LiveFrames:
         self.method = get_method(method)
         self.sampling = sampling
         self.mu, self.gamma = check_correction(mu, gamma)
+        self.gain = _validate.in_range("gain", gain, 0.0, 1.0)
         self.grid = check_grid(grid)
         self.cycle = frames_per_cycle(trace.period_s, sampling.rate_hz) if trace.repeat else None
         self._offsets = sampling.offsets_s().tolist()
         self._scale = 1.0 / len(self._offsets)
         self._sample1 = self.method.sample1
-        self._identity = self.mu == 0.0 and self.gamma == 1.0
+        self._identity = self.mu == 0.0 and self.gamma == 1.0 and self.gain == 1.0
         self._table: list | None = None
 
     @property
@@ -379,6 +391,7 @@ class LiveFrames:
                 grid=self.grid,
                 n_frames=count,
                 first_frame=first,
+                gain=self.gain,
             )
             flat = frames.reshape(count, self.grid.size)
             rows, cols = np.nonzero(flat)
@@ -412,14 +425,14 @@ class LiveFrames:
             lit = point_entries(shape, sample1, t, cols, rows)
             if self._identity:
                 return lit
-            return tuple((i, correct1(v, self.mu, self.gamma)) for i, v in lit)
+            return tuple((i, correct1(v, self.mu, self.gamma, self.gain)) for i, v in lit)
         acc: dict[int, float] = {}
         for offset in self._offsets:
             t = trace.parameter1(start + offset)
             if t is None:
                 continue
             for i, v in point_entries(shape, sample1, t, cols, rows):
-                acc[i] = acc.get(i, 0.0) + correct1(v, self.mu, self.gamma)
+                acc[i] = acc.get(i, 0.0) + correct1(v, self.mu, self.gamma, self.gain)
         scale = self._scale
         return tuple((i, v * scale) for i, v in acc.items())
 

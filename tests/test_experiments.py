@@ -113,6 +113,32 @@ def test_wilcoxon_without_ties_by_hand():
     assert p == pytest.approx(normal_p((78 - 39) / math.sqrt(162.5)), rel=1e-9)
 
 
+def test_paper_rounding_reproduces_the_papers_0012():
+    # 12 of 12 with one sign (no ties): p = erfc(39 / sqrt(162.5) / sqrt 2) = 0.002222;
+    # x 6 = 0.01333 prints as 0.013. The paper rounded p to 0.002 first: x 6 = 0.012, the value
+    # its Tables 1 and 2 show for every such pair.
+    x, y = np.arange(1, 13) + 10.0, np.zeros(12)
+    raw = normal_p(39 / math.sqrt(162.5))
+    assert round(raw, 4) == 0.0022
+    scores = {"CT": x, "MM": y, "AS": y, "IM": y}  # six pairs: x 6
+    assert f"{tc.pairwise_wilcoxon(scores)[('CT', 'MM')]:.3f}" == "0.013"
+    p = tc.pairwise_wilcoxon(scores, paper_rounding=True)[("CT", "MM")]
+    assert p == pytest.approx(0.012, abs=1e-15)
+
+
+def test_analyze_paper_rounding_prints_the_papers_value(tmp_path):
+    sim = [sys.executable, "-m", "tactile_core.cli", "simulate", str(tmp_path), "--participants",
+           "12", "--experiments", "exp3", "--seed", "4"]  # fmt: skip
+    subprocess.run(sim, check=True, capture_output=True, timeout=120)
+    cmd = [sys.executable, "-m", "tactile_core.cli", "analyze", str(tmp_path)]
+    plain = subprocess.run(cmd, check=True, capture_output=True, text=True, timeout=120).stdout
+    paper = subprocess.run([*cmd, "--paper-rounding"], check=True, capture_output=True,
+                           text=True, timeout=120).stdout  # fmt: skip
+    assert "rounded to three decimals" in paper and "rounded to three decimals" not in plain
+    row = paper.split("Table 2")[1].splitlines()[2].split("\t")
+    assert all(round(float(v) / 0.006, 6).is_integer() or float(v) == 1.0 for v in row), row
+
+
 def test_wilcoxon_with_ties_and_a_zero_by_hand():
     # differences 1,1,2,2,3,...,10 and one zero (dropped): n = 12, average ranks for the
     # ties, variance 162.5 - sum(t^3 - t)/48 = 162.5 - 12/48.
@@ -505,3 +531,98 @@ def test_staircase_accepts_numpy_booleans_and_0_or_1():
     for bad in (2, 0.5, "yes", None):
         with pytest.raises(ValueError, match="correct"):
             sc.update(bad)
+
+
+# --- the paper's pipeline, recorded ---------------------------------------------------------
+
+
+def test_experiments_run_the_papers_pipeline_by_default(tmp_path):
+    session = open_session(tmp_path, "pp01", seed=1)
+    for name in ("exp1", "exp2", "exp3", "calibration"):
+        runner = RUNNERS[name](session)
+        while runner.current.scene is None:
+            runner.answer(SimulatedParticipant(seed=0).respond(runner.current))
+        scene = runner.current.scene
+        assert (scene.filter, scene.dither, scene.rate_hz) == ("point", False, 300.0), name
+        runner.close()
+
+
+def test_bilevel_methods_stay_bilevel_on_the_papers_pipeline():
+    # Point sampling: every frame is one instant of the trace, so CT and MM send only 0 and 22.
+    from tactile_core.scene import PAPER_PIPELINE, Scene
+
+    for method in ("CT", "MM"):
+        scene = PAPER_PIPELINE.apply(Scene(tc.Circle((2.5, 3.0), 2.0), method, 0.33, 0.7))
+        live = scene.live(tc.Grid())
+        values = {v for k in range(750) for _, v in live.entries(k)}
+        assert values == {1.0}, method
+
+
+def test_session_records_the_whole_pipeline(tmp_path):
+    import hashlib
+    import json
+
+    from tactile_core.assets import asset_path
+
+    session = open_session(tmp_path, "pp02", seed=3)
+    Experiment2(session).close()
+    data = json.loads((tmp_path / "participant-pp02" / "session.json").read_text())
+    assert data["pipeline"] == {"rate_hz": 300.0, "filter": "point", "subsamples": 1,
+                                "dither": False}  # fmt: skip
+    run = data["runs"]["exp2"]
+    assert run["pipeline"] == data["pipeline"] and run["levels"] == 23
+    paper, l2 = {"mu": 0.33, "gamma": 0.7}, {"mu": 0.0, "gamma": 1.4}
+    assert run["conditions"] == {"L1": paper, "L2": l2, "L3": paper, "L4": l2}
+    profile_bytes = asset_path("devices", "palm-5x6.json").read_bytes()
+    assert run["device_profile"]["name"] == "palm-5x6"
+    assert run["device_profile"]["sha256"] == hashlib.sha256(profile_bytes).hexdigest()
+    assert run["device_profile"]["calibration"] is None
+    assert run["software_version"] == tc.__version__
+
+
+def test_resuming_under_another_profile_or_pipeline_is_refused(tmp_path):
+    from tactile_core.device import default_profile
+    from tactile_core.experiments.results import SessionError
+    from tactile_core.scene import Pipeline
+
+    session = open_session(tmp_path, "pp03", seed=3)
+    runner = Experiment3(session)
+    runner.answer("continue")
+    runner.close()
+    calibrated = default_profile().with_calibration([0.1] * 30, [0.9] * 30)
+    with pytest.raises(SessionError, match="device_profile"):
+        Experiment3(open_session(tmp_path, "pp03"), profile=calibrated)
+    with pytest.raises(SessionError, match="pipeline"):
+        open_session(tmp_path, "pp03", pipeline=Pipeline(300.0, "box", 4, True))
+    Experiment3(open_session(tmp_path, "pp03")).close()  # the same settings resume
+
+
+def test_filter_and_dithering_are_explicit_recorded_choices(tmp_path):
+    import json
+
+    from tactile_core.scene import Pipeline
+
+    session = open_session(tmp_path, "pp04", pipeline=Pipeline(200.0, "box", 4, True))
+    runner = Experiment1(session)
+    assert (runner.current.scene.filter, runner.current.scene.subsamples) == ("box", 4)
+    assert runner.current.scene.dither and runner.current.scene.rate_hz == 200.0
+    runner.close()
+    data = json.loads((tmp_path / "participant-pp04" / "session.json").read_text())
+    assert data["runs"]["exp1"]["pipeline"] == {"rate_hz": 200.0, "filter": "box",
+                                                "subsamples": 4, "dither": True}  # fmt: skip
+
+
+def test_each_trial_row_notes_the_stream_health(tmp_path):
+    session = open_session(tmp_path, "pp05")
+    runner = Experiment3(session)
+    runner.answer("continue", health={"late_frames": 0, "skipped_frames": 0, "link_errors": 0})
+    runner.answer("circle", rt_s=1.0, health={"late_frames": 3, "skipped_frames": 1,
+                                              "link_errors": 2})  # fmt: skip
+    runner.close()
+    with open(tmp_path / "participant-pp05" / "exp3.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert (rows[1]["late_frames"], rows[1]["skipped_frames"], rows[1]["link_errors"]) == (
+        "3",
+        "1",
+        "2",
+    )

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import tactile_core as tc
+from tactile_core.scene import Scene
 
 from .helpers import lit
 
@@ -67,6 +68,26 @@ def test_correct_tiny_intensity_values_by_hand():
     assert tc.correct(1e-300, mu=0.2, gamma=1e3) == 0.2
     # (1 - 1e-12) ** 1000 = 1 - 1e-9
     assert tc.correct(1 - 1e-12, mu=0.0, gamma=1e3) == pytest.approx(1 - 1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize("gain", [0.0, 0.2, 0.5, 1.0])
+def test_master_intensity_scales_only_the_part_above_mu(gain):
+    # mu + gain (1 - mu) I^gamma: at 0.25 with mu = 0.33, gamma = 0.7:
+    # 0.33 + gain * 0.67 * 0.25^0.7 = 0.33 + gain * 0.67 * 0.37893...
+    out = tc.correct([0.0, 0.25, 1.0], mu=0.33, gamma=0.7, gain=gain)
+    assert out[0] == 0.0
+    assert out[1] == pytest.approx(0.33 + gain * 0.67 * 0.25**0.7, abs=1e-15)
+    assert out[2] == pytest.approx(0.33 + gain * 0.67, abs=1e-15)
+    assert (out[1:] >= 0.33).all()  # no lit tactor below the threshold
+
+
+def test_master_intensity_on_the_live_path_keeps_lit_tactors_at_or_above_mu():
+    scene = Scene(tc.Circle((2.5, 3.0), 2.0), "IM", mu=0.33, gamma=0.7, gain=0.1)
+    scene = scene.replace(filter="point")
+    live = scene.live(tc.Grid())
+    for k in range(0, 750, 7):
+        for _, value in live.entries(k):
+            assert 0.33 <= value <= 0.33 + 0.1 * 0.67 + 1e-12
 
 
 def test_quantize_extremes():

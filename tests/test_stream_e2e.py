@@ -93,7 +93,7 @@ def test_stream_into_the_emulator_end_to_end(emulator, tmp_path):
     assert not levels[-1].any()  # the last frame is all off
     scene_trace = tc.Trace(tc.Circle((2.5, 3.0), 2.0), 2.0, 0.5)
     _, expected = tc.render_frames(
-        scene_trace, "IM", sampling=tc.Sampling(100.0, "box", 4), mu=0.33, gamma=0.7
+        scene_trace, "IM", sampling=tc.Sampling(100.0, "point"), mu=0.33, gamma=0.7
     )
     expected = tc.quantize(expected, 23).reshape(-1, 30)  # channel order = row * cols + col
     assert align(levels[:-1], expected) >= len(levels) - 2

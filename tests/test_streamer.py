@@ -170,7 +170,8 @@ def test_calibration_offsets_and_gains_reach_the_wire():
 
 def test_dithering_carries_finer_averages():
     # AS at (2.2, 3.5): tactor (2, 3) gets 0.7, i.e. 15.4 in level units; (1, 3) gets 6.6.
-    scene = Scene(tc.Line((2.2, 3.5), (2.2, 3.5)), "AS", mu=0.0, gamma=1.0, rate_hz=300.0)
+    scene = Scene(tc.Line((2.2, 3.5), (2.2, 3.5)), "AS", mu=0.0, gamma=1.0, rate_hz=300.0,
+                  dither=True)  # fmt: skip
     frames, _ = run(scene, 400)
     levels = np.array([f[2] for f in frames[:-1]])
     assert levels[:, 17].mean() == pytest.approx(15.4, abs=0.05)

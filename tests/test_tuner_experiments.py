@@ -227,8 +227,12 @@ def test_analyze_button_shows_the_tables(window, tmp_path):
 
 def test_scene_gain_scales_what_is_sent(window, qtbot):
     window.tabs.setCurrentIndex(0)
+    # The master intensity scales the part above mu: 0.33 + 0.5 * 0.67 = 0.665 -> 14.63 -> 15;
+    # at mu = 0 it is the drive itself: 0.5 -> 11.
     window.state.update(shape=tc.Line((2.5, 3.5), (2.5, 3.5)), method="CT", pause_s=0.0, gain=0.5,
-                        dither=False)  # fmt: skip
+                        dither=False, mu=0.33)  # fmt: skip
+    qtbot.waitUntil(lambda: window.device.sent_levels()[3, 2] == 15, timeout=5000)
+    window.state.update(mu=0.0)
     qtbot.waitUntil(lambda: window.device.sent_levels()[3, 2] == 11, timeout=5000)
 
 

@@ -146,8 +146,11 @@ def _figure(path, width=7.0, height=3.4, ncols=1):
     return fig, axes
 
 
-def analyze(results_dir, out=print) -> dict:
+def analyze(results_dir, out=print, *, paper_rounding: bool = False) -> dict:
     """Print the tables, write the figures; return what was computed.
+
+    ``paper_rounding`` rounds each uncorrected p to three decimals before the Bonferroni
+    multiplication, as the paper's tables did (see :func:`pairwise_wilcoxon`).
 
     Raises
     ------
@@ -160,13 +163,18 @@ def analyze(results_dir, out=print) -> dict:
         raise ValueError(f"no participant-* folders in {str(root)!r}")
     result: dict = {"participants": [f.name for f in folders]}
     out(f"{len(folders)} participant folder(s) in {root}")
+    if paper_rounding:
+        out("p-values: each rounded to three decimals before x 6, as the paper's tables")
 
     scores1, ids1 = exp1_scores(root)
     if ids1:
         out(f"\nExperiment 1 ({len(ids1)} participants with complete ratings)")
         out("Table 1. Pairwise Wilcoxon p-values, after multiplication by 6 for Bonferroni "
             "adjustment. Values below 0.05 are significant.")  # fmt: skip
-        tables = {prop: pairwise_wilcoxon(scores1[prop]) for prop in PROPERTIES}
+        tables = {
+            prop: pairwise_wilcoxon(scores1[prop], paper_rounding=paper_rounding)
+            for prop in PROPERTIES
+        }
         out("\t" + "\t".join(f"{a}, {b}" for a, b in tables["quality"]))
         for prop in PROPERTIES:
             out(format_pvalues(tables[prop], prop.capitalize()))
@@ -215,7 +223,7 @@ def analyze(results_dir, out=print) -> dict:
         out(f"\nExperiment 3 ({len(ids3)} participants with all four sets)")
         out("Table 2. Pairwise Wilcoxon p-values, after multiplication by 6 for Bonferroni "
             "adjustment. Values below 0.05 are significant.")  # fmt: skip
-        table2 = pairwise_wilcoxon(scores3)
+        table2 = pairwise_wilcoxon(scores3, paper_rounding=paper_rounding)
         out("\t".join(f"{a}, {b}" for a, b in table2))
         out("\t".join(f"{p:.3f}" for p in table2.values()))
         out("mean correct of 10:\t" + "\t".join(f"{m} {np.mean(scores3[m]):.2f}" for m in METHODS))

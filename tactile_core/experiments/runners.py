@@ -13,8 +13,10 @@ from __future__ import annotations
 
 import random
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 from .. import _validate
+from .._version import __version__
 from ..scene import Scene
 from ..shapes import Circle, Line, Square
 from .results import ResultsWriter, Session, now, read_rows
@@ -25,6 +27,9 @@ METHODS = ("CT", "MM", "AS", "IM")
 DIRECTIONS = ("up", "down", "left", "right")
 SHAPES = ("circle", "square")
 MU, GAMMA = 0.33, 0.7
+HEALTH_FIELDS = ("late_frames", "skipped_frames", "link_errors")
+"""Per trial, the stream's health while it was presented: frames sent more than 1 ms late,
+deadlines skipped after a stall, link errors (empty when no stream was watched)."""
 
 
 @dataclass(frozen=True)
@@ -70,16 +75,25 @@ class Runner:
     Parameters
     ----------
     session : Session
-        Where results go and what seeds the random choices.
+        Where results go, what seeds the random choices, and the pipeline the scenes run.
     write : bool
         Write results (False for dry runs).
+    profile : DeviceProfile, optional
+        The array the run plays on (the palm array by default); recorded in the session with
+        its SHA-256 and calibration, and checked when the run is resumed.
     """
 
     experiment = ""
     fields: tuple = ()
 
-    def __init__(self, session: Session, *, write: bool = True):
+    def __init__(self, session: Session, *, write: bool = True, profile=None):
+        from ..device import default_profile
+
         self.session = session
+        self.pipeline = session.get_pipeline()
+        self.profile = profile or default_profile()
+        if write:
+            session.record_run(self.experiment, self.run_record())
         self.rng = random.Random(f"{session.seed}:{session.participant}:{self.experiment}")
         self._after: dict = {}
         self._gen = self._trials()
@@ -90,6 +104,24 @@ class Runner:
         self._writer = ResultsWriter(path, self.fields) if write else None
 
     # --- for subclasses ----------------------------------------------------------------------
+
+    conditions: ClassVar[dict] = {}
+    """``{condition: {"mu": mu, "gamma": gamma}}`` as the session records them."""
+
+    def run_record(self) -> dict:
+        """What ``session.json`` records of this run: the whole pipeline it plays."""
+        return {
+            "pipeline": self.pipeline.to_dict(),
+            "levels": self.profile.levels,
+            "conditions": self.conditions,
+            "device_profile": self.profile.record(),
+            "software_version": __version__,
+            "started": now(),
+        }
+
+    def make_scene(self, shape, method, mu, gamma, **kwargs) -> Scene:
+        """A trial's scene, on the session's pipeline."""
+        return self.pipeline.apply(Scene(shape, method, mu, gamma, **kwargs))
 
     def _trials(self):
         """Generator: yield trials, receive each answer."""
@@ -125,8 +157,11 @@ class Runner:
             raise ValueError(f"answer must be one of {', '.join(trial.options)}, got {answer!r}")
         return answer
 
-    def answer(self, answer, rt_s: float | None = None) -> str:
+    def answer(self, answer, rt_s: float | None = None, health: dict | None = None) -> str:
         """Record the answer to the current trial, advance, and return the feedback text.
+
+        ``health`` holds the stream's ``late_frames``, ``skipped_frames`` and ``link_errors``
+        while the trial was presented (see :data:`HEALTH_FIELDS`).
 
         Raises
         ------
@@ -152,6 +187,8 @@ class Runner:
             rt_s="" if rt_s is None else f"{rt_s:.3f}",
             time=now(),
         )
+        for key in HEALTH_FIELDS:
+            row[key] = "" if health is None else int(health.get(key, 0))
         if self._writer is not None:
             self._writer.write(row)
         self.current = nxt
@@ -230,7 +267,8 @@ class Experiment1(Runner):
 
     experiment = "exp1"
     fields = ("participant", "stage", "trial", "property", "method", "mapping", "switches",
-              "answer", "rt_s", "time")  # fmt: skip
+              "answer", "rt_s", "time", *HEALTH_FIELDS)  # fmt: skip
+    conditions: ClassVar[dict] = {method: {"mu": MU, "gamma": GAMMA} for method in METHODS}
     LINE = Line((0.5, 1.84), (4.5, 4.16))
     CIRCLE = Circle((2.5, 3.0), 2.0)
     PROPERTIES = ("quality", "smoothness", "thickness")
@@ -242,10 +280,9 @@ class Experiment1(Runner):
         self.switches = 0
         super().__init__(session, **kwargs)
 
-    @staticmethod
-    def scene(shape, method) -> Scene:
+    def scene(self, shape, method) -> Scene:
         """The scene of a rating trial."""
-        return Scene(shape, method, MU, GAMMA, duration_s=2.0, pause_s=0.5)
+        return self.make_scene(shape, method, MU, GAMMA, duration_s=2.0, pause_s=0.5)
 
     def select(self, key: int) -> Scene:
         """Preparation stage: the scene of the method behind number key ``key`` (1-4)."""
@@ -331,7 +368,11 @@ class Experiment2(Runner):
 
     experiment = "exp2"
     fields = ("participant", "stage", "trial", "midpoint", "mu", "gamma", "length", "direction",
-              "answer", "correct", "next_length", "reversal", "rt_s", "time")  # fmt: skip
+              "answer", "correct", "next_length", "reversal", "rt_s", "time",
+              *HEALTH_FIELDS)  # fmt: skip
+    conditions: ClassVar[dict] = {
+        c: {"mu": mu, "gamma": gamma} for c, (_, mu, gamma) in CONDITIONS_EXP2.items()
+    }
     QUESTIONS = 30
     total = 4 * (QUESTIONS + 1)
 
@@ -353,7 +394,7 @@ class Experiment2(Runner):
             for i in range(self.QUESTIONS):
                 direction = self.rng.choice(DIRECTIONS)
                 length = sc.level
-                scene = Scene(
+                scene = self.make_scene(
                     direction_line(midpoint, length, direction), "AS", mu, gamma,
                     duration_s=2.0, pause_s=0.5,
                 )  # fmt: skip
@@ -400,7 +441,8 @@ class Experiment3(Runner):
 
     experiment = "exp3"
     fields = ("participant", "stage", "trial", "method", "shape", "emphasis", "answer",
-              "correct", "timeout", "rt_s", "time")  # fmt: skip
+              "correct", "timeout", "rt_s", "time", *HEALTH_FIELDS)  # fmt: skip
+    conditions: ClassVar[dict] = {method: {"mu": MU, "gamma": GAMMA} for method in METHODS}
     SQUARE = Square((2.5, 3.5), 4.0)
     CIRCLE = Circle((2.5, 3.5), 2.05)
     QUESTIONS = 10
@@ -432,8 +474,8 @@ class Experiment3(Runner):
             self.rng.shuffle(shapes)
             for i, name in enumerate(shapes):
                 shape = self.CIRCLE if name == "circle" else self.SQUARE
-                scene = Scene(shape, method, MU, GAMMA, duration_s=2.0, pause_s=0.0,
-                              emphasis=self.emphasis)  # fmt: skip
+                scene = self.make_scene(shape, method, MU, GAMMA, duration_s=2.0, pause_s=0.0,
+                                        emphasis=self.emphasis)  # fmt: skip
                 answer = yield Trial(
                     "exp3", method, i, "shape",
                     "Circle or square? Press C or S (20 s).",
@@ -469,7 +511,8 @@ class Calibration(Runner):
 
     experiment = "calibration"
     fields = ("participant", "stage", "trial", "tactor", "level", "answer", "next_level",
-              "rt_s", "time")  # fmt: skip
+              "rt_s", "time", *HEALTH_FIELDS)  # fmt: skip
+    conditions: ClassVar[dict] = {"all": {"mu": 0.0, "gamma": 1.0}}
     MAX_TRIALS = 24
     REVERSALS = 8
 
@@ -489,8 +532,8 @@ class Calibration(Runner):
             centre = (col + 0.5, row + 0.5)
             for i in range(self.MAX_TRIALS):
                 level = sc.level
-                scene = Scene(Line(centre, centre), "CT", 0.0, 1.0, duration_s=0.5, pause_s=0.0,
-                              repeat=False, gain=level, dither=False)  # fmt: skip
+                scene = self.make_scene(Line(centre, centre), "CT", 0.0, 1.0, duration_s=0.5,
+                                        pause_s=0.0, repeat=False, gain=level)  # fmt: skip
                 answer = yield Trial(
                     "calibration", f"c{col}r{row}", i, "detect",
                     "Did you feel a vibration? Y or N (R to feel it again).",
