@@ -164,6 +164,13 @@ def cmd_stream(args) -> int:
     if recorder is not None:
         path = recorder.save(args.record)
         print(f"recorded {len(recorder)} frames to {path}")
+    if stats.state == "failed":
+        print(f"tactile stream: {stats.status}", file=sys.stderr)
+        print(streamer.failure_traceback, file=sys.stderr, end="")
+        return 70  # EX_SOFTWARE: a bug, reported; the array was turned off
+    if stats.state == "refused":
+        print(f"tactile stream: {stats.status}", file=sys.stderr)
+        return 1
     return 0 if stats.errors == 0 else 1
 
 

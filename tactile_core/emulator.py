@@ -1,11 +1,13 @@
 """A device emulator on a pseudo-terminal: what an array would receive, measured.
 
 ``tactile emulate`` opens a pseudo-terminal, prints the path of its device end on the first
-line, and then behaves like the array: it decodes the contract's frames, keeps the last levels,
-turns everything off when no valid frame has arrived for 250 ms (the watchdog, counted when it
-turns something off), counts dropped frames by reason and gaps in the sequence numbers, and
-measures the intervals between frames. When it ends (Ctrl-C, SIGTERM, ``--seconds``) it prints a
-report: frames, rate, p50/p99 interval error, CRC errors, watchdog trips, last levels.
+line, and then behaves as the reference firmware does (:class:`~tactile_core.array.ArrayModel`):
+it applies valid frames, answers hello with its info and query with its counters, turns
+everything off when no valid frame has arrived for 250 ms (the watchdog, counted when it turns
+something off), and counts dropped messages by reason; it also counts gaps in the sequence
+numbers and measures the intervals between frames. When it ends (Ctrl-C, SIGTERM, ``--seconds``)
+it prints a report: frames, rate, p50/p99 interval error, dropped messages, watchdog trips, the
+last levels; its counters are the ones a status answer reports.
 """
 
 from __future__ import annotations
@@ -17,9 +19,9 @@ import tty
 
 import numpy as np
 
+from .array import ArrayModel
 from .device import DeviceProfile, default_profile
 from .jsonfile import write_json_atomic
-from .wire import WATCHDOG_S, FrameReader
 
 
 class Emulator:
@@ -36,16 +38,16 @@ class Emulator:
     def __init__(self, profile: DeviceProfile | None = None, expected_rate_hz: float | None = None):
         self.profile = profile or default_profile()
         self.expected_rate_hz = expected_rate_hz
-        self.reader = FrameReader(channels=self.profile.channels, levels=self.profile.levels)
+        self.model = ArrayModel(self.profile)
+        self.reader = self.model.reader
         self.master = self.slave = None
         self.path = None
         self.times: list[float] = []  # monotonic receive time of each valid frame
         self.seqs: list[int] = []
         self.levels: list[bytes] = []  # channel order
         self.events: list[tuple[float, str]] = []
-        self.current = bytes(self.profile.channels)
-        self.last_valid = None
-        self.watchdog_trips = 0
+        self.hellos = 0
+        self.queries = 0
         self.seq_gaps = 0
         self.bytes_received = 0
         self.started = None
@@ -70,25 +72,35 @@ class Emulator:
                     pass
         self.master = self.slave = None
 
+    @property
+    def current(self) -> bytes:
+        """The levels now, in channel order."""
+        return self.model.levels
+
+    @property
+    def watchdog_trips(self) -> int:
+        """Watchdog trips so far."""
+        return self.model.watchdog_trips
+
     def _receive(self, data: bytes, now: float) -> None:
         self.bytes_received += len(data)
-        for seq, values in self.reader.feed(data):
+        replies, frames = self.model.receive(data, now)
+        for frame in frames:
             if self.seqs:
-                gap = (seq - self.seqs[-1] - 1) % 256
-                self.seq_gaps += gap
+                self.seq_gaps += (frame.seq - self.seqs[-1] - 1) % 256
             self.times.append(now)
-            self.seqs.append(seq)
-            self.levels.append(values)
-            self.current = values
-            self.last_valid = now
+            self.seqs.append(frame.seq)
+            self.levels.append(frame.levels)
+        if replies:
+            self.events.append((now, f"answered {len(replies)} bytes"))
+            try:
+                os.write(self.master, replies)
+            except OSError:
+                pass  # no client: the answer is lost, as on a real line
 
     def _watchdog(self, now: float) -> None:
-        if self.last_valid is not None and now - self.last_valid >= WATCHDOG_S:
-            if any(self.current):
-                self.watchdog_trips += 1
-                self.events.append((now, "watchdog"))
-            self.current = bytes(self.profile.channels)
-            self.last_valid = None
+        if self.model.watchdog(now):
+            self.events.append((now, "watchdog"))
 
     def run(self, should_stop, seconds: float | None = None, close_after: float | None = None):
         """Receive until ``should_stop()`` is true or ``seconds`` have passed.
@@ -109,8 +121,9 @@ class Emulator:
                 self.close()
                 break
             timeout = 0.05
-            if self.last_valid is not None:  # wake exactly when the watchdog is due
-                timeout = min(timeout, max(self.last_valid + WATCHDOG_S - now, 0.0))
+            due = self.model.due()
+            if due is not None:  # wake exactly when the watchdog is due
+                timeout = min(timeout, max(due - now, 0.0))
             ready, _, _ = select.select([self.master], [], [], timeout)
             now = time.monotonic()
             if ready:
@@ -152,8 +165,11 @@ class Emulator:
             "interval_error_max_ms": float(errors.max() * 1e3) if len(errors) else 0.0,
             "bad_frames": dict(self.reader.errors),
             "crc_errors": self.reader.errors["crc"],
+            "dropped": self.model.dropped,
+            "frames_applied": self.model.frames_applied,
             "seq_gaps": self.seq_gaps,
             "watchdog_trips": self.watchdog_trips,
+            "info": self.model.info.describe(),
             "events": [(round(t - (self.started or 0.0), 6), e) for t, e in self.events],
             "last_levels": cells.reshape(grid.shape)[::-1].tolist(),  # top row first, as seen
         }
@@ -168,8 +184,11 @@ class Emulator:
             f"interval error: p50 {r['interval_error_p50_ms']:.3f} ms, "
             f"p99 {r['interval_error_p99_ms']:.3f} ms, max {r['interval_error_max_ms']:.3f} ms "
             f"(nominal {r['nominal_period_ms']:.3f} ms)",
-            f"dropped frames: {bad} (CRC errors {r['crc_errors']}); sequence gaps: {r['seq_gaps']}",
+            f"dropped messages: {r['dropped']} ({bad}); sequence gaps: {r['seq_gaps']}",
             f"watchdog trips: {r['watchdog_trips']}",
+            f"status counters: frames applied {r['frames_applied']}, messages dropped "
+            f"{r['dropped']}, watchdog trips {r['watchdog_trips']}",
+            f"identifies as: {r['info']}",
             "last levels (top row first):",
         ]
         lines += ["  " + " ".join(f"{v:2d}" for v in row) for row in r["last_levels"]]

@@ -1,8 +1,9 @@
 """Links to an array: a serial port (or any pyserial URL) and the simulated array.
 
-A link is anything with ``write(data)``, ``close()``, ``reopen()`` and a ``description``.
-``write`` raises :class:`LinkError` whose message is a one-line status for the user ("port busy:
-/dev/ttyUSB0 is open in another program"); no other exception escapes a link.
+A link is anything with ``write(data)``, ``read()`` (the bytes the array has sent, without
+waiting), ``close()``, ``reopen()`` and a ``description``. ``write`` and ``read`` raise
+:class:`LinkError` whose message is a one-line status for the user ("port busy: /dev/ttyUSB0 is
+open in another program"); no other exception escapes a link.
 """
 
 from __future__ import annotations
@@ -14,8 +15,9 @@ import time
 import numpy as np
 import serial
 
+from .array import ArrayModel
 from .device import DeviceProfile, default_profile
-from .wire import WATCHDOG_S, FrameReader
+from .wire import HELLO_TIMEOUT_S, Info, MessageReader, encode_hello
 
 
 class LinkError(Exception):
@@ -108,6 +110,17 @@ class SerialLink:
             except (serial.SerialException, OSError, ValueError) as exc:
                 raise LinkError(_explain(exc, self.url)) from None
 
+    def read(self) -> bytes:
+        """The bytes received so far (without waiting); :class:`LinkError` on failure."""
+        port = self._port
+        if port is None:
+            raise LinkError(f"not connected: {self.url}")
+        try:
+            waiting = port.in_waiting
+            return port.read(waiting) if waiting else b""
+        except (serial.SerialException, OSError, ValueError) as exc:
+            raise LinkError(_explain(exc, self.url)) from None
+
     def close(self) -> None:
         """Close the port (idempotent; never raises)."""
         with self._lock:
@@ -125,11 +138,12 @@ class SerialLink:
 
 
 class SimulatedArray:
-    """The built-in array: decodes exactly the bytes that would go on the wire.
+    """The built-in array: the bytes that would go on the wire, received by
+    :class:`~tactile_core.array.ArrayModel` (what the reference firmware does).
 
-    It keeps the last valid levels, enforces the contract's 250 ms watchdog, counts dropped
-    frames, and, when the profile has a motor response curve, reports what the motors would do
-    ("felt") beside what was sent.
+    It keeps the last valid levels, answers hello and query, enforces the 250 ms watchdog,
+    counts dropped messages, and, when the profile has a motor response curve, reports what the
+    motors would do ("felt") beside what was sent.
 
     Parameters
     ----------
@@ -139,13 +153,9 @@ class SimulatedArray:
 
     def __init__(self, profile: DeviceProfile | None = None):
         self.profile = profile or default_profile()
-        self._reader = FrameReader(channels=self.profile.channels, levels=self.profile.levels)
+        self.model = ArrayModel(self.profile)
         self._lock = threading.Lock()
-        self._channel_levels = np.zeros(self.profile.channels, dtype=np.uint8)
-        self._last_valid = None
-        self.frames = 0
-        self.watchdog_trips = 0
-        self.last_seq = None
+        self._replies = bytearray()
         self.closed = False
 
     description = "simulated array"
@@ -158,34 +168,50 @@ class SimulatedArray:
         """Receive bytes as the array would."""
         if self.closed:
             raise LinkError("simulated array closed")
-        frames = self._reader.feed(data)
-        if frames:
-            now = time.monotonic()
-            with self._lock:
-                seq, values = frames[-1]
-                self._channel_levels = np.frombuffer(values, dtype=np.uint8).copy()
-                self._last_valid = now
-                self.frames += len(frames)
-                self.last_seq = seq
+        with self._lock:
+            replies, _ = self.model.receive(data, time.monotonic())
+            self._replies += replies
+
+    def read(self) -> bytes:
+        """What the array answered since the last read."""
+        if self.closed:
+            raise LinkError("simulated array closed")
+        with self._lock:
+            data, self._replies = bytes(self._replies), bytearray()
+        return data
 
     def close(self) -> None:
         """Stop receiving (the array then times out to all-off)."""
         self.closed = True
 
     @property
+    def frames(self) -> int:
+        """Frames applied."""
+        return self.model.frames_applied
+
+    @property
+    def watchdog_trips(self) -> int:
+        """Watchdog trips (brought up to date)."""
+        with self._lock:
+            self.model.watchdog(time.monotonic())
+            return self.model.watchdog_trips
+
+    @property
+    def last_seq(self):
+        """Sequence number of the last frame applied."""
+        return self.model.last_seq
+
+    @property
     def bad_frames(self) -> dict:
-        """Dropped frames by reason."""
-        return dict(self._reader.errors)
+        """Dropped messages by reason."""
+        return dict(self.model.reader.errors)
 
     def levels(self, now: float | None = None) -> np.ndarray:
         """Current levels as a ``(rows, cols)`` uint8 frame, zero after the watchdog."""
         now = time.monotonic() if now is None else now
         with self._lock:
-            if self._last_valid is not None and now - self._last_valid > WATCHDOG_S:
-                if self._channel_levels.any():
-                    self.watchdog_trips += 1
-                self._channel_levels[:] = 0
-            channel_levels = self._channel_levels.copy()
+            self.model.watchdog(now)
+            channel_levels = np.frombuffer(self.model.levels, dtype=np.uint8)
         flat = np.zeros(self.profile.channels, dtype=np.uint8)
         flat[self.profile.array.channel_index] = channel_levels
         return flat.reshape(self.profile.grid.shape)
@@ -197,6 +223,57 @@ class SimulatedArray:
     def felt(self, now: float | None = None) -> np.ndarray:
         """What the motors would do (response curve applied), ``(rows, cols)`` float64."""
         return self.profile.felt(self.sent(now))
+
+
+def exchange(link, request: bytes, want, timeout_s: float, reader: MessageReader | None = None):
+    """Send ``request`` and wait up to ``timeout_s`` for a reply of type ``want`` with the
+    request's sequence number; return it, or None. :class:`LinkError` if the link fails.
+
+    Replies with another sequence number (late answers to an earlier request) are skipped.
+    """
+    reader = reader or MessageReader(accept=(want,))
+    seq = request_seq(request)
+    link.write(request)
+    deadline = time.monotonic() + timeout_s
+    while True:
+        for msg in reader.feed(link.read()):
+            if isinstance(msg, want) and msg.seq == seq:
+                return msg
+        if time.monotonic() >= deadline:
+            return None
+        time.sleep(0.002)
+
+
+def request_seq(request: bytes) -> int:
+    """The sequence number of an encoded hello or query."""
+    from cobs import cobs
+
+    return cobs.decode(request[:-1])[1]
+
+
+def identify(link, profile: DeviceProfile, seq: int = 0, timeout_s: float = HELLO_TIMEOUT_S):
+    """Ask the array who it is and check it against the profile.
+
+    Returns
+    -------
+    info : Info or None
+        The array's answer, or None if it did not answer within ``timeout_s`` (an array that
+        does not identify itself).
+    problem : str
+        Empty if the info agrees with the profile (columns, rows, levels); else one line saying
+        how they differ.
+    """
+    info = exchange(link, encode_hello(seq), Info, timeout_s)
+    if info is None:
+        return None, ""
+    grid = profile.grid
+    if (info.cols, info.rows, info.levels) != (grid.cols, grid.rows, profile.levels):
+        return info, (
+            f"array mismatch: the array reports {info.cols} x {info.rows} with {info.levels} "
+            f"levels ({info.name or 'unnamed'}), the profile {profile.name} expects "
+            f"{grid.cols} x {grid.rows} with {profile.levels} levels; not streaming"
+        )
+    return info, ""
 
 
 def open_link(url: str | None, profile: DeviceProfile | None = None, **kwargs):

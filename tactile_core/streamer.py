@@ -24,6 +24,7 @@ import os
 import sys
 import threading
 import time
+import traceback
 import weakref
 from dataclasses import dataclass
 
@@ -31,9 +32,9 @@ import numpy as np
 
 from .correction import Dither, quantize1
 from .device import DeviceProfile, default_profile
-from .link import LinkError
+from .link import LinkError, identify
 from .scene import Scene, check_scene
-from .wire import encode_frame
+from .wire import KEEPALIVE_S, Info, MessageReader, Status, encode_frame, encode_query
 
 _RUNNING: weakref.WeakSet = weakref.WeakSet()
 
@@ -79,8 +80,9 @@ class StreamStats:
     Attributes
     ----------
     state : str
-        ``"starting"``, ``"streaming"``, ``"paused"``, ``"idle"``, ``"disconnected"`` or
-        ``"stopped"``.
+        ``"starting"``, ``"streaming"``, ``"paused"``, ``"idle"``, ``"disconnected"``,
+        ``"stopped"``, ``"refused"`` (the array is not the profile's) or ``"failed"`` (an
+        internal error ended the stream; the array was turned off).
     status : str
         One line for the user (what happened last, e.g. why the stream stopped).
     requested_rate_hz, rate_hz : float
@@ -102,6 +104,11 @@ class StreamStats:
         Seconds since the thread started.
     realtime : bool
         True when the output thread runs with real-time priority.
+    array : str
+        What the array said it is (its info), or why not ("unidentified: ...").
+    array_frames, array_dropped, array_watchdog_trips : int
+        The array's own counters from its last status answer (-1 before any): frames applied,
+        messages dropped, watchdog trips.
     """
 
     state: str = "stopped"
@@ -119,6 +126,10 @@ class StreamStats:
     interval_error_p99_ms: float = 0.0
     elapsed_s: float = 0.0
     realtime: bool = False
+    array: str = ""
+    array_frames: int = -1
+    array_dropped: int = -1
+    array_watchdog_trips: int = -1
 
     def summary(self) -> str:
         """Multi-line human summary (what ``tactile stream`` prints at the end)."""
@@ -135,6 +146,13 @@ class StreamStats:
                 f"late (>1 ms):    {self.late}, skipped deadlines: {self.skipped}",
                 f"link errors:     {self.errors}",
                 f"priority:        {'real-time' if self.realtime else 'normal'}",
+                f"array:           {self.array or '-'}",
+                (
+                    f"array counters:  frames applied {self.array_frames}, messages dropped "
+                    f"{self.array_dropped}, watchdog trips {self.array_watchdog_trips}"
+                    if self.array_frames >= 0
+                    else "array counters:  not reported"
+                ),
             ]
         )
 
@@ -155,8 +173,13 @@ class _Plan:
             self.capped = False
             self.live = None
         self.period = 1.0 / self.rate
+        # At any rate a frame goes out at least every KEEPALIVE_S (repeating the last one), so
+        # the array's 250 ms watchdog never trips while the host is alive.
+        self.tick = min(self.period, KEEPALIVE_S)
         self.since = time.perf_counter()
         self.precompute_started = False
+        self.last_k = None
+        self.last_levels = None
 
 
 class Streamer:
@@ -189,6 +212,10 @@ class Streamer:
     realtime : bool
         Ask for real-time scheduling (SCHED_FIFO) of the output thread, so that other busy
         processes cannot delay a frame (Linux, with privileges; the status says if refused).
+    identify : bool
+        On connecting (and reconnecting), send a hello and check the array's info against the
+        profile: a mismatch refuses to stream (state ``"refused"``); no answer within 0.5 s is
+        an array that does not identify itself, which is driven anyway and reported so.
 
     Examples
     --------
@@ -215,6 +242,7 @@ class Streamer:
         reconnect_interval_s: float = 0.5,
         switch_interval_s: float | None = 0.0005,
         realtime: bool = False,
+        identify: bool = True,
     ):
         if not 10.0 <= idle_rate_hz <= 1000.0:
             raise ValueError(f"idle_rate_hz must be within [10, 1000], got {idle_rate_hz!r}")
@@ -229,6 +257,18 @@ class Streamer:
         self.reconnect_interval_s = reconnect_interval_s
         self.switch_interval_s = switch_interval_s
         self.realtime = realtime
+        self.identify = identify
+        self.array_info: Info | None = None
+        """The array's answer to the hello (None: not asked, or no answer)."""
+        self.array_status: Status | None = None
+        """The array's last status answer."""
+        self._replies = MessageReader(accept=(Info, Status))
+        self._failure = ""
+        self.failure_traceback = ""
+        """The traceback of an internal error in the output thread (its status says what)."""
+        self._query_seq = 0
+        self._query_wanted = threading.Event()
+        self._status_arrived = threading.Condition()
         self._priority_note = ""
         self._wake = threading.Event()
         self._stopping = threading.Event()
@@ -308,6 +348,18 @@ class Streamer:
         """Pause at once: the next frame, sent immediately, is all zeros."""
         scene = self._scene
         self.set_scene(None if scene is None else scene.replace(playing=False))
+
+    def query_status(self, timeout_s: float = 0.5) -> Status | None:
+        """Ask the array for its counters (the output thread sends the query after its next
+        frame) and wait up to ``timeout_s`` for the answer; None if none came."""
+        with self._status_arrived:
+            before = self.array_status
+            self._query_wanted.set()
+            self._wake.set()
+            self._status_arrived.wait_for(
+                lambda: self.array_status is not before or not self.running, timeout_s
+            )
+            return self.array_status if self.array_status is not before else None
 
     @property
     def stats(self) -> StreamStats:
@@ -409,6 +461,48 @@ class Streamer:
             tap(now, seq & 0xFF, bytes(levels))
         return now
 
+    def _poll_replies(self) -> None:
+        """Read what the array sent (info and status answers) without waiting."""
+        data = self.link.read()
+        if not data:
+            return
+        for msg in self._replies.feed(data):
+            if isinstance(msg, Status):
+                with self._status_arrived:
+                    self.array_status = msg
+                    self._status_arrived.notify_all()
+                self._set(
+                    array_frames=msg.frames_applied,
+                    array_dropped=msg.dropped,
+                    array_watchdog_trips=msg.watchdog_trips,
+                )
+
+    def _send_query(self) -> None:
+        self._query_seq = (self._query_seq + 1) & 0xFF
+        self.link.write(encode_query(self._query_seq))
+
+    def _identify(self) -> bool:
+        """Hello and check; False (state refused) when the array is not the profile's."""
+        if not self.identify:
+            return True
+        self._set(state="starting", status=f"identifying the array on {self.link.description}")
+        info, problem = identify(self.link, self.profile)
+        self.array_info = info
+        if problem:
+            self._set(state="refused", status=problem, array=info.describe())
+            return False
+        if info is None:
+            self._set(
+                array=(
+                    "unidentified: no answer to hello within 0.5 s; driven as "
+                    f"{self.profile.name} ({self.profile.grid.cols} x {self.profile.grid.rows}, "
+                    f"{self.profile.levels} levels)"
+                )
+            )
+        else:
+            self._set(array=info.describe())
+        return True
+
     def _record_interval(self, error_s: float) -> None:
         with self._lock:
             self._intervals[self._n_intervals % len(self._intervals)] = abs(error_s)
@@ -442,6 +536,14 @@ class Streamer:
         lit: set = set()
         trace_time = 0.0  # seconds into the trace clock (advances only while playing)
         try:
+            try:
+                if not self._identify():
+                    return
+            except LinkError as exc:
+                self._count("errors")
+                self._set(state="disconnected", status=str(exc))
+                if not self._recover():
+                    return
             deadline = time.perf_counter()
             last_sent = None
             while not self._stopping.is_set():
@@ -462,7 +564,7 @@ class Streamer:
                     if restart:
                         trace_time = 0.0
                     immediate = plan is not None and (
-                        new.active != plan.active or new.period != plan.period
+                        new.active != plan.active or new.tick != plan.tick
                     )
                     plan = new
                     dither = (
@@ -489,11 +591,21 @@ class Streamer:
 
                 if self._wait_until(deadline):
                     continue  # a new scene arrived while waiting: pick it up first
-                k = round(trace_time * plan.rate)
-                levels, lit = self._levels(plan, k, dither, lit)
+                if plan.tick == plan.period:
+                    k = round(trace_time * plan.rate)
+                else:  # keep-alive ticks between frames repeat the frame
+                    k = math.floor(trace_time * plan.rate + 1e-9)
+                if k != plan.last_k:
+                    levels, lit = self._levels(plan, k, dither, lit)
+                    plan.last_k, plan.last_levels = k, levels
+                levels = plan.last_levels
                 try:
                     sent = self._write(seq, levels)
                     self.last_frame = (plan.scene, k / plan.rate if plan.active else None)
+                    if self._query_wanted.is_set():
+                        self._query_wanted.clear()
+                        self._send_query()
+                    self._poll_replies()
                 except LinkError as exc:
                     self._count("errors")
                     self._set(state="disconnected", status=str(exc))
@@ -507,22 +619,23 @@ class Streamer:
                 if lateness > 1e-3:
                     self._count("late")
                 if last_sent is not None:
-                    self._record_interval(sent - last_sent - plan.period)
+                    self._record_interval(sent - last_sent - plan.tick)
                 last_sent = sent
                 if plan.active:
-                    trace_time += plan.period
-                deadline += plan.period
+                    trace_time += plan.tick
+                deadline += plan.tick
                 behind = time.perf_counter() - deadline
-                if behind > plan.period:  # stalled: skip missed deadlines, keep trace time
-                    missed = math.floor(behind / plan.period)
-                    deadline += missed * plan.period
+                if behind > plan.tick:  # stalled: skip missed deadlines, keep trace time
+                    missed = math.floor(behind / plan.tick)
+                    deadline += missed * plan.tick
                     if plan.active:
-                        trace_time += missed * plan.period
+                        trace_time += missed * plan.tick
                     self._count("skipped", missed)
                     last_sent = None
-        except Exception as exc:  # a bug must still end with the array off
-            self._set(status=f"internal error: {type(exc).__name__}: {exc}")
-            raise
+        except Exception as exc:  # a bug must still end with the array off, and say so
+            self._failure = f"internal error: {type(exc).__name__}: {exc}"
+            self.failure_traceback = traceback.format_exc()
+            self._set(state="failed", status=self._failure)
         finally:
             self._all_off_final(seq)
 
@@ -534,6 +647,8 @@ class Streamer:
         while not self._stopping.wait(self.reconnect_interval_s):
             try:
                 self.link.reopen()
+                if not self._identify():
+                    return False
             except LinkError as exc:
                 self._set(status=f"reconnecting: {exc}")
                 continue
@@ -545,15 +660,24 @@ class Streamer:
         zeros = bytes(self.profile.channels)
         try:
             self._write(seq, zeros)
+            if self.array_info is not None:  # an array that answers: read its counters
+                self._send_query()
+                deadline = time.perf_counter() + 0.3
+                seen = self.array_status
+                while time.perf_counter() < deadline and self.array_status is seen:
+                    self._poll_replies()
+                    time.sleep(0.002)
         except LinkError:
             pass  # the link is gone: the array's watchdog turns it off within 250 ms
         except Exception:
             pass
         finally:
-            state = self._stats.state
-            status = self._stats.status
-            if state != "stopped":
-                status = "stopped: all off"
-            self._set(
-                state="stopped", status=status, elapsed_s=time.perf_counter() - self._started_at
-            )
+            state, status = self._stats.state, self._stats.status
+            if self._failure:
+                state, status = "failed", f"{self._failure}; all off"
+            elif state != "refused":
+                status = status if state == "stopped" else "stopped: all off"
+                state = "stopped"
+            self._set(state=state, status=status, elapsed_s=time.perf_counter() - self._started_at)
+            with self._status_arrived:
+                self._status_arrived.notify_all()

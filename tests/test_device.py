@@ -20,8 +20,8 @@ def test_bundled_palm_profile_is_the_papers_array():
     assert (p.grid.cols, p.grid.rows) == (5, 6)
     assert p.array.pitch_mm == 18.0 and p.levels == 23 and p.baud == 115200
     assert p.array.channels == tuple(range(30))  # channel = row * cols + col
-    assert p.frame_bytes == 36
-    assert p.max_rate_hz == pytest.approx(115200 / 10 / 36)  # 320 frames/s
+    assert p.frame_bytes == 37
+    assert p.max_rate_hz == pytest.approx(115200 / 10 / 37)  # 311 frames/s
     assert p.response is not None and not p.calibrated
 
 

@@ -133,7 +133,7 @@ def test_sigkilled_streamer_is_turned_off_by_the_watchdog(emulator):
 
 
 def test_garbage_and_truncated_frames_are_counted_not_fatal(emulator):
-    from tactile_core.wire import crc8, encode_frame
+    from tactile_core.wire import crc16, encode_frame
 
     emu = emulator()
     fd = os.open(emu.path, os.O_RDWR | os.O_NOCTTY)
@@ -144,7 +144,7 @@ def test_garbage_and_truncated_frames_are_counted_not_fatal(emulator):
         from cobs import cobs
 
         payload = bytes([0x46, 3, 30]) + bytes([30] * 30)
-        out_of_range = cobs.encode(payload + bytes([crc8(payload)])) + b"\x00"
+        out_of_range = cobs.encode(payload + crc16(payload).to_bytes(2, "big")) + b"\x00"
         for chunk in [
             b"\xde\xad\xbe\xef\x00",  # garbage
             good[:12] + b"\x00",  # truncated

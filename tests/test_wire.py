@@ -1,63 +1,67 @@
-"""The wire format: CRC-8 and COBS vectors worked by hand, round trips, and bad frames."""
+"""Wire format 2: CRC-16 and COBS worked by hand, every message type, bad messages, and the
+shared test vectors run against the Python receiver (the firmware's C parser runs them in
+test_firmware.py)."""
 
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from tactile_core.array import ArrayModel
 from tactile_core.wire import (
     REASONS,
-    FrameError,
+    Frame,
     FrameReader,
-    crc8,
+    Hello,
+    Info,
+    MessageError,
+    MessageReader,
+    Query,
+    Status,
+    crc16,
     decode_frame,
+    decode_message,
     encode_frame,
+    encode_hello,
+    encode_info,
+    encode_query,
+    encode_status,
     frame_length,
 )
 
-
-def crc8_bitwise(data):
-    """Reference CRC-8 (poly 0x07, init 0, no reflection, no xor), one bit at a time."""
-    crc = 0
-    for byte in data:
-        crc ^= byte
-        for _ in range(8):
-            crc = ((crc << 1) ^ 0x07) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
-    return crc
+from . import wire_vectors as wv
 
 
-def test_crc8_vectors_worked_by_hand():
-    # 0x01: seven shifts to 0x80, the eighth shifts out the top bit and xors 0x07.
-    assert crc8(b"\x01") == 0x07
-    # 0x80: the top bit goes at once (0x07), then 0x0E, 0x1C, 0x38, 0x70, 0xE0, 0xC7, 0x89.
-    assert crc8(b"\x80") == 0x89
-    # 0x46 ('F'): 0x8C, 0x1F, 0x3E, 0x7C, 0xF8, 0xF7, 0xE9, 0xD5.
-    assert crc8(b"\x46") == 0xD5
-    # then 0x00: 0xAD, 0x5D, 0xBA, 0x73, 0xE6, 0xCB, 0x91, 0x25; and 0x00 again -> 0xFB.
-    assert crc8(b"\x46\x00") == 0x25
-    assert crc8(b"\x46\x00\x00") == 0xFB
-    assert crc8(b"") == 0x00
-
-
-def test_crc8_catalogue_check_value():
-    # CRC-8/SMBUS (poly 0x07, init 0, refin/refout false, xorout 0): check = 0xF4.
-    assert crc8(b"123456789") == 0xF4
+def test_crc16_check_value_and_vectors_worked_by_hand():
+    assert crc16(b"123456789") == 0x29B1  # CRC-16/CCITT-FALSE's catalogue check value
+    assert crc16(b"") == 0xFFFF  # the initial value, nothing shifted through
+    # 0x00 then: 0xFFFF ^ 0x0000 = 0xFFFF; eight shifts, each with the top bit set at first:
+    # the reference computed bit by bit.
+    assert crc16(b"\x00") == wv.crc16_bitwise(b"\x00") == 0xE1F0
 
 
 @given(st.binary(max_size=300))
-def test_crc8_table_matches_bitwise_reference(data):
-    assert crc8(data) == crc8_bitwise(data)
+def test_crc16_table_matches_bitwise_reference(data):
+    assert crc16(data) == wv.crc16_bitwise(data)
 
 
-def test_empty_frame_encoded_by_hand():
-    # payload 46 00 00 FB (type, seq 0, N 0, CRC): COBS splits at the zeros:
-    # [46] -> 02 46, [] -> 01, [FB] -> 02 FB; then the delimiter.
-    assert encode_frame(0, []) == bytes.fromhex("02 46 01 02 FB 00")
+def test_hello_encoded_by_hand():
+    # payload 48 00 + CRC 99 6A; COBS: [48] -> 02 48, [99 6A] -> 03 99 6A; then the delimiter.
+    assert wv.crc16_bitwise(b"\x48\x00") == 0x996A
+    assert encode_hello(0) == bytes.fromhex("02 48 03 99 6a 00") == wv.hello(0)
 
 
 def test_two_channel_frame_encoded_by_hand():
-    # payload 46 00 02 00 16 + CRC; COBS: [46] -> 02 46, [02] -> 02 02, [16 CRC] -> 03 16 CRC.
-    crc = crc8_bitwise(bytes.fromhex("46 00 02 00 16"))
-    assert encode_frame(0, [0, 22]) == bytes.fromhex(f"02 46 02 02 03 16 {crc:02x} 00")
+    # payload 46 00 02 00 16 + CRC D1 76: COBS [46] -> 02 46, [02] -> 02 02, [16 D1 76] -> 04 ...
+    assert wv.crc16_bitwise(bytes.fromhex("46 00 02 00 16")) == 0xD176
+    assert encode_frame(0, [0, 22]) == bytes.fromhex("02 46 02 02 04 16 d1 76 00")
+
+
+def test_every_message_type_matches_the_independent_encoder():
+    assert encode_frame(7, wv.RAMP) == wv.frame(7, wv.RAMP)
+    assert encode_query(200) == wv.query(200)
+    info = Info(3, 2, 5, 6, 23, 250, 303, "palm-5x6")
+    assert encode_info(info) == wv.info(3)
+    assert encode_status(Status(4, 70000, 3, 2)) == wv.status(4, 70000, 3, 2)
 
 
 def test_cobs_vectors_from_the_cobs_description():
@@ -72,11 +76,14 @@ def test_cobs_vectors_from_the_cobs_description():
     }
     for raw, encoded in vectors.items():
         assert cobs.encode(bytes.fromhex(raw)) == bytes.fromhex(encoded)
+        assert wv.cobs_encode(bytes.fromhex(raw)) == bytes.fromhex(encoded)
 
 
-def test_palm_frame_is_36_bytes_on_the_wire():
-    assert len(encode_frame(7, [3] * 30)) == 36 == frame_length(30)
-    assert len(encode_frame(7, [0] * 30)) == 36  # zeros are stuffed, never grow a frame
+def test_palm_frame_is_37_bytes_on_the_wire():
+    # 'F', seq, N, 30 levels, 2 CRC bytes = 35; COBS adds one; the delimiter one more.
+    assert len(encode_frame(7, [3] * 30)) == 37 == frame_length(30)
+    assert len(encode_frame(7, [0] * 30)) == 37  # zeros are stuffed, never grow a frame
+    assert pytest.approx(311.35, abs=0.01) == 115200 / 10 / 37  # frames a second, 8N1
 
 
 def test_sequence_number_wraps():
@@ -85,43 +92,73 @@ def test_sequence_number_wraps():
 
 
 @given(st.integers(0, 255), st.lists(st.integers(0, 22), max_size=60))
-def test_round_trip(seq, levels):
+def test_frame_round_trip(seq, levels):
     wire = encode_frame(seq, levels)
     assert wire.count(0) == 1 and wire.endswith(b"\x00")
-    got_seq, got = decode_frame(wire[:-1], channels=len(levels), levels=23)
-    assert got_seq == seq and list(got) == levels
+    assert decode_message(wire[:-1], channels=len(levels), levels=23) == Frame(seq, bytes(levels))
 
 
-def corrupt_payload(payload):
+@given(
+    st.integers(0, 255),
+    st.integers(1, 64),
+    st.integers(1, 64),
+    st.integers(2, 255),
+    st.integers(0, 65535),
+    st.integers(0, 65535),
+    st.text(st.characters(min_codepoint=32, max_codepoint=126), max_size=64),
+    st.integers(0, 2**32 - 1),
+    st.integers(0, 2**32 - 1),
+    st.integers(0, 65535),
+)
+def test_info_status_hello_query_round_trip(seq, cols, rows, levels, wd, pwm, name, f, d, t):
+    info = Info(seq, 2, cols, rows, levels, wd, pwm, name)
+    assert decode_message(encode_info(info)[:-1]) == info
+    assert decode_message(encode_status(Status(seq, f, d, t))[:-1]) == Status(seq, f, d, t)
+    assert decode_message(encode_hello(seq)[:-1]) == Hello(seq)
+    assert decode_message(encode_query(seq)[:-1]) == Query(seq)
+
+
+def _sealed(body):
     from cobs import cobs
 
-    return cobs.encode(bytes(payload))
+    crc = wv.crc16_bitwise(body)
+    return cobs.encode(body + bytes((crc >> 8, crc & 0xFF)))
 
 
 @pytest.mark.parametrize(
     ("payload", "kwargs", "reason"),
     [
-        (b"\x46\x00\x02\x01\x02" + bytes([crc8(b"\x46\x00\x02\x01\x02") ^ 1]), {}, "crc"),
-        (
-            b"\x46\x00\x02\x01\x02" + bytes([crc8(b"\x46\x00\x02\x01\x02")]),
-            {"channels": 30},
-            "length",
-        ),
-        (b"\x46\x00\x05\x01\x02" + bytes([crc8(b"\x46\x00\x05\x01\x02")]), {}, "length"),
-        (b"\x46\x00\x02\x01\x17" + bytes([crc8(b"\x46\x00\x02\x01\x17")]), {"levels": 23}, "range"),
-        (b"\x47\x00\x02\x01\x02" + bytes([crc8(b"\x47\x00\x02\x01\x02")]), {}, "type"),
-        (b"\x46\x00", {}, "short"),
+        (b"\x46\x00\x02\x01\x02" + b"\x00\x00", {}, "crc"),
+        (None, {"channels": 30}, "length"),
+        (b"\x46\x00\x05\x01\x02", {}, "length"),
+        (b"\x46\x00\x02\x01\x17", {"levels": 23}, "range"),
+        (b"\x47\x00\x02\x01\x02", {}, "type"),
+        (b"\x49\x00\x03\x05\x06\x17\x00\xfa\x01\x2f\x00", {}, "range"),  # an info of version 3
+        (b"\x51\x00\x00", {}, "length"),
     ],
 )
-def test_bad_frames_are_rejected_with_their_reason(payload, kwargs, reason):
-    with pytest.raises(FrameError) as info:
-        decode_frame(corrupt_payload(payload), **kwargs)
+def test_bad_messages_are_rejected_with_their_reason(payload, kwargs, reason):
+    from cobs import cobs
+
+    if payload is None:
+        message = encode_frame(0, [1, 2])[:-1]
+    elif reason == "crc":
+        message = cobs.encode(payload)
+    else:
+        message = _sealed(payload)
+    with pytest.raises(MessageError) as info:
+        decode_message(message, **kwargs)
     assert info.value.reason == reason
 
 
-def test_bad_cobs_is_rejected():
-    with pytest.raises(FrameError) as info:
-        decode_frame(b"\x05\x46\x00")  # claims 4 bytes follow, only 2 do
+def test_short_and_bad_cobs_are_rejected():
+    from cobs import cobs
+
+    with pytest.raises(MessageError) as info:
+        decode_message(cobs.encode(b"\x46\x00"))
+    assert info.value.reason == "short"
+    with pytest.raises(MessageError) as info:
+        decode_message(b"\x05\x46\x00")  # claims 4 bytes follow, only 2 do
     assert info.value.reason == "cobs"
 
 
@@ -138,7 +175,7 @@ def test_reader_splits_a_stream_and_resynchronises_after_garbage():
 
 
 def test_reader_drops_runaway_garbage_without_growing():
-    reader = FrameReader(channels=30, levels=23, max_length=512)
+    reader = FrameReader(channels=30, levels=23)
     assert reader.feed(b"\x01" * 100_000) == []
     assert len(reader._buffer) == 0
     frames = reader.feed(b"\x00" + encode_frame(1, [0] * 30))
@@ -148,9 +185,77 @@ def test_reader_drops_runaway_garbage_without_growing():
 
 @given(st.binary(max_size=2000))
 def test_reader_never_crashes_on_random_bytes(data):
-    reader = FrameReader(channels=30, levels=23)
-    frames = reader.feed(data)
-    assert all(len(levels) == 30 and max(levels, default=0) < 23 for _, levels in frames)
-    # and a good frame after the noise still decodes
+    reader = MessageReader(channels=30, levels=23)
+    for msg in reader.feed(data):
+        if isinstance(msg, Frame):
+            assert len(msg.levels) == 30 and max(msg.levels, default=0) < 23
     frames = reader.feed(b"\x00" + encode_frame(9, [5] * 30))
-    assert frames[-1][0] == 9
+    assert frames[-1] == Frame(9, bytes([5] * 30))
+
+
+# --- the shared vectors against the Python receiver ------------------------------------------
+
+
+def run_model(vector):
+    model = ArrayModel()
+    now_ms, applied, replies = 0, [], b""
+    for kind, arg in vector["steps"]:
+        if kind == "feed":
+            out, frames = model.receive(arg, now_ms / 1000)
+            replies += out
+            applied += [(f.seq, list(f.levels)) for f in frames]
+        else:
+            now_ms += arg
+            model.watchdog(now_ms / 1000)
+    counters = {
+        "frames_applied": model.frames_applied,
+        "dropped": model.dropped,
+        "watchdog_trips": model.watchdog_trips,
+        "dropped_by": {k: v for k, v in model.reader.errors.items() if v},
+    }
+    return applied, list(model.levels), replies, counters
+
+
+def check_vector(vector, applied, levels, replies, counters):
+    assert applied == [(s, list(lv)) for s, lv in vector["applied"]]
+    assert levels == vector["levels"]
+    assert replies == vector["replies"], (replies.hex(" "), vector["replies"].hex(" "))
+    assert counters["frames_applied"] == vector["frames_applied"]
+    assert counters["watchdog_trips"] == vector["watchdog_trips"]
+    if vector["dropped"] is None:
+        assert counters["dropped"] >= 1
+    else:
+        assert counters["dropped"] == vector["dropped"]
+        assert counters["dropped_by"] == vector["dropped_by"]
+
+
+@pytest.mark.parametrize("vector", wv.VECTORS, ids=[v["name"] for v in wv.VECTORS])
+def test_python_receiver_meets_the_vectors(vector):
+    check_vector(vector, *run_model(vector))
+
+
+@given(st.binary(max_size=600), st.integers(0, 255))
+def test_a_corrupted_frame_never_changes_the_levels(noise, seq):
+    model = ArrayModel()
+    model.receive(encode_frame(1, wv.RAMP), 0.0)
+    _, frames = model.receive(b"\x00" + noise + b"\x00", 0.0)
+    for f in frames:  # noise that happens to be a valid frame is applied, as it should be
+        assert len(f.levels) == 30
+    if not frames:
+        assert list(model.levels) == wv.RAMP
+
+
+def test_readme_lists_the_test_vectors():
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    for data in (
+        wv.hello(0),
+        wv.query(5),
+        wv.frame(0, [0, 22]),
+        wv.info(0),
+        wv.status(5, 0, 0, 0),
+    ):
+        assert data.hex(" ") in readme, data.hex(" ")
+    ramp = wv.frame(1, wv.RAMP).hex(" ")
+    assert ramp[:18] in readme and ramp[-30:] in readme

@@ -1,0 +1,175 @@
+"""The reference firmware end to end: its ELF runs in simavr (a cycle-accurate ATmega2560),
+UART0 bridged to a pseudo-terminal and paced to the wall clock; ``tactile stream`` drives it; the
+harness logs every pin edge in simulated cycles, and the tests read what the motors got."""
+
+import importlib.util
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from tactile_core.device import default_profile
+from tactile_core.link import SerialLink, identify
+from tactile_core.wire import MessageReader, Status, encode_frame, encode_query
+
+from .firmware_support import FIRMWARE, build, require
+
+CLI = [sys.executable, "-m", "tactile_core.cli"]
+MS = 16_000  # cycles
+
+
+def _pinlog():
+    spec = importlib.util.spec_from_file_location("pinlog", FIRMWARE / "sim" / "pinlog.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["pinlog"] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+pinlog = _pinlog()
+
+
+@pytest.fixture(scope="module")
+def firmware(tmp_path_factory):
+    require("elf")
+    require("sim")
+    out = tmp_path_factory.mktemp("firmware")
+    return build("all", out), build("sim", out)
+
+
+class Simulation:
+    """The harness running the firmware; ``finish()`` stops it and reads its log."""
+
+    def __init__(self, firmware, tmp_path, seconds=60):
+        elf, harness = firmware
+        self.log_path = tmp_path / "pins.log"
+        self.proc = subprocess.Popen(
+            [str(harness), str(elf), str(self.log_path), str(seconds)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+            text=True,
+        )
+        self.path = ""
+        for line in self.proc.stdout:  # simavr's loader prints its own lines first
+            if line.startswith("pty: "):
+                self.path = line.split(None, 1)[1].strip()
+                break
+        assert self.path.startswith("/dev/"), "the harness did not open its pseudo-terminal"
+
+    def finish(self):
+        self.proc.send_signal(signal.SIGTERM)
+        self.proc.wait(timeout=10)
+        self.proc.stdout.close()
+        return pinlog.PinLog.read(self.log_path)
+
+
+@pytest.fixture
+def sim(firmware, tmp_path):
+    simulation = Simulation(firmware, tmp_path)
+    yield simulation
+    if simulation.proc.poll() is None:
+        simulation.proc.kill()
+        simulation.proc.wait()
+        simulation.proc.stdout.close()
+
+
+def test_firmware_answers_hello_with_the_profiles_array(sim):
+    link = SerialLink(sim.path)
+    try:
+        info, problem = identify(link, default_profile())
+    finally:
+        link.close()
+    assert problem == "" and info is not None
+    assert (info.cols, info.rows, info.levels) == (5, 6, 23)
+    assert info.name == "palm-5x6" and info.watchdog_ms == 250 and info.version == 2
+    assert info.pwm_hz >= 300
+    sim.finish()
+
+
+def test_firmware_plays_every_frame_tactile_stream_sends(sim, tmp_path):
+    # 250 frames a second: simavr's UART counts 11 bits a byte (a parity bit 8N1 does not
+    # have), so the simulated line carries 289 palm frames a second rather than 318.
+    proc = subprocess.run(
+        [*CLI, "stream", "--device", sim.path, "--shape", "circle:2.5,3,2", "--method", "AS",
+         "--mu", "0.33", "--gamma", "0.7", "--rate", "250", "--seconds", "2.0"],
+        capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    sent = int(proc.stdout.split("frames:")[1].split()[0])
+    assert f"array counters:  frames applied {sent}, messages dropped 0" in proc.stdout
+    log = sim.finish()
+    result = pinlog.check(log)
+    assert result.periods > 500
+    assert result.mismatched == 0  # every period shows a frame that was sent, in order
+    assert result.shown + result.superseded == result.frames  # none lost on the way
+    assert result.shown >= 0.95 * result.frames
+    assert result.duty_error_cycles < pinlog.TICK // 8  # duty = level / 22 within 0.6 %
+    assert result.pwm_hz >= 300.0
+    latency_ms = result.latency_cycles / MS
+    assert latency_ms.max() <= 1000 * pinlog.PERIOD / pinlog.CPU_HZ + 1.0  # a period + 1 ms
+    assert log.all_off_since() is not None  # the stream's last frame was all off
+
+
+def test_firmware_never_applies_a_corrupted_frame_and_counts_it(sim):
+    link = SerialLink(sim.path)
+    try:
+        identify(link, default_profile())
+        rng = np.random.default_rng(3)
+        good = [5] * 30
+        link.write(encode_frame(1, good))
+        corrupted = 0
+        for seq in range(2, 62):  # 60 frames of full drive, each with one or two bits flipped
+            data = bytearray(encode_frame(seq, [22] * 30))
+            for _ in range(rng.integers(1, 3)):
+                i = int(rng.integers(0, len(data) - 1))  # not the delimiter
+                data[i] ^= 1 << int(rng.integers(0, 8))
+            link.write(bytes(data))
+            corrupted += 1
+            time.sleep(0.004)
+            if seq % 20 == 0:
+                link.write(encode_frame(seq, good))  # keep the watchdog fed
+        time.sleep(0.05)
+        reader = MessageReader(accept=(Status,))
+        link.write(encode_query(9))
+        status = None
+        deadline = time.monotonic() + 1.0
+        while status is None and time.monotonic() < deadline:
+            got = reader.feed(link.read())
+            status = got[-1] if got else None
+            time.sleep(0.005)
+    finally:
+        link.close()
+    assert status is not None
+    assert status.frames_applied == 4  # the four good frames
+    assert status.dropped >= corrupted  # a flipped bit may also split a message in two
+    log = sim.finish()
+    starts, levels, _ = pinlog.levels_per_period(log)
+    assert len(starts) > 0
+    assert levels.max() <= 5  # full drive never reached a pin
+    assert (levels[:, :30] == 5).all(axis=1).any()  # the good frame did
+
+
+def test_firmware_watchdog_turns_everything_off_after_250_ms(sim):
+    # A stream killed without a word (SIGKILL): no all-off frame; the array's watchdog acts.
+    proc = subprocess.Popen(
+        [*CLI, "stream", "--device", sim.path, "--shape", "line:2.5,3.5,2.5,3.5", "--method",
+         "CT", "--rate", "100", "--seconds", "30"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    )  # fmt: skip
+    time.sleep(2.0)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    time.sleep(0.6)
+    log = sim.finish()
+    frames = pinlog.received_frames(log)
+    assert frames and frames[-1][1].any()  # the last frame it got was lit
+    off = log.all_off_since()
+    assert off is not None
+    after_ms = (off - frames[-1][0]) / MS
+    period_ms = 1000 * pinlog.PERIOD / pinlog.CPU_HZ
+    # more than 250 ms on a millisecond counter (250-251 ms), then at most one PWM period
+    assert 250.0 <= after_ms <= 251.0 + period_ms + 0.5, after_ms
