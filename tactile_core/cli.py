@@ -151,6 +151,8 @@ def cmd_stream(args) -> int:
     )
     try:
         streamer.start()
+        while not stop.is_set() and not streamer.identified.wait(0.05):
+            pass  # --seconds counts from the end of the hello exchange
         deadline = None if args.seconds is None else time.monotonic() + args.seconds
         while not stop.is_set() and streamer.running:
             remaining = None if deadline is None else deadline - time.monotonic()

@@ -263,6 +263,9 @@ class Streamer:
         self.array_status: Status | None = None
         """The array's last status answer."""
         self._replies = MessageReader(accept=(Info, Status))
+        self.identified = threading.Event()
+        """Set once the hello is answered or given up on (or the thread ended): the stream's
+        duration counts from here."""
         self._failure = ""
         self.failure_traceback = ""
         """The traceback of an internal error in the output thread (its status says what)."""
@@ -544,6 +547,8 @@ class Streamer:
                 self._set(state="disconnected", status=str(exc))
                 if not self._recover():
                     return
+            finally:
+                self.identified.set()
             deadline = time.perf_counter()
             last_sent = None
             while not self._stopping.is_set():
@@ -679,5 +684,6 @@ class Streamer:
                 status = status if state == "stopped" else "stopped: all off"
                 state = "stopped"
             self._set(state=state, status=status, elapsed_s=time.perf_counter() - self._started_at)
+            self.identified.set()
             with self._status_arrived:
                 self._status_arrived.notify_all()
