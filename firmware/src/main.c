@@ -4,10 +4,12 @@
  * 23 levels. Plain C with avr-libc; no Arduino core.
  *
  * - Timer1 interrupt at 6666.7 Hz steps through the 22 slots of a PWM period, writing four
- *   ports from a precomputed table (pwm.c); a new table is swapped in only at a period's end.
+ *   ports from a precomputed table (pwm.c); a new table is swapped in only at a period's end
+ *   (three tables: playing, waiting, being built).
  * - UART0 receive and transmit run from interrupts through ring buffers; the main loop feeds
  *   received bytes to the parser (protocol.c) and sleeps when there is nothing to do.
- * - The watchdog turns every motor off 250 ms after the last valid frame.
+ * - The watchdog turns every motor off at once when more than 250 ms have passed since the last
+ *   valid frame (250 to 251 ms on the millisecond counter).
  *
  * Pin map (channel = row * 5 + col, row 0 at the bottom): channels 0-7 on PORTA (D22-D29),
  * 8-15 on PORTC (D37-D30), 16-23 on PORTL (D49-D42), 24-29 on PORTK bits 0-5 (A8-A13).
@@ -26,10 +28,11 @@
 #define PORTS PIN_PORTS
 
 
-static uint8_t tables[2][PWM_SLOTS * PORTS];
-static uint8_t *volatile active = tables[0];
-static uint8_t *volatile back = tables[1];
-static volatile uint8_t swap_pending;
+/* Three tables: the one the timer plays, one waiting for the next period, one being built. A
+ * frame that arrives while another waits replaces it; the one playing is never touched. */
+#define NONE 0xFF
+static uint8_t tables[3][PWM_SLOTS * PORTS];
+static volatile uint8_t playing = 0, waiting = NONE;
 static volatile uint32_t now_ms;
 
 static volatile uint8_t rx_buf[256], tx_buf[128];
@@ -38,18 +41,16 @@ static volatile uint8_t rx_head, rx_tail, tx_head, tx_tail;
 ISR(TIMER1_COMPA_vect)
 {
     static uint8_t slot, ms_acc;
-    const uint8_t *row = active + slot * PORTS;
+    const uint8_t *row = tables[playing] + slot * PORTS;
     PORTA = row[0];
     PORTC = row[1];
     PORTL = row[2];
     PORTK = row[3];
     if (++slot == PWM_SLOTS) {
         slot = 0;
-        if (swap_pending) { /* only between periods: a period never mixes two frames */
-            uint8_t *t = active;
-            active = back;
-            back = t;
-            swap_pending = 0;
+        if (waiting != NONE) { /* only between periods: a period never mixes two frames */
+            playing = waiting;
+            waiting = NONE;
         }
     }
     ms_acc += TICK_US_NUM;
@@ -93,9 +94,28 @@ static void send(const uint8_t *data, uint8_t n)
 
 static void show(const uint8_t *levels)
 {
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { swap_pending = 0; } /* the back table is ours now */
-    pwm_build(levels, CHANNELS, PINS, PORTS, PWM_SLOTS, back);
-    swap_pending = 1;
+    uint8_t free_table;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        free_table = 0;
+        while (free_table == playing || free_table == waiting)
+            free_table++;
+    }
+    /* The timer may start playing the waiting table meanwhile; this one stays free. */
+    pwm_build(levels, CHANNELS, PINS, PORTS, PWM_SLOTS, tables[free_table]);
+    waiting = free_table;
+}
+
+/* The watchdog: everything off now, not at the end of the period. */
+static void all_off_now(void)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        for (uint8_t i = 0; i < sizeof tables[0]; i++)
+            tables[playing][i] = 0;
+        waiting = NONE;
+        PORTA = PORTC = PORTL = PORTK = 0;
+    }
 }
 
 static uint32_t millis(void)
@@ -141,7 +161,7 @@ int main(void)
                 send(state.reply, state.reply_len);
         }
         if (tp_watchdog(&state, millis()))
-            show(state.levels); /* all zeros */
+            all_off_now();
         cli();
         if (rx_tail == rx_head) { /* nothing to do until the next interrupt */
             sleep_enable();
