@@ -76,9 +76,11 @@ def main(argv=None) -> int:
         window.show_error(f"internal error: {kind.__name__}: {value}")
 
     sys.excepthook = excepthook
-    # Ctrl-C / SIGTERM close the window (all off first); a timer lets Python see the signal.
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: window.close())
+    # Ctrl-C, SIGTERM and SIGHUP close the window (all off first); a timer lets Python see the
+    # signal.
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), lambda *_: window.close())
     heartbeat = QtCore.QTimer()
     heartbeat.timeout.connect(lambda: None)
     heartbeat.start(200)

@@ -13,7 +13,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 import tactile_core as tc
 from tactile_core import export
 from tactile_core.curves import activation_curves
-from tactile_core.device import ProfileError, load_profile
+from tactile_core.device import ProfileError, find_profile, load_profile
 from tactile_core.methods import METHODS
 from tactile_core.presets import (
     Preset,
@@ -275,8 +275,8 @@ class MainWindow(QtWidgets.QMainWindow):
             self.show_error(str(exc))
             return False
         if preset.device_profile != self.device.profile.name:
-            try:
-                self.device.set_profile(load_profile(preset.device_profile))
+            try:  # by name among the bundled and the user's profiles, never a path
+                self.device.set_profile(find_profile(preset.device_profile))
             except ProfileError as exc:
                 self.statusBar().showMessage(
                     f"kept profile {self.device.profile.name}: {exc}", 10_000

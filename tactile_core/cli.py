@@ -11,14 +11,15 @@ import signal
 import sys
 import threading
 import time
-from pathlib import Path
 
 import numpy as np
 
+from . import _validate
 from ._version import __version__
 from .correction import check_correction, correct
 from .geometry import Grid
 from .methods import METHOD_NAMES, get_method
+from .outfile import atomic_file, check_folder, check_output
 from .render import render
 from .shapes import parse_shape
 from .trace import DIRECTIONS
@@ -51,39 +52,58 @@ def _scene(args):
     shape = parse_shape(args.shape)
     method = get_method(args.method).name
     mu, gamma = check_correction(args.mu, args.gamma)
-    if not (np.isfinite(args.duration) and args.duration > 0):
-        raise ValueError(f"duration must be > 0 seconds, got {args.duration!r}")
+    _validate.duration("duration", args.duration)
+    for name in ("cols", "rows"):
+        _validate.integer(name, getattr(args, name), 1, 64)
     grid = Grid(cols=args.cols, rows=args.rows)
     return shape, method, mu, gamma, grid
+
+
+def _seconds(value, name="seconds"):
+    """``--seconds``: None (until stopped), or finite, > 0 and at most a week."""
+    if value is None:
+        return None
+    value = _validate.real(name, value)
+    if not 0 < value <= 7 * 86400:
+        raise ValueError(f"{name} must be > 0 and at most a week (604800 s), got {value!r}")
+    return value
+
+
+MAX_RENDER_FRAMES = 1_000_000
+"""Most frames ``tactile render`` writes (duration x rate + 1): 240 MB of floats."""
 
 
 def cmd_render(args) -> int:
     """Write the frames of one trace to CSV or NPZ."""
     shape, method, mu, gamma, grid = _scene(args)
-    if not (np.isfinite(args.rate) and args.rate > 0):
-        raise ValueError(f"rate must be > 0 Hz, got {args.rate!r}")
-    out = Path(args.out)
-    if out.suffix.lower() not in (".csv", ".npz"):
-        raise UsageError(f"--out must end in .csv or .npz, got {args.out!r}")
+    _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
+    out = check_output(args.out, (".csv", ".npz"), "--out")
     n = int(np.floor(args.duration * args.rate + 1e-9))
+    if n + 1 > MAX_RENDER_FRAMES:
+        raise ValueError(
+            f"duration x rate must give at most {MAX_RENDER_FRAMES} frames, got {n + 1} "
+            f"({args.duration:g} s at {args.rate:g} Hz)"
+        )
     time_s = np.arange(n + 1) / args.rate
     u = np.minimum(time_s / args.duration, 1.0)
     t = 1.0 - u if args.direction == "reverse" else u
     frames = correct(render(shape, method, t, grid=grid), mu, gamma)
     try:
         if out.suffix.lower() == ".npz":
-            np.savez(out, time=time_s, frames=frames)
+            with atomic_file(out, binary=True) as f:
+                np.savez(f, time=time_s, frames=frames)
         else:
             names = [grid.cell_name(i) for i in range(grid.size)]
             table = np.column_stack([time_s, frames.reshape(len(t), grid.size)])
-            np.savetxt(
-                out,
-                table,
-                delimiter=",",
-                header=",".join(["time", *names]),
-                comments="",
-                fmt="%.10g",
-            )
+            with atomic_file(out) as f:
+                np.savetxt(
+                    f,
+                    table,
+                    delimiter=",",
+                    header=",".join(["time", *names]),
+                    comments="",
+                    fmt="%.10g",
+                )
     except OSError as exc:
         raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
     print(f"wrote {len(t)} frames of {shape.spec} ({method}, mu={mu:g}, gamma={gamma:g}) to {out}")
@@ -91,13 +111,15 @@ def cmd_render(args) -> int:
 
 
 def _install_stop_handlers(stop: threading.Event) -> None:
-    """Ctrl-C and SIGTERM set ``stop`` (the caller then turns the array off and reports)."""
+    """Ctrl-C, SIGTERM and SIGHUP (the terminal closed) set ``stop``: the caller then turns the
+    array off and reports, quietly."""
 
     def handler(signum, frame):
         stop.set()
 
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, handler)
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), handler)
 
 
 def cmd_stream(args) -> int:
@@ -126,10 +148,9 @@ def cmd_stream(args) -> int:
         subsamples=args.subsamples,
         dither=args.dither,
     )
-    if args.seconds is not None and not args.seconds > 0:
-        raise ValueError(f"seconds must be > 0, got {args.seconds!r}")
-    if args.record and Path(args.record).suffix.lower() not in (".csv", ".npz"):
-        raise UsageError(f"--record must end in .csv or .npz, got {args.record!r}")
+    args.seconds = _seconds(args.seconds)
+    if args.record:
+        check_output(args.record, (".csv", ".npz"), "--record")
     stop = threading.Event()
     _install_stop_handlers(stop)
     try:
@@ -185,6 +206,13 @@ def cmd_emulate(args) -> int:
         profile = load_profile(args.profile)
     except ProfileError as exc:
         raise UsageError(str(exc)) from None
+    args.seconds = _seconds(args.seconds)
+    args.close_after = _seconds(args.close_after, "close-after")
+    if args.rate is not None:
+        _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
+    for option, value in (("--log", args.log), ("--json", args.json)):
+        if value:
+            check_output(value, (), option)
     stop = threading.Event()
     _install_stop_handlers(stop)
     emulator = Emulator(profile, expected_rate_hz=args.rate)
@@ -220,8 +248,9 @@ def cmd_simulate(args) -> int:
     """Run every experiment with simulated participants into a results folder."""
     from .experiments import RUNNERS, SimulatedParticipant, open_session
 
-    if args.participants < 1:
-        raise ValueError(f"participants must be >= 1, got {args.participants}")
+    _validate.integer("participants", args.participants, 1, 1000)
+    _validate.integer("seed", args.seed, 0, 2**31 - 1)
+    check_folder(args.results, "RESULTS_DIR")
     experiments = args.experiments.split(",")
     unknown = set(experiments) - set(RUNNERS)
     if unknown:
@@ -352,6 +381,10 @@ def main(argv=None) -> int:
     except (ValueError, UsageError) as exc:
         print(f"tactile {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # a disk that fills up, a folder that vanished mid-run
+        where = f" {exc.filename}" if getattr(exc, "filename", None) else ""
+        print(f"tactile {args.command}: error:{where} {exc.strerror or exc}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print(f"tactile {args.command}: interrupted", file=sys.stderr)
         return 130

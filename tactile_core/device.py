@@ -37,13 +37,15 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
-import math
+import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .assets import asset_path
+from . import _validate
+from .assets import asset_path, assets_dir
 from .geometry import ArraySpec, Grid
 from .jsonfile import read_json_digest, write_json_atomic
 from .wire import frame_length
@@ -51,6 +53,10 @@ from .wire import frame_length
 FORMAT = "tactile-device-profile"
 VERSION = 1
 DEFAULT_PROFILE = "palm-5x6"
+NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
+"""A profile's name: what presets and sessions refer to it by, and what the firmware reports."""
+MIN_BAUD, MAX_BAUD = 9600, 4_000_000
+"""Link speeds a profile may give: at 9600 baud the palm array still gets 25 frames a second."""
 
 
 class ProfileError(ValueError):
@@ -226,25 +232,34 @@ def _integer(value, key, source, lo, hi=None):
 
 def _number(value, key, source):
     try:
-        ok = not isinstance(value, bool) and isinstance(value, (int, float))
-        number = float(value) if ok else math.nan
-    except OverflowError:  # an integer too large for a float
-        number = math.inf
-    if not math.isfinite(number):
-        shown = repr(value) if len(repr(value)) < 60 else repr(value)[:57] + "..."
-        raise ProfileError(f"{source}: field '{key}' must be a finite number, got {shown}")
-    return number
+        return _validate.real(key, value)
+    except ValueError:
+        raise ProfileError(
+            f"{source}: field '{key}' must be a finite number, got {_validate.shown(value)}"
+        ) from None
 
 
-def _numbers(value, key, source, size=None):
-    if isinstance(value, list) and value and all(isinstance(v, list) for v in value):
-        value = [x for row in value for x in row]  # rows of a 2D table, row 0 first
+def _numbers(value, key, source, size=None, grid=None):
+    """A flat list of JSON numbers; with ``grid`` also a table of ``rows`` lists of ``cols``
+    numbers, row 0 (the bottom row) first."""
+    if grid is not None and isinstance(value, list) and value and isinstance(value[0], list):
+        rows, cols = grid
+        if len(value) != rows or not all(isinstance(r, list) and len(r) == cols for r in value):
+            shape = [len(r) if isinstance(r, list) else "?" for r in value][:8]
+            raise ProfileError(
+                f"{source}: field '{key}' as a table must be {rows} rows of {cols} values "
+                f"(row 0 at the bottom first), got {len(value)} rows of {shape}"
+            )
+        value = [x for row in value for x in row]
     if not isinstance(value, list):
-        raise ProfileError(f"{source}: field '{key}' must be a list of numbers, got {value!r}")
-    out = np.array([_number(v, f"{key}[{i}]", source) for i, v in enumerate(value)])
-    if size is not None and len(out) != size:
-        raise ProfileError(f"{source}: field '{key}' must hold {size} values, got {len(out)}")
-    return out
+        raise ProfileError(
+            f"{source}: field '{key}' must be a list of numbers, got {_validate.shown(value)}"
+        )
+    if size is not None and len(value) != size:
+        raise ProfileError(f"{source}: field '{key}' must hold {size} values, got {len(value)}")
+    if len(value) > 4096:
+        raise ProfileError(f"{source}: field '{key}' holds {len(value)} values, at most 4096")
+    return np.array([_number(v, f"{key}[{i}]", source) for i, v in enumerate(value)])
 
 
 def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
@@ -269,11 +284,14 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
             f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
         )
     name = _field(data, "name", source, required=False, default=Path(source).stem)
-    if not isinstance(name, str) or not name.strip():
-        raise ProfileError(f"{source}: field 'name' must be a non-empty string, got {name!r}")
+    if not isinstance(name, str) or not NAME.fullmatch(name):
+        raise ProfileError(
+            f"{source}: field 'name' must be 1-64 letters, digits, '_', '.' or '-', "
+            f"got {_validate.shown(name)}"
+        )
     description = _field(data, "description", source, required=False, default="")
-    if not isinstance(description, str):
-        raise ProfileError(f"{source}: field 'description' must be a string")
+    if not isinstance(description, str) or len(description) > 2000:
+        raise ProfileError(f"{source}: field 'description' must be a string of <= 2000 chars")
     cols = _integer(_field(data, "columns", source), "columns", source, 1, 64)
     rows = _integer(_field(data, "rows", source), "rows", source, 1, 64)
     if cols * rows > 255:
@@ -284,7 +302,13 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
     if pitch <= 0:
         raise ProfileError(f"{source}: field 'pitch_mm' must be > 0, got {pitch!r}")
     levels = _integer(_field(data, "levels", source), "levels", source, 2, 256)
-    baud = _integer(_field(data, "baud", source, required=False, default=115200), "baud", source, 1)
+    baud = _integer(
+        _field(data, "baud", source, required=False, default=115200),
+        "baud",
+        source,
+        MIN_BAUD,
+        MAX_BAUD,
+    )
     order = _field(data, "channel_order", source, required=False, default="row-major")
     size = cols * rows
     if order == "row-major":
@@ -338,11 +362,13 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
             raise ProfileError(
                 f"{source}: field 'calibration' must be an object with 'offset' and 'gain'"
             )
+        table = (rows, cols)
         offset = _numbers(
-            _field(cal, "offset", f"{source}: calibration"), "calibration.offset", source, size
-        )
+            _field(cal, "offset", f"{source}: calibration"), "calibration.offset", source, size,
+            table,
+        )  # fmt: skip
         gain = _numbers(
-            _field(cal, "gain", f"{source}: calibration"), "calibration.gain", source, size
+            _field(cal, "gain", f"{source}: calibration"), "calibration.gain", source, size, table
         )
         if np.any(np.abs(offset) > 1):
             raise ProfileError(
@@ -352,7 +378,7 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
             raise ProfileError(f"{source}: field 'calibration.gain' values must be within (0, 10]")
         offset, gain = tuple(offset.tolist()), tuple(gain.tolist())
         if cal.get("threshold") is not None:
-            threshold = _numbers(cal["threshold"], "calibration.threshold", source, size)
+            threshold = _numbers(cal["threshold"], "calibration.threshold", source, size, table)
             if np.any(threshold < 0) or np.any(threshold > 1):
                 raise ProfileError(
                     f"{source}: field 'calibration.threshold' values must be within [0, 1]"
@@ -396,6 +422,50 @@ def load_profile(path_or_name=None) -> DeviceProfile:
     source = str(path)
     profile = profile_from_dict(data, source=source)
     return dataclasses.replace(profile, path=source, file_sha256=digest)
+
+
+def user_profiles_dir() -> Path:
+    """Where a user's own device profiles live: ``$XDG_CONFIG_HOME/tactile-tuner/devices``
+    (``~/.config/tactile-tuner/devices`` by default)."""
+    base = os.environ.get("XDG_CONFIG_HOME") or str(Path.home() / ".config")
+    return Path(base) / "tactile-tuner" / "devices"
+
+
+def profile_names() -> dict[str, Path]:
+    """Known profiles by name: the bundled ones, then the user's (a user's file of the same name
+    takes precedence). A file whose name is not a valid profile name is ignored."""
+    found = {}
+    for folder in (assets_dir() / "devices", user_profiles_dir()):
+        if folder.is_dir():
+            for path in sorted(folder.glob("*.json")):
+                if NAME.fullmatch(path.stem):
+                    found[path.stem] = path
+    return found
+
+
+def find_profile(name) -> DeviceProfile:
+    """The profile called ``name`` among the bundled and the user's profiles (never a path).
+
+    Raises
+    ------
+    ProfileError
+        When ``name`` is not a profile name, or no such profile exists, or its file is invalid.
+    """
+    if not isinstance(name, str) or not NAME.fullmatch(name):
+        raise ProfileError(
+            f"device profile must be a profile name (letters, digits, '_', '.', '-'), "
+            f"not a path: got {_validate.shown(name)}"
+        )
+    known = profile_names()
+    if name not in known:
+        raise ProfileError(
+            f"no device profile named {name!r} (bundled or in {user_profiles_dir()}); "
+            f"known: {', '.join(known) or 'none'}"
+        )
+    profile = load_profile(known[name])
+    if profile.name != name:
+        raise ProfileError(f"{known[name]}: its field 'name' is {profile.name!r}, not {name!r}")
+    return profile
 
 
 def default_profile() -> DeviceProfile:

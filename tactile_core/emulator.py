@@ -22,6 +22,7 @@ import numpy as np
 from .array import ArrayModel
 from .device import DeviceProfile, default_profile
 from .jsonfile import write_json_atomic
+from .outfile import atomic_file, check_output
 
 
 class Emulator:
@@ -197,7 +198,7 @@ class Emulator:
     def save_log(self, path) -> None:
         """Every valid frame as CSV: ``time,seq,ch0,...`` (seconds from the start, levels in
         channel order). Watchdog trips and closing are in the report's ``events``."""
-        with open(path, "w", encoding="utf-8") as f:
+        with atomic_file(check_output(path, (), "--log")) as f:
             f.write("time,seq," + ",".join(f"ch{i}" for i in range(self.profile.channels)) + "\n")
             for t, s, lv in zip(self.times, self.seqs, self.levels):
                 f.write(f"{t - self.started:.6f},{s}," + ",".join(map(str, lv)) + "\n")

@@ -14,6 +14,7 @@ import numpy as np
 from ._version import __version__
 from .correction import check_correction, correct, quantize
 from .curves import ActivationCurves
+from .outfile import atomic_file, check_output
 
 
 def correction_lut(mu: float, gamma: float, levels: int = 23, size: int = 256) -> np.ndarray:
@@ -32,12 +33,12 @@ def correction_lut(mu: float, gamma: float, levels: int = 23, size: int = 256) -
 
 def write_lut_csv(path, mu: float, gamma: float, levels: int = 23) -> Path:
     """``raw,intensity,corrected,level`` for the 256 raw bytes."""
-    path = Path(path)
+    path = check_output(path, (".csv",), "table export")
     raw = np.arange(256)
     intensity = raw / 255
     corrected = correct(intensity, mu, gamma)
     lut = correction_lut(mu, gamma, levels)
-    with path.open("w", encoding="utf-8") as f:
+    with atomic_file(path) as f:
         f.write("raw,intensity,corrected,level\n")
         for r, i, c, lv in zip(raw.tolist(), intensity.tolist(), corrected.tolist(), lut.tolist()):
             f.write(f"{r},{i:.6f},{c:.6f},{lv}\n")
@@ -62,14 +63,16 @@ def lut_c_header(mu: float, gamma: float, levels: int = 23, name: str = "TACTILE
 
 def write_lut_header(path, mu: float, gamma: float, levels: int = 23) -> Path:
     """Write :func:`lut_c_header` to ``path``."""
-    path = Path(path)
-    path.write_text(lut_c_header(mu, gamma, levels), encoding="utf-8")
+    path = check_output(path, (".h",), "table export")
+    text = lut_c_header(mu, gamma, levels)
+    with atomic_file(path) as f:
+        f.write(text)
     return path
 
 
 def write_curves_csv(path, curves: ActivationCurves) -> Path:
     """``time`` then, per active tactor, its raw and corrected intensity (``r2c4_raw``, ...)."""
-    path = Path(path)
+    path = check_output(path, (".csv",), "curves export")
     names = ["time"]
     for col, row in curves.cells:
         names += [f"r{row}c{col}_raw", f"r{row}c{col}_corrected"]
@@ -77,7 +80,8 @@ def write_curves_csv(path, curves: ActivationCurves) -> Path:
     table[:, 0] = curves.time_s
     table[:, 1::2] = curves.raw
     table[:, 2::2] = curves.corrected
-    np.savetxt(path, table, delimiter=",", header=",".join(names), comments="", fmt="%.8g")
+    with atomic_file(path) as f:
+        np.savetxt(f, table, delimiter=",", header=",".join(names), comments="", fmt="%.8g")
     return path
 
 
@@ -89,7 +93,7 @@ def plot_curves(path, curves: ActivationCurves, *, title: str = "", colors=None)
     """
     from matplotlib.figure import Figure
 
-    path = Path(path)
+    path = check_output(path, (".png", ".svg"), "curves export")
     fig = Figure(figsize=(7.0, 3.6), dpi=150, layout="constrained")
     ax = fig.add_subplot()
     for i, cell in enumerate(curves.cells):
@@ -109,5 +113,6 @@ def plot_curves(path, curves: ActivationCurves, *, title: str = "", colors=None)
     if title:
         ax.set_title(title, fontsize=10)
     ax.legend(ncol=4, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.18), frameon=False)
-    fig.savefig(path)
+    with atomic_file(path, binary=True) as f:
+        fig.savefig(f, format=path.suffix.lower()[1:])
     return path

@@ -15,6 +15,9 @@ import numpy as np
 
 from . import _validate
 
+MAX_GRID = 1024
+"""Most columns or rows of a grid."""
+
 
 @dataclass(frozen=True)
 class Grid:
@@ -23,7 +26,7 @@ class Grid:
     Parameters
     ----------
     cols, rows : int
-        Number of columns (along x) and rows (along y), each at least 1. The default is the
+        Number of columns (along x) and rows (along y), each from 1 to 1024. The default is the
         paper's palm array, 5 columns by 6 rows.
 
     Examples
@@ -41,11 +44,11 @@ class Grid:
         for name in ("cols", "rows"):
             value = getattr(self, name)
             try:
-                checked = _validate.integer(f"grid {name}", value, 1)
+                checked = _validate.integer(f"grid {name}", value, 1, MAX_GRID)
             except ValueError:
                 raise ValueError(
-                    f"grid must be at least 1 x 1: grid {name} must be an integer >= 1, "
-                    f"got {value!r}"
+                    f"grid must be at least 1 x 1 and at most {MAX_GRID} x {MAX_GRID}: grid "
+                    f"{name} must be an integer from 1 to {MAX_GRID}, got {_validate.shown(value)}"
                 ) from None
             object.__setattr__(self, name, checked)
 

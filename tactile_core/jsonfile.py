@@ -12,8 +12,9 @@ import hashlib
 import json
 import os
 import stat
-import tempfile
 from pathlib import Path
+
+from .outfile import atomic_file
 
 MAX_JSON_BYTES = 1 << 20
 """Largest JSON file read (1 MiB): a profile, preset or session is a few kilobytes."""
@@ -87,21 +88,10 @@ def read_json_digest(path, error=ValueError, *, max_bytes: int = MAX_JSON_BYTES)
 
 
 def write_text_atomic(path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file in the same folder, synced, and a
-    rename: a crash or a full disk leaves either the old file or the new one, never half of
-    one, and never an empty file in place of the old."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    """Write ``text`` to ``path`` atomically (see :func:`tactile_core.outfile.atomic_file`)."""
+    with atomic_file(path) as f:
+        f.write(text)
+    return Path(path)
 
 
 def write_json_atomic(path, data) -> Path:

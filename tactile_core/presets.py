@@ -5,7 +5,7 @@ A preset file::
     {
       "format": "tactile-preset", "version": 1,
       "name": "Experiment 1 line", "notes": "...",
-      "device_profile": "palm-5x6",
+      "device_profile": "palm-5x6",          # a profile's name (bundled or the user's), no path
       "method": "AS", "mu": 0.33, "gamma": 0.7,
       "shape": {"type": "line", "p0": [0.5, 1.84], "p1": [4.5, 4.16]},
       "trace": {"duration_s": 2.0, "pause_s": 0.5, "direction": "forward", "repeat": true},
@@ -22,7 +22,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from . import _validate
 from .assets import assets_dir
+from .device import NAME as PROFILE_NAME
 from .jsonfile import read_json, write_json_atomic
 from .scene import Scene
 from .shapes import shape_from_dict
@@ -90,9 +92,17 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
         raise PresetError(
             f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
         )
-    for key in ("name", "notes", "device_profile"):
-        if key in data and not isinstance(data[key], str):
-            raise PresetError(f"{source}: field '{key}' must be a string, got {data[key]!r}")
+    for key, longest in (("name", 200), ("notes", 10_000), ("device_profile", 64)):
+        if key in data and (not isinstance(data[key], str) or len(data[key]) > longest):
+            raise PresetError(
+                f"{source}: field '{key}' must be a string of at most {longest} characters, "
+                f"got {_validate.shown(data[key])}"
+            )
+    if "device_profile" in data and not PROFILE_NAME.fullmatch(data["device_profile"]):
+        raise PresetError(
+            f"{source}: field 'device_profile' must name a profile (letters, digits, '_', '.', "
+            f"'-'), not a path: got {_validate.shown(data['device_profile'])}"
+        )
     if "shape" not in data:
         raise PresetError(f"{source}: field 'shape' is missing")
     try:
@@ -105,7 +115,9 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
             kwargs[key] = data[key]
     trace = data.get("trace", {})
     if not isinstance(trace, dict):
-        raise PresetError(f"{source}: field 'trace' must be an object, got {trace!r}")
+        raise PresetError(
+            f"{source}: field 'trace' must be an object, got {_validate.shown(trace)}"
+        )
     for key in _TRACE_KEYS:
         if key in trace:
             kwargs[key] = trace[key]
@@ -116,8 +128,10 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
         elif key in ("method", "filter", "direction"):
             if not isinstance(value, str):
                 raise PresetError(f"{source}: field '{key}' must be a string, got {value!r}")
-        elif isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise PresetError(f"{source}: field '{key}' must be a number, got {value!r}")
+        elif not _validate.is_number(value):
+            raise PresetError(
+                f"{source}: field '{key}' must be a number, got {_validate.shown(value)}"
+            )
     try:
         scene = Scene(shape, **kwargs)
     except ValueError as exc:

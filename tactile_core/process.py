@@ -125,7 +125,17 @@ def _serve(cmd: Connection, events: Connection) -> None:
 
 
 def main(argv=None) -> int:
-    """Entry point of the child: ``python -m tactile_core.process CMD_FD EVENTS_FD``."""
+    """Entry point of the child: ``python -m tactile_core.process CMD_FD EVENTS_FD``.
+
+    Ctrl-C and SIGHUP from the terminal reach the whole process group; the child ignores them
+    and lets the parent stop it (or notices the parent is gone when its pipe closes), so a
+    Ctrl-C in the tuner's terminal prints no traceback from here and always ends all-off.
+    """
+    import signal
+
+    for name in ("SIGINT", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_IGN)
     argv = sys.argv[1:] if argv is None else argv
     cmd = Connection(int(argv[0]), writable=False)
     events = Connection(int(argv[1]), readable=False)

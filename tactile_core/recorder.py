@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from .geometry import ArraySpec
+from .outfile import atomic_file, check_output
 
 
 class Recorder:
@@ -50,18 +51,17 @@ class Recorder:
 
     def save(self, path) -> Path:
         """Write ``.csv`` (``time,seq,r0c0,...``) or ``.npz`` (``time``, ``seq``, ``levels``)."""
-        path = Path(path)
+        path = check_output(path, (".csv", ".npz"), "record file")
         time_s, seq, levels = self.arrays()
         grid = self.array.grid
         if path.suffix.lower() == ".npz":
-            np.savez(path, time=time_s, seq=seq, levels=levels)
-        elif path.suffix.lower() == ".csv":
+            with atomic_file(path, binary=True) as f:
+                np.savez(f, time=time_s, seq=seq, levels=levels)
+        else:
             names = ["time", "seq", *(grid.cell_name(i) for i in range(grid.size))]
-            with path.open("w", encoding="utf-8") as f:
+            with atomic_file(path) as f:
                 f.write(",".join(names) + "\n")
                 flat = levels.reshape(len(seq), grid.size)
                 for t, s, row in zip(time_s.tolist(), seq.tolist(), flat.tolist()):
                     f.write(f"{t:.6f},{s}," + ",".join(map(str, row)) + "\n")
-        else:
-            raise ValueError(f"record file must end in .csv or .npz, got {str(path)!r}")
         return path

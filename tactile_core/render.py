@@ -122,9 +122,22 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     shape = check_shape(shape, m)
     t = _validate.parameter_array(t)
     flat_t = t.reshape(-1)
+    _check_size(flat_t.size, grid)
     x, y = shape.xy(flat_t)
     entries = m.sample(shape, x, y, flat_t, shape.snap_tol)
     return scatter(entries, flat_t.size, grid).reshape(t.shape + grid.shape)
+
+
+MAX_VALUES = 200_000_000
+"""Most intensities one call returns (1.6 GB of float64)."""
+
+
+def _check_size(n: int, grid: Grid) -> None:
+    if n * grid.size > MAX_VALUES:
+        raise ValueError(
+            f"t holds {n} samples of {grid.size} tactors: more than {MAX_VALUES:.0e} values in "
+            f"one call; render in chunks"
+        )
 
 
 def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
@@ -152,11 +165,22 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
             f"stroke); free points work with CT and AS"
         )
     grid = check_grid(grid)
-    x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+    try:
+        if isinstance(x, (str, bytes)) or isinstance(y, (str, bytes)):
+            raise TypeError
+        x, y = np.broadcast_arrays(
+            np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+        )
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(
+            f"x and y must be finite coordinates (numbers or arrays of them), got "
+            f"{_validate.shown(x)} and {_validate.shown(y)}"
+        ) from None
     shape = x.shape
     if not (np.isfinite(x).all() and np.isfinite(y).all()):
         raise ValueError("x and y must be finite coordinates")
     x, y = x.reshape(-1), y.reshape(-1)
+    _check_size(x.size, grid)
     tol = SNAP_REL * np.maximum(np.maximum(np.abs(x), np.abs(y)), 1.0)
     entries = m.sample(None, x, y, None, tol)
     return scatter(entries, x.size, grid).reshape(shape + grid.shape)

@@ -38,11 +38,12 @@ class Scene:
     mu, gamma : float
         Threshold in [0, 1] and gamma > 0 (the paper's 0.33 and 0.7 by default).
     duration_s, pause_s : float
-        Seconds per trace and off between traces.
+        Seconds per trace (> 0) and off between traces (>= 0), each at most an hour.
     direction : {"forward", "reverse"}
     repeat : bool
     rate_hz : float
-        Requested frame rate (the streamer caps it at what the link carries).
+        Requested frame rate, 1 to 10,000 Hz (the streamer caps it at what the link carries,
+        and sends at least 10 frames a second, repeating frames, below that).
     filter : {"point", "box"}
         Temporal filter; ``"point"`` (the paper's pipeline) by default.
     subsamples : int
@@ -89,18 +90,18 @@ class Scene:
         mu, gamma = check_correction(self.mu, self.gamma)
         object.__setattr__(self, "mu", mu)
         object.__setattr__(self, "gamma", gamma)
-        object.__setattr__(self, "duration_s", _validate.positive("duration_s", self.duration_s))
-        object.__setattr__(self, "pause_s", _validate.non_negative("pause_s", self.pause_s))
-        _validate.choice("direction", self.direction, DIRECTIONS)
+        object.__setattr__(self, "duration_s", _validate.duration("duration_s", self.duration_s))
         object.__setattr__(
-            self, "rate_hz", _validate.in_range("rate_hz", self.rate_hz, 1.0, 10_000.0)
+            self, "pause_s", _validate.duration("pause_s", self.pause_s, allow_zero=True)
         )
+        _validate.choice("direction", self.direction, DIRECTIONS)
+        object.__setattr__(self, "rate_hz", _validate.rate("rate_hz", self.rate_hz, 1.0, 10_000.0))
         _validate.choice("filter", self.filter, FILTERS)
         object.__setattr__(
             self, "subsamples", _validate.integer("subsamples", self.subsamples, 1, 1024)
         )
         for name in ("repeat", "dither", "playing"):
-            object.__setattr__(self, name, bool(getattr(self, name)))
+            object.__setattr__(self, name, _validate.boolean(name, getattr(self, name)))
         object.__setattr__(self, "gain", _validate.in_range("gain", self.gain, 0.0, 1.0))
         object.__setattr__(
             self, "emphasis", _validate.in_range("emphasis", self.emphasis, 0.0, 0.9)

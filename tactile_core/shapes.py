@@ -25,6 +25,7 @@ from __future__ import annotations
 import bisect
 import itertools
 import math
+import re
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -34,6 +35,8 @@ from . import _validate
 from .geometry import cell_floor, clamp, snap_tolerance
 
 TWO_PI = 2.0 * math.pi
+MAX_POINTS = 10_000
+"""Most vertices a polyline may have."""
 
 
 @dataclass(frozen=True)
@@ -451,7 +454,7 @@ class Circle(Shape):
 
     def __post_init__(self):
         object.__setattr__(self, "center", _validate.point("center", self.center))
-        object.__setattr__(self, "radius", _validate.non_negative("radius", self.radius))
+        object.__setattr__(self, "radius", _validate.size("radius", self.radius))
 
     def xy(self, t):
         cx, cy = self.center
@@ -509,15 +512,21 @@ class Polyline(Shape):
     closed: bool = False
 
     def __post_init__(self):
+        if isinstance(self.points, (str, bytes, dict)):
+            raise ValueError(
+                f"points must be a sequence of (x, y), got {_validate.shown(self.points)}"
+            )
         try:
             raw = list(self.points)
         except TypeError:
-            raise ValueError(f"points must be a sequence of (x, y), got {self.points!r}") from None
-        if len(raw) < 2:
-            raise ValueError(f"points must hold at least 2 points, got {len(raw)}")
+            raise ValueError(
+                f"points must be a sequence of (x, y), got {_validate.shown(self.points)}"
+            ) from None
+        if not 2 <= len(raw) <= MAX_POINTS:
+            raise ValueError(f"points must hold 2 to {MAX_POINTS} points, got {len(raw)}")
         pts = tuple(_validate.point(f"points[{i}]", p) for i, p in enumerate(raw))
         object.__setattr__(self, "points", pts)
-        object.__setattr__(self, "closed", bool(self.closed))
+        object.__setattr__(self, "closed", _validate.boolean("closed", self.closed))
 
     @cached_property
     def _segments(self):
@@ -670,7 +679,7 @@ class Square(Shape):
 
     def __post_init__(self):
         object.__setattr__(self, "center", _validate.point("center", self.center))
-        object.__setattr__(self, "edge", _validate.non_negative("edge", self.edge))
+        object.__setattr__(self, "edge", _validate.size("edge", self.edge))
 
     @cached_property
     def polyline(self) -> Polyline:
@@ -721,6 +730,8 @@ class Square(Shape):
 
 
 SHAPE_KINDS = ("line", "circle", "square", "polyline", "polygon")
+_NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+"""A decimal number as a user types it (no nan, inf, hex or underscores)."""
 
 
 def parse_shape(text: str) -> Shape:
@@ -748,37 +759,46 @@ def parse_shape(text: str) -> Shape:
     """
     if not isinstance(text, str) or ":" not in text:
         raise ValueError(
-            f"shape must look like 'circle:2.5,3,2' ({', '.join(SHAPE_KINDS)}), got {text!r}"
+            f"shape must look like 'circle:2.5,3,2' ({', '.join(SHAPE_KINDS)}), "
+            f"got {_validate.shown(text)}"
         )
     kind, _, args = text.partition(":")
     kind = kind.strip().lower()
-    try:
-        values = [float(a) for a in args.split(",")] if args.strip() else []
-    except ValueError:
+    if kind not in SHAPE_KINDS:
         raise ValueError(
-            f"shape {text!r}: coordinates must be numbers separated by commas"
-        ) from None
+            f"shape kind must be one of {', '.join(SHAPE_KINDS)}, got {_validate.shown(kind)}"
+        )
+    parts = [a.strip() for a in args.split(",")] if args.strip() else []
+    if len(parts) > 2 * MAX_POINTS:
+        raise ValueError(f"shape {kind}: at most {2 * MAX_POINTS} numbers, got {len(parts)}")
+    bad = next((a for a in parts if not _NUMBER.fullmatch(a)), None)
+    if bad is not None:
+        raise ValueError(
+            f"shape {kind}: coordinates must be decimal numbers separated by commas, "
+            f"got {_validate.shown(bad)}"
+        )
+    values = [float(a) for a in parts]
     need = {"line": 4, "circle": 3, "square": 3}
     if kind in need and len(values) != need[kind]:
-        raise ValueError(f"shape {text!r}: {kind} needs {need[kind]} numbers, got {len(values)}")
-    if kind == "line":
-        return Line(values[0:2], values[2:4])
-    if kind == "circle":
-        return Circle(values[0:2], values[2])
-    if kind == "square":
-        return Square(values[0:2], values[2])
-    if kind in ("polyline", "polygon"):
-        if len(values) < 4 or len(values) % 2:
-            raise ValueError(f"shape {text!r}: {kind} needs an even number (>= 4) of coordinates")
-        pts = list(zip(values[0::2], values[1::2]))
-        return Polyline(pts, closed=kind == "polygon")
-    raise ValueError(f"shape kind must be one of {', '.join(SHAPE_KINDS)}, got {kind!r}")
+        raise ValueError(f"shape {kind}: needs {need[kind]} numbers, got {len(values)}")
+    if kind not in need and (len(values) < 4 or len(values) % 2):
+        raise ValueError(f"shape {kind}: needs an even number (>= 4) of coordinates")
+    try:
+        if kind == "line":
+            return Line(values[0:2], values[2:4])
+        if kind == "circle":
+            return Circle(values[0:2], values[2])
+        if kind == "square":
+            return Square(values[0:2], values[2])
+        return Polyline(list(zip(values[0::2], values[1::2])), closed=kind == "polygon")
+    except ValueError as exc:
+        raise ValueError(f"shape {kind}: {exc}") from None
 
 
 def shape_from_dict(data) -> Shape:
     """Build a shape from :meth:`Shape.to_dict` output; ``ValueError`` names a bad field."""
     if not isinstance(data, dict):
-        raise ValueError(f"shape must be an object with a 'type', got {data!r}")
+        raise ValueError(f"shape must be an object with a 'type', got {_validate.shown(data)}")
     kind = data.get("type")
     fields = {
         "line": ("p0", "p1"),
@@ -786,8 +806,10 @@ def shape_from_dict(data) -> Shape:
         "square": ("center", "edge"),
         "polyline": ("points",),
     }
-    if kind not in fields:
-        raise ValueError(f"shape.type must be one of {', '.join(fields)}, got {kind!r}")
+    if not isinstance(kind, str) or kind not in fields:
+        raise ValueError(
+            f"shape.type must be one of {', '.join(fields)}, got {_validate.shown(kind)}"
+        )
     for name in fields[kind]:
         if name not in data:
             raise ValueError(f"shape.{name} is missing for a {kind}")
@@ -798,6 +820,6 @@ def shape_from_dict(data) -> Shape:
             return Circle(data["center"], data["radius"])
         if kind == "square":
             return Square(data["center"], data["edge"])
-        return Polyline(data["points"], closed=bool(data.get("closed", False)))
+        return Polyline(data["points"], closed=data.get("closed", False))
     except ValueError as exc:
         raise ValueError(f"shape.{exc}") from None

@@ -39,6 +39,8 @@ from .shapes import Shape
 
 DIRECTIONS = ("forward", "reverse")
 FILTERS = ("point", "box")
+MAX_SAMPLES = 20_000_000
+"""Most samples one render_frames call computes."""
 
 
 @dataclass(frozen=True)
@@ -50,10 +52,10 @@ class Trace:
     shape : Shape
         What is traced.
     duration_s : float
-        Seconds from ``t = 0`` to ``t = 1``, > 0 (2 s in the paper).
+        Seconds from ``t = 0`` to ``t = 1``, > 0 and at most an hour (2 s in the paper).
     pause_s : float
-        Seconds off between traces, >= 0 (0.5 s in the paper's Experiments 1 and 2; 0 for the
-        continuous retracing of Experiment 3).
+        Seconds off between traces, 0 to an hour (0.5 s in the paper's Experiments 1 and 2; 0
+        for the continuous retracing of Experiment 3).
     direction : {"forward", "reverse"}
         ``forward`` follows ``f(t)`` (counter-clockwise for circles and squares);
         ``reverse`` runs ``t`` from 1 to 0.
@@ -74,10 +76,12 @@ class Trace:
 
     def __post_init__(self):
         check_shape(self.shape)
-        object.__setattr__(self, "duration_s", _validate.positive("duration_s", self.duration_s))
-        object.__setattr__(self, "pause_s", _validate.non_negative("pause_s", self.pause_s))
+        object.__setattr__(self, "duration_s", _validate.duration("duration_s", self.duration_s))
+        object.__setattr__(
+            self, "pause_s", _validate.duration("pause_s", self.pause_s, allow_zero=True)
+        )
         _validate.choice("direction", self.direction, DIRECTIONS)
-        object.__setattr__(self, "repeat", bool(self.repeat))
+        object.__setattr__(self, "repeat", _validate.boolean("repeat", self.repeat))
         object.__setattr__(
             self, "emphasis", _validate.in_range("emphasis", self.emphasis, 0.0, 0.9)
         )
@@ -190,7 +194,7 @@ class Sampling:
     Parameters
     ----------
     rate_hz : float
-        Frames per second, > 0.
+        Frames per second, > 0 and at most 10^7 (a reference sampling every 0.1 us).
     filter : {"point", "box"}
         See the module notes; ``"point"`` (the paper's pipeline) by default.
     subsamples : int
@@ -203,6 +207,8 @@ class Sampling:
 
     def __post_init__(self):
         object.__setattr__(self, "rate_hz", _validate.positive("rate_hz", self.rate_hz))
+        if self.rate_hz > 1e7:
+            raise ValueError(f"rate_hz must be at most 1e7, got {self.rate_hz!r}")
         _validate.choice("filter", self.filter, FILTERS)
         object.__setattr__(
             self, "subsamples", _validate.integer("subsamples", self.subsamples, 1, 1024)
@@ -289,6 +295,11 @@ def render_frames(
     n_frames = _validate.integer("n_frames", n_frames, 0)
     first_frame = _validate.integer("first_frame", first_frame, 0)
     s = sampling.n_sub
+    if n_frames * s > MAX_SAMPLES:
+        raise ValueError(
+            f"n_frames x subsamples must be at most {MAX_SAMPLES:.0e} (about 4 GB of frames), "
+            f"got {n_frames} x {s}: render in chunks with first_frame"
+        )
     phase_s = _validate.real("phase_s", phase_s)
     start = (np.arange(n_frames) + first_frame) / sampling.rate_hz + phase_s
     times = (start[:, None] + sampling.offsets_s()[None, :]).reshape(-1)

@@ -78,13 +78,13 @@ def test_render_npz_holds_time_and_frames(tmp_path):
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--shape", "circle:2.5,3", "--method", "AS"], "circle needs 3 numbers"),
+        (["--shape", "circle:2.5,3", "--method", "AS"], "shape circle: needs 3 numbers"),
         (["--shape", "blob:1,2", "--method", "AS"], "shape kind"),
         (["--shape", "line:0,0,1,1", "--method", "QQ"], "method must be one of"),
         (["--shape", "line:0,0,1,1", "--method", "AS", "--mu", "1.5"], "mu must be within"),
         (["--shape", "line:0,0,1,1", "--method", "AS", "--gamma", "0"], "gamma must be > 0"),
-        (["--shape", "line:0,0,1,1", "--method", "AS", "--rate", "-1"], "rate must be > 0"),
-        (["--shape", "line:0,0,nan,1", "--method", "AS"], "p1"),
+        (["--shape", "line:0,0,1,1", "--method", "AS", "--rate", "-1"], "rate must be within"),
+        (["--shape", "line:0,0,nan,1", "--method", "AS"], "coordinates must be decimal numbers"),
     ],
 )
 def test_render_bad_arguments_exit_2_with_a_clear_message(tmp_path, capsys, args, message):
@@ -97,7 +97,7 @@ def test_render_bad_arguments_exit_2_with_a_clear_message(tmp_path, capsys, args
 def test_render_unwritable_output(tmp_path, capsys):
     target = tmp_path / "missing-dir" / "x.csv"
     assert main(["render", "--shape", "line:0,0,1,1", "--method", "AS", "--out", str(target)]) == 2
-    assert "cannot write" in capsys.readouterr().err
+    assert "missing-dir' does not exist" in capsys.readouterr().err
     assert (
         main(
             [
