@@ -65,7 +65,9 @@ def _seconds(value, name="seconds"):
         return None
     value = _validate.real(name, value)
     if not 0 < value <= 7 * 86400:
-        raise ValueError(f"{name} must be > 0 and at most a week (604800 s), got {value!r}")
+        raise ValueError(
+            f"{name} must be > 0 and at most a week (604800 s), got {_validate.shown(value)}"
+        )
     return value
 
 

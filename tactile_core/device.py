@@ -223,10 +223,12 @@ def _field(data, key, source, *, required=True, default=None):
 
 def _integer(value, key, source, lo, hi=None):
     if isinstance(value, bool) or not isinstance(value, int):
-        raise ProfileError(f"{source}: field '{key}' must be an integer, got {value!r}")
+        raise ProfileError(
+            f"{source}: field '{key}' must be an integer, got {_validate.shown(value)}"
+        )
     if value < lo or (hi is not None and value > hi):
         bound = f"{lo}..{hi}" if hi is not None else f">= {lo}"
-        raise ProfileError(f"{source}: field '{key}' must be {bound}, got {value!r}")
+        raise ProfileError(f"{source}: field '{key}' must be {bound}, got {_validate.shown(value)}")
     return value
 
 
@@ -276,7 +278,8 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
         )
     if data.get("format") != FORMAT:
         raise ProfileError(
-            f"{source}: field 'format' must be {FORMAT!r}, got {data.get('format')!r}"
+            f"{source}: field 'format' must be {FORMAT!r}, "
+            f"got {_validate.shown(data.get('format'))}"
         )
     version = _integer(_field(data, "version", source), "version", source, 1)
     if version > VERSION:
@@ -300,7 +303,7 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
         )
     pitch = _number(_field(data, "pitch_mm", source), "pitch_mm", source)
     if pitch <= 0:
-        raise ProfileError(f"{source}: field 'pitch_mm' must be > 0, got {pitch!r}")
+        raise ProfileError(f"{source}: field 'pitch_mm' must be > 0, got {_validate.shown(pitch)}")
     levels = _integer(_field(data, "levels", source), "levels", source, 2, 256)
     baud = _integer(
         _field(data, "baud", source, required=False, default=115200),
@@ -327,7 +330,7 @@ def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
     else:
         raise ProfileError(
             f"{source}: field 'channel_order' must be 'row-major', 'column-major' or a list, "
-            f"got {order!r}"
+            f"got {_validate.shown(order)}"
         )
     array = ArraySpec(Grid(cols=cols, rows=rows), pitch_mm=pitch, levels=levels, channels=channels)
 
@@ -459,12 +462,16 @@ def find_profile(name) -> DeviceProfile:
     known = profile_names()
     if name not in known:
         raise ProfileError(
-            f"no device profile named {name!r} (bundled or in {user_profiles_dir()}); "
+            f"no device profile named {_validate.shown(name)} "
+            f"(bundled or in {user_profiles_dir()}); "
             f"known: {', '.join(known) or 'none'}"
         )
     profile = load_profile(known[name])
     if profile.name != name:
-        raise ProfileError(f"{known[name]}: its field 'name' is {profile.name!r}, not {name!r}")
+        raise ProfileError(
+            f"{known[name]}: its field 'name' is {_validate.shown(profile.name)}, "
+            f"not {_validate.shown(name)}"
+        )
     return profile
 
 

@@ -112,7 +112,7 @@ class ArraySpec:
 
     def __post_init__(self):
         if not isinstance(self.grid, Grid):
-            raise ValueError(f"grid must be a Grid, got {self.grid!r}")
+            raise ValueError(f"grid must be a Grid, got {_validate.shown(self.grid)}")
         object.__setattr__(self, "pitch_mm", _validate.positive("pitch_mm", self.pitch_mm))
         object.__setattr__(self, "levels", _validate.integer("levels", self.levels, 2, 256))
         size = self.grid.size
@@ -126,12 +126,12 @@ class ArraySpec:
                 )
             except TypeError:
                 raise ValueError(
-                    f"channels must be a list of integers, got {self.channels!r}"
+                    f"channels must be a list of integers, got {_validate.shown(self.channels)}"
                 ) from None
             if sorted(channels) != list(range(size)):
                 raise ValueError(
                     f"channels must be a permutation of 0..{size - 1} (one channel per tactor), "
-                    f"got {list(channels)!r}"
+                    f"got {_validate.shown(list(channels))}"
                 )
         object.__setattr__(self, "channels", channels)
 

@@ -83,11 +83,14 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
         raise PresetError(f"{source}: a preset must be a JSON object, got {type(data).__name__}")
     if data.get("format") != FORMAT:
         raise PresetError(
-            f"{source}: field 'format' must be {FORMAT!r}, got {data.get('format')!r}"
+            f"{source}: field 'format' must be {FORMAT!r}, "
+            f"got {_validate.shown(data.get('format'))}"
         )
     version = data.get("version")
     if isinstance(version, bool) or not isinstance(version, int) or version < 1:
-        raise PresetError(f"{source}: field 'version' must be an integer >= 1, got {version!r}")
+        raise PresetError(
+            f"{source}: field 'version' must be an integer >= 1, got {_validate.shown(version)}"
+        )
     if version > VERSION:
         raise PresetError(
             f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
@@ -124,10 +127,14 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
     for key, value in kwargs.items():
         if key in ("dither", "repeat"):
             if not isinstance(value, bool):
-                raise PresetError(f"{source}: field '{key}' must be true or false, got {value!r}")
+                raise PresetError(
+                    f"{source}: field '{key}' must be true or false, got {_validate.shown(value)}"
+                )
         elif key in ("method", "filter", "direction"):
             if not isinstance(value, str):
-                raise PresetError(f"{source}: field '{key}' must be a string, got {value!r}")
+                raise PresetError(
+                    f"{source}: field '{key}' must be a string, got {_validate.shown(value)}"
+                )
         elif not _validate.is_number(value):
             raise PresetError(
                 f"{source}: field '{key}' must be a number, got {_validate.shown(value)}"

@@ -17,7 +17,7 @@ _DEFAULT_GRID = Grid()
 def check_grid(grid) -> Grid:
     """Return ``grid`` if it is a :class:`Grid`; otherwise raise ``ValueError`` naming it."""
     if not isinstance(grid, Grid):
-        raise ValueError(f"grid must be a Grid of at least 1 x 1, got {grid!r}")
+        raise ValueError(f"grid must be a Grid of at least 1 x 1, got {_validate.shown(grid)}")
     return grid
 
 
@@ -26,7 +26,9 @@ def check_shape(shape, method=None) -> Shape | None:
     if shape is None and method is not None and not method.needs_shape:
         return None
     if not isinstance(shape, Shape):
-        raise ValueError(f"shape must be a Line, Circle, Square or Polyline, got {shape!r}")
+        raise ValueError(
+            f"shape must be a Line, Circle, Square or Polyline, got {_validate.shown(shape)}"
+        )
     return shape
 
 
@@ -168,9 +170,7 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     try:
         if isinstance(x, (str, bytes)) or isinstance(y, (str, bytes)):
             raise TypeError
-        x, y = np.broadcast_arrays(
-            np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
-        )
+        x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
     except (TypeError, ValueError, OverflowError):
         raise ValueError(
             f"x and y must be finite coordinates (numbers or arrays of them), got "
@@ -202,7 +202,7 @@ def render_point(shape, method, t: float, grid: Grid = _DEFAULT_GRID) -> tuple:
     grid = check_grid(grid)
     shape = check_shape(shape, m)
     if not 0.0 <= t <= 1.0:
-        raise ValueError(f"t must be finite and within [0, 1], got {t!r}")
+        raise ValueError(f"t must be finite and within [0, 1], got {_validate.shown(t)}")
     return point_entries(shape, m.sample1, float(t), grid.cols, grid.rows)
 
 

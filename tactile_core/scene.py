@@ -22,7 +22,7 @@ from .trace import DIRECTIONS, FILTERS, LiveFrames, Sampling, Trace
 def check_scene(scene):
     """Return ``scene`` if it is a :class:`Scene` or None; else ``ValueError`` naming it."""
     if scene is not None and not isinstance(scene, Scene):
-        raise ValueError(f"scene must be a Scene or None, got {scene!r}")
+        raise ValueError(f"scene must be a Scene or None, got {_validate.shown(scene)}")
     return scene
 
 
@@ -84,7 +84,8 @@ class Scene:
     def __post_init__(self):
         if self.shape is not None and not isinstance(self.shape, Shape):
             raise ValueError(
-                f"shape must be a Line, Circle, Square or Polyline, got {self.shape!r}"
+                "shape must be a Line, Circle, Square or Polyline, "
+                f"got {_validate.shown(self.shape)}"
             )
         object.__setattr__(self, "method", get_method(self.method).name)
         mu, gamma = check_correction(self.mu, self.gamma)
@@ -168,7 +169,7 @@ class Pipeline:
         object.__setattr__(self, "rate_hz", float(self.rate_hz))
         object.__setattr__(self, "subsamples", int(self.subsamples))
         if not isinstance(self.dither, bool):
-            raise ValueError(f"dither must be true or false, got {self.dither!r}")
+            raise ValueError(f"dither must be true or false, got {_validate.shown(self.dither)}")
 
     def apply(self, scene: Scene) -> Scene:
         """``scene`` with this pipeline's rate, filter and dithering."""
@@ -203,7 +204,7 @@ class Pipeline:
             value = data[key]
             wrong_bool = isinstance(value, bool) and key != "dither"
             if wrong_bool or not isinstance(value, kinds):
-                raise ValueError(f"{source}.{key} has the wrong type: {value!r}")
+                raise ValueError(f"{source}.{key} has the wrong type: {_validate.shown(value)}")
             kwargs[key] = value
         try:
             return cls(**kwargs)

@@ -208,7 +208,7 @@ class Sampling:
     def __post_init__(self):
         object.__setattr__(self, "rate_hz", _validate.positive("rate_hz", self.rate_hz))
         if self.rate_hz > 1e7:
-            raise ValueError(f"rate_hz must be at most 1e7, got {self.rate_hz!r}")
+            raise ValueError(f"rate_hz must be at most 1e7, got {_validate.shown(self.rate_hz)}")
         _validate.choice("filter", self.filter, FILTERS)
         object.__setattr__(
             self, "subsamples", _validate.integer("subsamples", self.subsamples, 1, 1024)
@@ -289,7 +289,7 @@ def render_frames(
     grid = check_grid(grid)
     mu, gamma = check_correction(mu, gamma)
     if not isinstance(sampling, Sampling):
-        raise ValueError(f"sampling must be a Sampling, got {sampling!r}")
+        raise ValueError(f"sampling must be a Sampling, got {_validate.shown(sampling)}")
     if n_frames is None:
         n_frames = max(1, math.ceil(trace.period_s * sampling.rate_hz - 1e-9))
     n_frames = _validate.integer("n_frames", n_frames, 0)
@@ -351,9 +351,9 @@ class LiveFrames:
 
     def __init__(self, trace, method, sampling, mu, gamma, grid, gain=1.0):
         if not isinstance(trace, Trace):
-            raise ValueError(f"trace must be a Trace, got {trace!r}")
+            raise ValueError(f"trace must be a Trace, got {_validate.shown(trace)}")
         if not isinstance(sampling, Sampling):
-            raise ValueError(f"sampling must be a Sampling, got {sampling!r}")
+            raise ValueError(f"sampling must be a Sampling, got {_validate.shown(sampling)}")
         self.trace = trace
         self.method = get_method(method)
         self.sampling = sampling

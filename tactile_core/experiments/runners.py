@@ -149,12 +149,16 @@ class Runner:
         if kind == "rating":
             value = _validate.real("answer", answer)
             if not (0 <= value <= 100 and float(value).is_integer()):
-                raise ValueError(f"answer must be a whole number from 0 to 100, got {answer!r}")
+                raise ValueError(
+                    f"answer must be a whole number from 0 to 100, got {_validate.shown(answer)}"
+                )
             return int(value)
         if answer is None and trial.time_limit_s is not None:
             return None  # timed out
         if answer not in trial.options:
-            raise ValueError(f"answer must be one of {', '.join(trial.options)}, got {answer!r}")
+            raise ValueError(
+                f"answer must be one of {', '.join(trial.options)}, got {_validate.shown(answer)}"
+            )
         return answer
 
     def answer(self, answer, rt_s: float | None = None, health: dict | None = None) -> str:
@@ -206,7 +210,8 @@ class Runner:
             ):
                 raise ValueError(
                     f"{self.session.folder}/{self.experiment}.csv row {i + 1} does not match this "
-                    f"session's trials (stage {row.get('stage')!r}, trial {row.get('trial')!r})"
+                    f"session's trials (stage {_validate.shown(row.get('stage'))}, "
+                    f"trial {_validate.shown(row.get('trial'))})"
                 )
             self._check_recorded(trial, row)
             value = self._recorded_answer(trial, row)
@@ -229,8 +234,9 @@ class Runner:
         for key, value in trial.info.items():
             if key in row and row[key] not in ("", str(value)):
                 raise ValueError(
-                    f"{self.experiment}.csv: recorded {key} {row[key]!r} differs from the "
-                    f"session's {value!r}: different seed or software?"
+                    f"{self.experiment}.csv: recorded {key} {_validate.shown(row[key])} "
+                    "differs from the "
+                    f"session's {_validate.shown(value)}: different seed or software?"
                 )
 
     def progress(self) -> tuple[int, int]:

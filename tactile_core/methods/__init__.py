@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from types import ModuleType
 
+from .. import _validate
 from . import area, closest, interpolated, midpoint
 
 
@@ -77,5 +78,7 @@ def get_method(name) -> Method:
         return name
     key = name.upper() if isinstance(name, str) else name
     if key not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(METHOD_NAMES)}, got {name!r}")
+        raise ValueError(
+            f"method must be one of {', '.join(METHOD_NAMES)}, got {_validate.shown(name)}"
+        )
     return METHODS[key]
