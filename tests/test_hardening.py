@@ -55,7 +55,7 @@ def test_huge_finite_coordinates_are_refused(capsys, tmp_path, shape, field):
         ("--duration", "1e308", "duration"),
         ("--rate", "1e9", "rate"),
         ("--duration", "nan", "duration"),
-    ],  # fmt: skip
+    ],
 )
 def test_render_numbers_beyond_their_bounds(capsys, tmp_path, option, value, word):
     code, err = run_cli(capsys, "render", "--shape", "circle:2.5,3,2", "--method", "AS",
@@ -102,7 +102,7 @@ def test_emulate_seconds_nan_is_refused_not_a_hang():
         ],
         ["emulate", "--seconds", "0.2", "--log", "/proc/nope/log.csv"],
         ["emulate", "--seconds", "0.2", "--json", "/nonexistent-folder/r.json"],
-    ],  # fmt: skip
+    ],
 )
 def test_unwritable_outputs_are_refused_before_the_work(capsys, argv):
     started = time.monotonic()
