@@ -271,5 +271,5 @@ class BlindPanel(QtWidgets.QWidget):
         if path:
             try:
                 self.save(path)
-            except OSError as exc:
+            except (OSError, ValueError) as exc:
                 self.status.setText(f"could not save: {exc}")

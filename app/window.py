@@ -299,7 +299,7 @@ class MainWindow(QtWidgets.QMainWindow):
         )
         try:
             save_preset(preset, path)
-        except OSError as exc:
+        except (OSError, ValueError) as exc:  # ValueError: a path refused before writing
             self.show_error(f"could not save {path}: {exc}")
             return False
         self.statusBar().showMessage(f"saved preset to {path}", 5000)
@@ -334,7 +334,7 @@ class MainWindow(QtWidgets.QMainWindow):
             else:
                 self.show_error(f"curves export must end in .csv, .png or .svg, got {path.name}")
                 return False
-        except OSError as exc:
+        except (OSError, ValueError) as exc:  # ValueError: a path refused before writing
             self.show_error(f"could not write {path}: {exc}")
             return False
         self.statusBar().showMessage(f"exported curves to {path}", 5000)
@@ -352,7 +352,7 @@ class MainWindow(QtWidgets.QMainWindow):
             else:
                 self.show_error(f"table export must end in .csv or .h, got {path.name}")
                 return False
-        except OSError as exc:
+        except (OSError, ValueError) as exc:  # ValueError: a path refused before writing
             self.show_error(f"could not write {path}: {exc}")
             return False
         self.statusBar().showMessage(f"exported correction table to {path}", 5000)

@@ -279,3 +279,18 @@ def test_an_internal_error_in_the_output_thread_is_told_and_ends_all_off(monkeyp
     assert stats.state == "failed" and "internal error: RuntimeError: boom" in stats.status
     assert "all off" in stats.status and "RuntimeError" in streamer.failure_traceback
     assert not array.levels().any()
+
+
+def test_ctrl_c_reaches_the_stream_child_without_a_traceback(capfd):
+    from tactile_core.process import StreamerProcess
+    from tactile_core.scene import Scene
+
+    stream = StreamerProcess(None, scene=Scene(tc.Circle((2.5, 3), 2))).start()
+    try:
+        os.kill(stream._proc.pid, signal.SIGINT)  # what Ctrl-C in the terminal sends it
+        time.sleep(0.5)
+        assert stream.running  # the parent decides when the child stops
+    finally:
+        stats = stream.stop()
+    assert stats.state == "stopped" and stream._proc.returncode == 0
+    assert "KeyboardInterrupt" not in capfd.readouterr().err
