@@ -312,6 +312,16 @@ def test_rows_are_on_disk_before_answer_returns(tmp_path):
     assert len(data) == 2 and data[1]["rt_s"] == "1.250"
 
 
+def make_lock_stale(path):
+    """Rewrite a participant's lock as a process that has ended would have left it."""
+    import json
+    import socket
+
+    pid = subprocess.Popen(["true"])
+    pid.wait()
+    path.write_text(json.dumps({"host": socket.gethostname(), "pid": pid.pid, "since": "then"}))
+
+
 def test_bad_answers_are_refused_and_nothing_is_recorded(tmp_path):
     session = open_session(tmp_path, "p05")
     runner = Experiment1(session)
@@ -320,13 +330,13 @@ def test_bad_answers_are_refused_and_nothing_is_recorded(tmp_path):
         with pytest.raises(ValueError, match="answer"):
             runner.answer(bad)
     runner.answer(70)
+    runner.close()
     e2 = Experiment2(session)
     e2.answer("continue")
     with pytest.raises(ValueError, match="answer must be one of"):
         e2.answer("sideways")
     with pytest.raises(ValueError, match="answer must be one of"):
         e2.answer(None)  # no time limit in Experiment 2
-    runner.close()
     e2.close()
     assert len(rows(session.folder + "/exp1.csv")) == 2
     assert len(rows(session.folder + "/exp2.csv")) == 1
@@ -350,8 +360,9 @@ def test_a_crash_loses_nothing_and_the_session_resumes(tmp_path, name):
                 runner.select(key)
         runner.answer(participant.respond(runner.current), rt_s=1.0)
     # A crash: every answered row is already synced (test_rows_are_on_disk_before_answer_
-    # returns); only the file handle of the dead process would remain, closed here.
-    runner._writer._file.close()
+    # returns); the dead process leaves its file handle (closed here) and its lock behind.
+    runner._file.close()
+    make_lock_stale(runner._lock.path)
     del runner
     resumed = RUNNERS[name](open_session(tmp_path / "run", "p06"))
     assert resumed.done == half
@@ -626,3 +637,60 @@ def test_each_trial_row_notes_the_stream_health(tmp_path):
         "1",
         "2",
     )
+
+
+# --- analysis that reads what it can -----------------------------------------------------------
+
+
+def test_analyze_reports_bad_rows_and_goes_on(tmp_path):
+    from tactile_core.experiments.analysis import analyze
+
+    for i in range(4):
+        session = open_session(tmp_path, f"q{i}", index=i, seed=2)
+        for name in ("exp1", "exp3"):
+            runner = RUNNERS[name](session)
+            SimulatedParticipant(seed=i).run(runner)
+            runner.close()
+    path = tmp_path / "participant-q1" / "exp3.csv"
+    lines = path.read_text().splitlines(keepends=True)
+    lines[4] = lines[4].replace(",circle,", ",cirlce,", 1).replace(",square,", ",sqaure,", 1)
+    path.write_text("".join(lines))
+    with (tmp_path / "participant-q2" / "exp1.csv").open("a") as f:
+        f.write("p,line,1,quality,AS,,x,y")  # a torn last row
+    out = []
+    result = analyze(tmp_path, out=out.append)
+    text = "\n".join(out)
+    assert f"{path}:5: shape" in text
+    assert "exp1.csv" in text and "torn last row" in text
+    assert "Left out 2 row(s)" in text
+    assert result["exp3"]["participants"] == ["q0", "q2", "q3"]  # q1's set is now incomplete
+    assert len(result["exp1"]["participants"]) == 4  # q2's complete ratings still count
+
+
+def test_psychometric_fit_recovers_a_known_threshold():
+    import random
+
+    from tactile_core.experiments.stats import fit_psychometric
+
+    psy = Psychometric(0.5, 6.0)
+    rng = random.Random(4)
+    lengths = [math.exp(rng.uniform(-2.5, 1.0)) for _ in range(400)]
+    correct = [rng.random() < psy.p_correct(length) for length in lengths]
+    fit = fit_psychometric(lengths, correct)
+    assert fit["threshold"] == pytest.approx(psy.length_at(0.707), rel=0.1)
+    lo, hi = fit["ci"]
+    assert lo < psy.length_at(0.707) < hi
+
+
+def test_friedman_effect_sizes_and_d_prime_by_hand():
+    from tactile_core.experiments.stats import d_prime, friedman, pairwise_effect_sizes
+
+    # Three conditions, four participants, always ranked A < B < C: ranks 1, 2, 3 each time.
+    # chi2 = 12 / (n k (k + 1)) * sum R^2 - 3 n (k + 1) = 12/48 * (16 + 64 + 144) - 48 = 8.
+    chi2, p = friedman({"A": [1, 2, 3, 4], "B": [2, 3, 4, 5], "C": [3, 4, 5, 6]})
+    assert chi2 == pytest.approx(8.0) and p == pytest.approx(math.exp(-4.0))  # chi2(2) tail
+    # 12 of 12 with one sign: Z = 39 / sqrt(162.5) = 3.059, r = Z / sqrt(12) = 0.883.
+    r = pairwise_effect_sizes({"X": np.arange(1, 13) + 10.0, "Y": np.zeros(12)})
+    assert r[("X", "Y")] == pytest.approx(39 / math.sqrt(162.5) / math.sqrt(12))
+    # 5 of 5 hits, 0 of 5 false alarms: H = 5.5/6, F = 0.5/6 -> d' = 2 * 1.3830 = 2.766.
+    assert d_prime(5, 5, 0, 5) == pytest.approx(2 * 1.3830, abs=1e-3)

@@ -1,31 +1,60 @@
-"""``tactile analyze``: the paper's tables and figures from a results folder.
+"""``tactile analyze``: the paper's tables and figures from a results folder, and more.
 
 Reads every ``participant-*/`` folder of a results folder and prints:
 
 - Table 1 (Experiment 1): per property (quality, smoothness, thickness; each the sum of the
-  line and circle ratings), Bonferroni-adjusted pairwise Wilcoxon p-values between methods.
-- Experiment 2: each participant's 70.7% line length per condition (mean of the last two peaks
-  and two valleys of the staircase) and the mean +- SE per condition.
+  line and circle ratings), Bonferroni-adjusted pairwise Wilcoxon p-values between methods,
+  with a Friedman omnibus test before them and effect sizes ``r = Z / sqrt(N)`` beside them.
+- Experiment 2: each participant's 70.7% line length per condition by the paper's estimate (the
+  mean of the last two peaks and two valleys of the staircase) and by a maximum-likelihood fit
+  of a psychometric function to the whole track (with a 95% confidence interval), and the mean
+  +- SE per condition of both. The reversal estimate is biased upward by 8-15% for the paper's
+  steps (see the README's staircase table); the fit is not.
 - Table 2 (Experiment 3): pairwise Wilcoxon p-values of the discrimination scores (correct
-  answers out of 10 per method).
+  answers out of 10 per method), the Friedman test and effect sizes, the confusion matrix and
+  d' per method.
 
 and writes beside the results: ``fig6-exp1-scores.png`` (box plots), ``fig7-exp2-lengths.png``
 (mean +- SE), ``fig8-exp3-scores.png`` (box plots) and ``exp2-staircases.png`` (every track
 with its reversals). Only participants with complete data for an experiment enter its tests.
+
+A row that cannot be read (a bad number, an unknown method, a duplicate) is reported as
+``file:row: problem`` and left out; the rest is analysed, and the output says what was left out.
 """
 
 from __future__ import annotations
 
+import csv
+import io
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .results import read_rows
-from .runners import CONDITIONS_EXP2, METHODS
+from .runners import CONDITIONS_EXP2, METHODS, SHAPES
 from .staircase import Staircase
-from .stats import pairwise_wilcoxon
+from .stats import (
+    d_prime,
+    fit_psychometric,
+    friedman,
+    pairwise_effect_sizes,
+    pairwise_wilcoxon,
+)
 
 PROPERTIES = ("quality", "smoothness", "thickness")
+
+
+@dataclass
+class Problems:
+    """Rows left out of the analysis, as ``file:row: problem``."""
+
+    items: list = field(default_factory=list)
+
+    def add(self, path, line: int, problem: str) -> None:
+        self.items.append(f"{path}:{line}: {problem}")
+
+    def __len__(self) -> int:
+        return len(self.items)
 
 
 def participants(results_dir) -> list[Path]:
@@ -36,15 +65,95 @@ def participants(results_dir) -> list[Path]:
     return sorted(p for p in root.glob("participant-*") if p.is_dir())
 
 
-def exp1_scores(results_dir) -> tuple[dict, list[str]]:
+def numbered_rows(path, problems: Problems) -> list[tuple[int, dict]]:
+    """``(line, row)`` of each complete row of a results CSV (a torn last line is reported and
+    left out)."""
+    path = Path(path)
+    if not path.exists():
+        return []
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        problems.add(path, 1, f"cannot be read: {exc}")
+        return []
+    if text and not text.endswith("\n"):
+        problems.add(path, text.count("\n") + 1, "torn last row (no line end)")
+        text = text[: text.rfind("\n") + 1]
+    reader = csv.DictReader(io.StringIO(text))
+    out = []
+    for row in reader:
+        if None in row or None in row.values():
+            problems.add(path, reader.line_num, "wrong number of fields")
+            continue
+        out.append((reader.line_num, row))
+    return out
+
+
+def _parse(path, line, problems, checks) -> dict | None:
+    """Apply ``checks`` ``{name: (value, converter)}``; the converted values, or None (and a
+    problem reported) at the first that fails."""
+    out = {}
+    for name, (value, convert) in checks.items():
+        try:
+            out[name] = convert(value)
+        except (ValueError, TypeError) as exc:
+            problems.add(path, line, f"{name} {value!r}: {exc}")
+            return None
+    return out
+
+
+def _one_of(options):
+    def convert(value):
+        if value not in options:
+            raise ValueError(f"not one of {', '.join(options)}")
+        return value
+
+    return convert
+
+
+def _rating(value):
+    number = int(value)
+    if not 0 <= number <= 100:
+        raise ValueError("not within 0-100")
+    return number
+
+
+def _flag(value):
+    if value not in ("0", "1"):
+        raise ValueError("not 0 or 1")
+    return value == "1"
+
+
+def _length(value):
+    number = float(value)
+    if not (np.isfinite(number) and number > 0):
+        raise ValueError("not a positive length")
+    return number
+
+
+def exp1_scores(results_dir, problems: Problems | None = None) -> tuple[dict, list[str]]:
     """``{property: {method: [score per participant]}}`` (line + circle rating) and the ids."""
+    problems = problems if problems is not None else Problems()
     scores = {p: {m: [] for m in METHODS} for p in PROPERTIES}
     ids = []
     for folder in participants(results_dir):
-        rows = [r for r in read_rows(folder / "exp1.csv") if r["stage"] in ("line", "circle")]
+        path = folder / "exp1.csv"
         table = {}
-        for r in rows:
-            table[(r["stage"], r["property"], r["method"])] = int(r["answer"])
+        for line, r in numbered_rows(path, problems):
+            if r.get("stage") not in ("line", "circle"):
+                continue
+            got = _parse(path, line, problems, {
+                "property": (r["property"], _one_of(PROPERTIES)),
+                "method": (r["method"], _one_of(METHODS)),
+                "answer": (r["answer"], _rating),
+            })  # fmt: skip
+            if got is None:
+                continue
+            key = (r["stage"], got["property"], got["method"])
+            if key in table:
+                problems.add(path, line, f"duplicate rating of {' '.join(key)} (the first kept)")
+                continue
+            table[key] = got["answer"]
         if len(table) != 2 * len(PROPERTIES) * len(METHODS):
             continue  # incomplete
         ids.append(folder.name.removeprefix("participant-"))
@@ -54,16 +163,29 @@ def exp1_scores(results_dir) -> tuple[dict, list[str]]:
     return scores, ids
 
 
-def exp2_tracks(results_dir) -> dict:
+def exp2_tracks(results_dir, problems: Problems | None = None) -> dict:
     """``{participant: {condition: (lengths, answers)}}`` of complete Experiment 2 stages."""
+    problems = problems if problems is not None else Problems()
     tracks = {}
     for folder in participants(results_dir):
-        rows = [r for r in read_rows(folder / "exp2.csv") if r["stage"] in CONDITIONS_EXP2]
-        per = {}
-        for r in rows:
-            per.setdefault(r["stage"], ([], []))
-            per[r["stage"]][0].append(float(r["length"]))
-            per[r["stage"]][1].append(r["correct"] == "1")
+        path = folder / "exp2.csv"
+        per: dict = {}
+        for line, r in numbered_rows(path, problems):
+            if r.get("stage") not in CONDITIONS_EXP2:
+                continue
+            got = _parse(path, line, problems, {
+                "trial": (r["trial"], int),
+                "length": (r["length"], _length),
+                "correct": (r["correct"], _flag),
+            })  # fmt: skip
+            if got is None:
+                continue
+            lengths, answers = per.setdefault(r["stage"], ([], []))
+            if got["trial"] != len(lengths):
+                problems.add(path, line, f"trial {got['trial']} out of order in {r['stage']}")
+                continue
+            lengths.append(got["length"])
+            answers.append(got["correct"])
         complete = {c: v for c, v in per.items() if len(v[0]) >= 30}
         if complete:
             tracks[folder.name.removeprefix("participant-")] = complete
@@ -82,10 +204,12 @@ def track_estimate(lengths, answers, n: int = 4) -> tuple[float, Staircase]:
         return float("nan"), sc
 
 
-def exp2_estimates(results_dir) -> tuple[dict, list[str]]:
-    """``{condition: [estimate per participant]}`` for participants with all four stages."""
-    tracks = exp2_tracks(results_dir)
+def exp2_estimates(results_dir, problems: Problems | None = None, *, fits: bool = False):
+    """``({condition: [estimate per participant]}, ids)`` for participants with all four
+    stages; with ``fits`` also ``{condition: [fit dict per participant]}``."""
+    tracks = exp2_tracks(results_dir, problems)
     out = {c: [] for c in CONDITIONS_EXP2}
+    fitted = {c: [] for c in CONDITIONS_EXP2}
     ids = []
     for pid, per in tracks.items():
         if set(per) != set(CONDITIONS_EXP2):
@@ -93,22 +217,65 @@ def exp2_estimates(results_dir) -> tuple[dict, list[str]]:
         ids.append(pid)
         for c in CONDITIONS_EXP2:
             out[c].append(track_estimate(*per[c])[0])
-    return out, ids
+            if fits:
+                fitted[c].append(fit_psychometric(*per[c]))
+    return (out, ids, fitted) if fits else (out, ids)
 
 
-def exp3_scores(results_dir) -> tuple[dict, list[str]]:
-    """``{method: [correct answers out of 10 per participant]}``."""
-    out = {m: [] for m in METHODS}
-    ids = []
+def exp3_answers(results_dir, problems: Problems | None = None) -> dict:
+    """``{participant: {method: [(shape, answer or None), ...]}}`` of complete sets."""
+    problems = problems if problems is not None else Problems()
+    out = {}
     for folder in participants(results_dir):
-        rows = [r for r in read_rows(folder / "exp3.csv") if r["stage"] in METHODS]
-        per = {m: [r for r in rows if r["stage"] == m] for m in METHODS}
-        if any(len(v) != 10 for v in per.values()):
-            continue
-        ids.append(folder.name.removeprefix("participant-"))
+        path = folder / "exp3.csv"
+        per = {m: [] for m in METHODS}
+        for line, r in numbered_rows(path, problems):
+            if r.get("stage") not in METHODS:
+                continue
+            got = _parse(path, line, problems, {
+                "shape": (r["shape"], _one_of(SHAPES)),
+                "answer": (r["answer"], _one_of((*SHAPES, ""))),
+            })  # fmt: skip
+            if got is None:
+                continue
+            per[r["stage"]].append((got["shape"], got["answer"] or None))
+        if all(len(v) == 10 for v in per.values()):
+            out[folder.name.removeprefix("participant-")] = per
+        else:
+            for m, v in per.items():
+                if len(v) > 10:
+                    problems.add(path, 0, f"{len(v)} answers for {m}, a set has 10")
+    return out
+
+
+def exp3_scores(results_dir, problems: Problems | None = None) -> tuple[dict, list[str]]:
+    """``{method: [correct answers out of 10 per participant]}`` and the ids."""
+    answers = exp3_answers(results_dir, problems)
+    out = {m: [] for m in METHODS}
+    for per in answers.values():
         for m in METHODS:
-            out[m].append(sum(r["correct"] == "1" for r in per[m]))
-    return out, ids
+            out[m].append(sum(shape == answer for shape, answer in per[m]))
+    return out, list(answers)
+
+
+def confusion(answers: dict) -> dict:
+    """Per method, the pooled counts ``{(shape, answer): n}`` (answer ``None``: timed out)
+    and each participant's d' (square as the signal; a timeout counts as a miss or a
+    correct rejection, i.e. not "square")."""
+    out = {}
+    for m in METHODS:
+        counts: dict = {}
+        dprimes = []
+        for per in answers.values():
+            trials = per[m]
+            for shape, answer in trials:
+                counts[(shape, answer)] = counts.get((shape, answer), 0) + 1
+            squares = [a for s, a in trials if s == "square"]
+            circles = [a for s, a in trials if s == "circle"]
+            dprimes.append(d_prime(squares.count("square"), len(squares),
+                                   circles.count("square"), len(circles)))  # fmt: skip
+        out[m] = {"counts": counts, "d_prime": dprimes}
+    return out
 
 
 def format_pvalues(table: dict, label: str = "") -> str:
@@ -138,7 +305,7 @@ def _boxplot(ax, data: dict, ylabel: str):
     ax.set_ylabel(ylabel)
 
 
-def _figure(path, width=7.0, height=3.4, ncols=1):
+def _figure(width=7.0, height=3.4, ncols=1):
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(width, height), dpi=150, layout="constrained")
@@ -146,27 +313,46 @@ def _figure(path, width=7.0, height=3.4, ncols=1):
     return fig, axes
 
 
-def analyze(results_dir, out=print, *, paper_rounding: bool = False) -> dict:
+def _save(fig, path: Path, result: dict) -> None:
+    from ..outfile import atomic_file
+
+    with atomic_file(path, binary=True) as f:
+        fig.savefig(f, format="png")
+    result.setdefault("figures", []).append(str(path))
+
+
+def _omnibus_and_effects(out, scores, label=""):
+    chi2, p = friedman(scores)
+    shown = "< 0.0001" if p < 1e-4 else f"= {p:.4f}"
+    out(f"{label}Friedman chi2({len(scores) - 1}) = {chi2:.2f}, p {shown}")
+    return (chi2, p), pairwise_effect_sizes(scores)
+
+
+def analyze(results_dir, out=print, *, paper_rounding: bool = False, progress=None) -> dict:
     """Print the tables, write the figures; return what was computed.
 
     ``paper_rounding`` rounds each uncorrected p to three decimals before the Bonferroni
-    multiplication, as the paper's tables did (see :func:`pairwise_wilcoxon`).
+    multiplication, as the paper's tables did (see :func:`pairwise_wilcoxon`). ``progress`` is
+    called with a fraction (0..1) and a word as the analysis goes (for a progress bar).
 
     Raises
     ------
     ValueError
         If the folder does not exist or holds no participant.
     """
+    progress = progress or (lambda fraction, what: None)
     root = Path(results_dir)
     folders = participants(root)
     if not folders:
         raise ValueError(f"no participant-* folders in {str(root)!r}")
+    problems = Problems()
     result: dict = {"participants": [f.name for f in folders]}
     out(f"{len(folders)} participant folder(s) in {root}")
     if paper_rounding:
         out("p-values: each rounded to three decimals before x 6, as the paper's tables")
 
-    scores1, ids1 = exp1_scores(root)
+    progress(0.05, "Experiment 1")
+    scores1, ids1 = exp1_scores(root, problems)
     if ids1:
         out(f"\nExperiment 1 ({len(ids1)} participants with complete ratings)")
         out("Table 1. Pairwise Wilcoxon p-values, after multiplication by 6 for Bonferroni "
@@ -181,44 +367,73 @@ def analyze(results_dir, out=print, *, paper_rounding: bool = False) -> dict:
         out("medians:\t" + "\t".join(
             f"{m} " + "/".join(f"{np.median(scores1[p][m]):g}" for p in PROPERTIES) for m in METHODS
         ))  # fmt: skip
-        fig, axes = _figure(root, width=9.0, ncols=3)
+        out("Beyond the paper: Friedman omnibus tests and effect sizes r = Z / sqrt(N)")
+        omnibus, effects = {}, {}
+        for prop in PROPERTIES:
+            omnibus[prop], effects[prop] = _omnibus_and_effects(out, scores1[prop], f"  {prop}: ")
+        out("r\t" + "\t".join(f"{a}, {b}" for a, b in effects["quality"]))
+        for prop in PROPERTIES:
+            out(prop.capitalize() + "\t" + "\t".join(f"{r:+.2f}" for r in effects[prop].values()))
+        fig, axes = _figure(width=9.0, ncols=3)
         for ax, prop in zip(axes, PROPERTIES):
             _boxplot(ax, scores1[prop], f"{prop} score (line + circle)")
             ax.set_ylim(-5, 205)
         fig.suptitle("Experiment 1: quality, smoothness and thickness scores")
-        fig.savefig(root / "fig6-exp1-scores.png")
-        result["exp1"] = {"scores": scores1, "tables": tables, "participants": ids1}
+        _save(fig, root / "fig6-exp1-scores.png", result)
+        result["exp1"] = {"scores": scores1, "tables": tables, "participants": ids1,
+                          "friedman": omnibus, "effect_sizes": effects}  # fmt: skip
 
-    estimates, ids2 = exp2_estimates(root)
+    progress(0.3, "Experiment 2")
+    estimates, ids2, fits = exp2_estimates(root, problems, fits=True)
     if ids2:
         out(f"\nExperiment 2 ({len(ids2)} participants with all four stages)")
-        out("Line length (grid units) for 70.7% correct: mean of the last two peaks and valleys")
-        out("condition\tmean\tSE\tmin\tmax")
-        summary = {}
-        for c, v in estimates.items():
-            v = np.asarray(v, dtype=float)
+        out("Line length (grid units) for 70.7% correct. Reversals: the paper's estimate, the "
+            "mean of the last two peaks and valleys (biased upward by 8-15% for these steps). "
+            "Fit: maximum likelihood over the whole track (logistic in log length, guess 0.25, "
+            "lapse fitted), with its 95% profile-likelihood interval.")  # fmt: skip
+        out("condition\treversals mean\tSE\tfit mean\tSE\tmin\tmax")
+        summary, fit_summary = {}, {}
+        for c in CONDITIONS_EXP2:
+            v = np.asarray(estimates[c], dtype=float)
             v = v[np.isfinite(v)]
+            f = np.array([x["threshold"] for x in fits[c]])
             se = v.std(ddof=1) / np.sqrt(len(v)) if len(v) > 1 else float("nan")
+            fse = f.std(ddof=1) / np.sqrt(len(f)) if len(f) > 1 else float("nan")
             summary[c] = (float(v.mean()) if len(v) else float("nan"), float(se))
-            out(
-                f"{c}\t{summary[c][0]:.3f}\t{se:.3f}\t{v.min():.3f}\t{v.max():.3f}"
-                if len(v)
-                else f"{c}\t-"
-            )
-        fig, axes = _figure(root, width=5.0)
+            fit_summary[c] = (float(f.mean()), float(fse))
+            out(f"{c}\t{summary[c][0]:.3f}\t{se:.3f}\t{f.mean():.3f}\t{fse:.3f}\t"
+                f"{min(v.min(), f.min()):.3f}\t{max(v.max(), f.max()):.3f}")  # fmt: skip
+        out("per participant (reversals / fit [95% CI]):")
+        for i, pid in enumerate(ids2):
+            cells = []
+            for c in CONDITIONS_EXP2:
+                fit = fits[c][i]
+                lo, hi = (f"{v:.3f}" if np.isfinite(v) else "open" for v in fit["ci"])
+                cells.append(f"{c} {estimates[c][i]:.3f} / {fit['threshold']:.3f} [{lo}, {hi}]")
+            out(f"  {pid}: " + "; ".join(cells))
+        fig, axes = _figure(width=5.0)
         ax = axes[0]
         names = list(summary)
-        ax.errorbar(range(len(names)), [summary[c][0] for c in names],
-                    yerr=[summary[c][1] for c in names], fmt="o", capsize=6, color="k")  # fmt: skip
-        ax.set_xticks(range(len(names)), names)
+        xs = np.arange(len(names))
+        ax.errorbar(xs - 0.08, [summary[c][0] for c in names],
+                    yerr=[summary[c][1] for c in names], fmt="o", capsize=6, color="k",
+                    label="reversals (paper)")  # fmt: skip
+        ax.errorbar(xs + 0.08, [fit_summary[c][0] for c in names],
+                    yerr=[fit_summary[c][1] for c in names], fmt="s", capsize=6,
+                    color="0.45", mfc="none", label="ML fit")  # fmt: skip
+        ax.set_xticks(xs, names)
         ax.set_xlim(-0.5, len(names) - 0.5)
         ax.set_ylabel("line length (grid units), mean +- 1 SE")
         ax.set_title("Experiment 2: shortest line for 70.7% correct")
-        fig.savefig(root / "fig7-exp2-lengths.png")
-        _staircase_figure(root, exp2_tracks(root))
-        result["exp2"] = {"estimates": estimates, "summary": summary, "participants": ids2}
+        ax.legend(fontsize=7, frameon=False)
+        _save(fig, root / "fig7-exp2-lengths.png", result)
+        _staircase_figure(root, exp2_tracks(root, Problems()), result)
+        result["exp2"] = {"estimates": estimates, "summary": summary, "participants": ids2,
+                          "fits": fits, "fit_summary": fit_summary}  # fmt: skip
 
-    scores3, ids3 = exp3_scores(root)
+    progress(0.75, "Experiment 3")
+    answers3 = exp3_answers(root, problems)
+    scores3, ids3 = exp3_scores(root, Problems())
     if ids3:
         out(f"\nExperiment 3 ({len(ids3)} participants with all four sets)")
         out("Table 2. Pairwise Wilcoxon p-values, after multiplication by 6 for Bonferroni "
@@ -227,24 +442,52 @@ def analyze(results_dir, out=print, *, paper_rounding: bool = False) -> dict:
         out("\t".join(f"{a}, {b}" for a, b in table2))
         out("\t".join(f"{p:.3f}" for p in table2.values()))
         out("mean correct of 10:\t" + "\t".join(f"{m} {np.mean(scores3[m]):.2f}" for m in METHODS))
-        fig, axes = _figure(root, width=5.0)
+        out("Beyond the paper:")
+        omnibus3, effects3 = _omnibus_and_effects(out, scores3, "  ")
+        out("  r\t" + "\t".join(f"{a}, {b} {r:+.2f}" for (a, b), r in effects3.items()))
+        conf = confusion(answers3)
+        out(
+            "  confusion (rows: shown; columns: answered circle / square / no answer) and "
+            "d' (square as signal; mean +- SE over participants):"
+        )
+        for m in METHODS:
+            c = conf[m]["counts"]
+            dp = np.array(conf[m]["d_prime"])
+            se = dp.std(ddof=1) / np.sqrt(len(dp)) if len(dp) > 1 else float("nan")
+            cells = [
+                f"{shape}: " + " / ".join(f"{c.get((shape, a), 0):3d}"
+                                          for a in ("circle", "square", None))
+                for shape in SHAPES
+            ]  # fmt: skip
+            out(f"  {m}  " + "   ".join(cells) + f"   d' {dp.mean():+.2f} +- {se:.2f}")
+        fig, axes = _figure(width=5.0)
         _boxplot(axes[0], scores3, "correct answers (of 10)")
         axes[0].set_ylim(-0.5, 10.5)
         axes[0].axhline(5, color="0.6", ls=":", lw=1)
         axes[0].set_title("Experiment 3: circle or square")
-        fig.savefig(root / "fig8-exp3-scores.png")
-        result["exp3"] = {"scores": scores3, "table": table2, "participants": ids3}
-    written = sorted(p.name for p in root.glob("*.png"))
+        _save(fig, root / "fig8-exp3-scores.png", result)
+        result["exp3"] = {"scores": scores3, "table": table2, "participants": ids3,
+                          "friedman": omnibus3, "effect_sizes": effects3,
+                          "confusion": conf}  # fmt: skip
+    progress(1.0, "done")
+    if problems:
+        out(f"\nLeft out {len(problems)} row(s) that could not be read:")
+        for item in problems.items[:20]:
+            out(f"  {item}")
+        if len(problems) > 20:
+            out(f"  ... and {len(problems) - 20} more")
+    result["problems"] = list(problems.items)
+    written = sorted(Path(p).name for p in result.get("figures", []))
     if written:
         out(f"\nwrote {', '.join(written)} in {root}")
     return result
 
 
-def _staircase_figure(root: Path, tracks: dict) -> None:
+def _staircase_figure(root: Path, tracks: dict, result: dict) -> None:
     from matplotlib.ticker import NullFormatter, ScalarFormatter
 
     conditions = list(CONDITIONS_EXP2)
-    fig, axes = _figure(root, width=10.0, height=3.0, ncols=len(conditions))
+    fig, axes = _figure(width=10.0, height=3.0, ncols=len(conditions))
     for ax, c in zip(axes, conditions):
         for pid, per in tracks.items():
             if c not in per:
@@ -261,4 +504,4 @@ def _staircase_figure(root: Path, tracks: dict) -> None:
         ax.set_xlabel("trial")
     axes[0].set_ylabel("line length (grid units)")
     fig.suptitle("Experiment 2 staircases (dots: reversals)")
-    fig.savefig(root / "exp2-staircases.png")
+    _save(fig, root / "exp2-staircases.png", result)

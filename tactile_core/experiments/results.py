@@ -14,8 +14,11 @@ from __future__ import annotations
 
 import csv
 import datetime as dt
+import io
+import json
 import os
 import re
+import socket
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -257,13 +260,117 @@ def open_session(
     return session
 
 
-class ResultsWriter:
-    """Appends one row per trial to a CSV, synced to disk at once.
+LOCK_FILE = ".lock"
+
+
+def _process_start(pid: int) -> str | None:
+    """A token that tells one process from a later one with the same PID (Linux: its start
+    time in clock ticks since boot), or None where it cannot be read."""
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii") as f:
+            return f.read().rsplit(")", 1)[1].split()[19]
+    except (OSError, IndexError):
+        return None
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+class ParticipantLock:
+    """An exclusive lock on a participant's folder while a runner writes to it.
+
+    ``participant-<id>/.lock`` is created exclusively and holds the host, the process id and its
+    start time. A second writer is refused with a message naming the holder. A lock left by a
+    process that no longer runs on this host (killed, crashed) is stale: it is taken over. A lock
+    from another host is never taken over (its process cannot be checked from here); the message
+    says which file to remove.
+    """
+
+    def __init__(self, folder):
+        self.path = Path(folder) / LOCK_FILE
+        self.held = False
+        self.acquire()
+
+    def _record(self) -> dict:
+        pid = os.getpid()
+        return {
+            "host": socket.gethostname(),
+            "pid": pid,
+            "process_start": _process_start(pid),
+            "since": dt.datetime.now().isoformat(timespec="seconds"),
+        }
+
+    def acquire(self) -> None:
+        for _ in range(3):
+            try:
+                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                holder = self._holder()
+                if holder is not None and not self._stale(holder):
+                    raise SessionError(
+                        f"{self.path.parent}: this participant is being recorded by PID "
+                        f"{holder.get('pid')} on {holder.get('host')} since "
+                        f"{holder.get('since')}; a second copy may not write to it. If that "
+                        f"program is gone, remove {self.path}"
+                    ) from None
+                self.path.unlink(missing_ok=True)  # stale or unreadable: take it over
+                continue
+            with os.fdopen(fd, "w", encoding="utf-8") as f:
+                json.dump(self._record(), f)
+                f.flush()
+                os.fsync(f.fileno())
+            self.held = True
+            return
+        raise SessionError(f"{self.path}: could not take the participant's lock")
+
+    def _holder(self) -> dict | None:
+        try:
+            data = json.loads(self.path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return None  # half-written by a process killed while creating it: stale
+        return data if isinstance(data, dict) else None
+
+    def _stale(self, holder: dict) -> bool:
+        if holder.get("host") != socket.gethostname():
+            return False
+        pid = holder.get("pid")
+        if not isinstance(pid, int) or isinstance(pid, bool) or pid <= 0:
+            return True
+        if not _alive(pid):
+            return True
+        started = holder.get("process_start")
+        return started is not None and _process_start(pid) not in (None, started)
+
+    def release(self) -> None:
+        """Remove the lock if this runner holds it (idempotent)."""
+        if self.held:
+            self.held = False
+            holder = self._holder()
+            if holder is None or holder.get("pid") == os.getpid():
+                self.path.unlink(missing_ok=True)
+
+
+class ResultsFile:
+    """One experiment's CSV: one row per trial, each durable before the runner moves on.
+
+    Reading it back (:meth:`load`) finds a last row that a crash or a full disk left torn (no
+    line end, or not the header's number of fields): those bytes are moved to ``<file>.torn``
+    (appended, never deleted) and the file is cut back to its last complete row, so that trial
+    is presented again. Any other malformed row is refused with ``file:row: problem``.
+
+    :meth:`append` writes a row, flushes and syncs it; if that fails (a full disk) the file is
+    cut back to where it was, so no half row is left behind, and the error is raised.
 
     Parameters
     ----------
     path : path
-        The CSV file; created with a header, or appended to (the header must match).
     fields : sequence of str
         Column names.
     """
@@ -271,40 +378,131 @@ class ResultsWriter:
     def __init__(self, path, fields):
         self.path = Path(path)
         self.fields = list(fields)
-        new = not self.path.exists() or self.path.stat().st_size == 0
-        if not new:
-            with self.path.open(encoding="utf-8", newline="") as f:
-                header = next(csv.reader(f), [])
-            if header != self.fields:
-                raise ValueError(f"{self.path}: columns {header} differ from {self.fields}")
-        self._file = self.path.open("a", encoding="utf-8", newline="")
-        self._writer = csv.DictWriter(self._file, fieldnames=self.fields)
-        if new:
-            self._writer.writeheader()
-            self._sync()
+        self.header = _csv_line(self.fields)
+        self._fd = None
 
-    def _sync(self) -> None:
-        self._file.flush()
-        os.fsync(self._file.fileno())
+    @property
+    def torn_path(self) -> Path:
+        """Where torn rows are kept."""
+        return self.path.with_name(self.path.name + ".torn")
 
-    def write(self, row: dict) -> None:
-        """Append ``row`` and make it durable before returning."""
-        self._writer.writerow({k: row.get(k, "") for k in self.fields})
-        self._sync()
+    def load(self) -> list[dict]:
+        """The complete rows (creating the file with its header if it is new or empty).
+
+        Raises
+        ------
+        SessionError
+            Naming the file, the row (line number) and the problem.
+        """
+        data = self.path.read_bytes() if self.path.exists() else b""
+        header = self.header.encode("utf-8")
+        if not data.startswith(header):
+            if header.startswith(data):  # empty, or a header cut short: no trial recorded
+                if data:
+                    self._move_aside(data)
+                self._rewrite(header)
+                return []
+            first = data.split(b"\n", 1)[0].decode("utf-8", "replace")
+            raise SessionError(
+                f"{self.path}:1: columns {_short(first)} differ from this software's "
+                f"{','.join(self.fields)}"
+            )
+        body = data[len(header) :]
+        cut = body.rfind(b"\n") + 1
+        if cut < len(body):  # a last row without its line end: torn
+            self._move_aside(body[cut:])
+            self._truncate(len(header) + cut)
+            body = body[:cut]
+        rows = []
+        try:
+            text = body.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            line = body[: exc.start].count(b"\n") + 2
+            raise SessionError(f"{self.path}:{line}: not UTF-8 text") from None
+        lines = text.split("\n")[:-1] if text else []
+        for i, line in enumerate(lines):
+            values = next(csv.reader([line]), [])
+            if len(values) != len(self.fields):
+                if i == len(lines) - 1:  # malformed last row: treated as torn
+                    self.drop_last_row(line)
+                    break
+                raise SessionError(
+                    f"{self.path}:{i + 2}: {len(values)} fields, the header has {len(self.fields)}"
+                )
+            rows.append(dict(zip(self.fields, values)))
+        return rows
+
+    def drop_last_row(self, line: str | None = None) -> None:
+        """Move the file's last row to ``.torn`` and cut the file before it."""
+        data = self.path.read_bytes()
+        start = data.rstrip(b"\n").rfind(b"\n") + 1
+        self._move_aside(data[start:])
+        self._truncate(start)
+
+    def _move_aside(self, data: bytes) -> None:
+        with self.torn_path.open("ab") as f:
+            f.write(data if data.endswith(b"\n") else data + b"\n")
+            f.flush()
+            os.fsync(f.fileno())
+
+    def _truncate(self, size: int) -> None:
+        with self.path.open("r+b") as f:
+            f.truncate(size)
+            f.flush()
+            os.fsync(f.fileno())
+
+    def _rewrite(self, header: bytes) -> None:
+        with self.path.open("wb") as f:
+            f.write(header)
+            f.flush()
+            os.fsync(f.fileno())
+
+    def append(self, row: dict) -> None:
+        """Append ``row`` durably; on failure leave the file as it was and raise ``OSError``."""
+        data = _csv_line([str(row.get(k, "")) for k in self.fields]).encode("utf-8")
+        if self._fd is None:
+            self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+        size = os.fstat(self._fd).st_size
+        try:
+            view = memoryview(data)
+            while view:
+                view = view[os.write(self._fd, view) :]
+            os.fsync(self._fd)
+        except OSError:
+            try:
+                os.ftruncate(self._fd, size)
+                os.fsync(self._fd)
+            except OSError:
+                pass  # the next load() finds the torn row and moves it aside
+            raise
 
     def close(self) -> None:
-        """Close the file."""
-        if not self._file.closed:
-            self._file.close()
+        """Close the file (idempotent)."""
+        if self._fd is not None:
+            os.close(self._fd)
+            self._fd = None
+
+
+def _csv_line(values) -> str:
+    out = io.StringIO()
+    csv.writer(out, lineterminator="\n").writerow(values)
+    return out.getvalue()
 
 
 def read_rows(path) -> list[dict]:
-    """Rows of a results CSV (an empty list if it does not exist)."""
+    """Rows of a results CSV as dictionaries (an empty list if it does not exist).
+
+    Lines are read as the runner writes them: a last line without its line end (a torn row) is
+    left out.
+    """
     path = Path(path)
     if not path.exists():
         return []
     with path.open(encoding="utf-8", newline="") as f:
-        return list(csv.DictReader(f))
+        text = f.read()
+    if text and not text.endswith("\n"):
+        text = text[: text.rfind("\n") + 1]
+    return list(csv.DictReader(io.StringIO(text)))
 
 
 def now() -> str:

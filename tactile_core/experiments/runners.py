@@ -13,13 +13,14 @@ from __future__ import annotations
 
 import random
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import ClassVar
 
 from .. import _validate
 from .._version import __version__
 from ..scene import Scene
 from ..shapes import Circle, Line, Square
-from .results import ResultsWriter, Session, now, read_rows
+from .results import ParticipantLock, ResultsFile, Session, SessionError, now
 from .staircase import Staircase
 from .stats import apply_order
 
@@ -92,16 +93,28 @@ class Runner:
         self.session = session
         self.pipeline = session.get_pipeline()
         self.profile = profile or default_profile()
-        if write:
-            session.record_run(self.experiment, self.run_record())
-        self.rng = random.Random(f"{session.seed}:{session.participant}:{self.experiment}")
+        self.path = Path(session.folder) / f"{self.experiment}.csv"
+        self._lock = ParticipantLock(session.folder) if write else None
+        try:
+            if write:
+                session.record_run(self.experiment, self.run_record())
+            self._file = ResultsFile(self.path, self.fields) if write else None
+            rows = self._file.load() if write else []
+            self._rows: list[dict] = []
+            self._start()
+            self._replay(rows)
+        except BaseException:
+            self.close()
+            raise
+
+    def _start(self) -> None:
+        """The trial generator from its beginning (seeded: it always deals the same trials)."""
+        seed = f"{self.session.seed}:{self.session.participant}:{self.experiment}"
+        self.rng = random.Random(seed)
         self._after: dict = {}
         self._gen = self._trials()
         self.current: Trial | None = next(self._gen, None)
         self.done = 0
-        path = f"{session.folder}/{self.experiment}.csv"
-        self._replay(read_rows(path))
-        self._writer = ResultsWriter(path, self.fields) if write else None
 
     # --- for subclasses ----------------------------------------------------------------------
 
@@ -193,34 +206,64 @@ class Runner:
         )
         for key in HEALTH_FIELDS:
             row[key] = "" if health is None else int(health.get(key, 0))
-        if self._writer is not None:
-            self._writer.write(row)
+        if self._file is not None:
+            try:
+                self._file.append(row)  # durable before the runner moves on
+            except OSError:
+                self._rewind()  # back to this very trial: the answer was not recorded
+                raise
+        self._rows.append({k: str(row.get(k, "")) for k in self.fields})
         self.current = nxt
         self.done += 1
         return feedback
 
+    def _rewind(self) -> None:
+        """Rebuild the state from the rows on record (after a failed write): the generator
+        advanced past a trial whose row is not on disk, so deal the trials again up to it."""
+        rows = list(self._rows)
+        self._rows = []
+        self._start()
+        self._replay(rows)
+
     def _replay(self, rows: list[dict]) -> None:
-        """Feed recorded answers back in (resuming); check they fit this session."""
+        """Feed recorded answers back in (resuming); check they fit this session.
+
+        A last row that does not fit (written by a process that died while writing it) is moved
+        aside to the ``.torn`` file and its trial is presented again; any other row that does
+        not fit is refused, naming the file, the row and the problem.
+        """
         for i, row in enumerate(rows):
-            trial = self.current
-            if (
-                trial is None
-                or row.get("stage") != trial.stage
-                or int(row.get("trial", -1)) != trial.index
-            ):
-                raise ValueError(
-                    f"{self.session.folder}/{self.experiment}.csv row {i + 1} does not match this "
-                    f"session's trials (stage {_validate.shown(row.get('stage'))}, "
-                    f"trial {_validate.shown(row.get('trial'))})"
-                )
-            self._check_recorded(trial, row)
-            value = self._recorded_answer(trial, row)
-            self._after = {}
             try:
-                self.current = self._gen.send(value)
-            except StopIteration:
-                self.current = None
-            self.done += 1
+                self._replay_row(i, row)
+            except (ValueError, TypeError, KeyError) as exc:
+                if i == len(rows) - 1 and self._file is not None:
+                    self._file.drop_last_row()
+                    self.recovered = f"{self.path.name} row {i + 2} was incomplete: {exc}"
+                    return
+                raise SessionError(f"{self.path}:{i + 2}: {exc}") from None
+            self._rows.append(row)
+
+    recovered = ""
+    """What resuming had to repair (a torn last row moved aside), for the user; empty if none."""
+
+    def _replay_row(self, i: int, row: dict) -> None:
+        trial = self.current
+        if trial is None:
+            raise ValueError("a row beyond the last trial")
+        if row.get("stage") != trial.stage or row.get("trial") != str(trial.index):
+            raise ValueError(
+                f"stage {_validate.shown(row.get('stage'))}, trial "
+                f"{_validate.shown(row.get('trial'))} is not this session's next trial "
+                f"({trial.stage} {trial.index}): another seed, or rows out of order"
+            )
+        self._check_recorded(trial, row)
+        value = self.check_answer(trial, self._recorded_answer(trial, row))
+        self._after = {}
+        try:
+            self.current = self._gen.send(value)
+        except StopIteration:
+            self.current = None
+        self.done += 1
 
     def _recorded_answer(self, trial: Trial, row: dict):
         answer = row.get("answer", "")
@@ -246,9 +289,13 @@ class Runner:
     total = 0
 
     def close(self) -> None:
-        """Close the results file."""
-        if self._writer is not None:
-            self._writer.close()
+        """Close the results file and release the participant (idempotent)."""
+        file = getattr(self, "_file", None)
+        if file is not None:
+            file.close()
+        lock = getattr(self, "_lock", None)
+        if lock is not None:
+            lock.release()
 
     def __enter__(self):
         return self
