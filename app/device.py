@@ -52,24 +52,36 @@ class DeviceController(QtCore.QObject):
         self.url: str | None = None
         # Emitted from a worker thread; Qt queues it to this object's (the GUI) thread.
         self._status_from_thread.connect(self.status_changed.emit)
+        self._generation = 0
         self.streamer = self._open(None)
         state.scene_changed.connect(self._on_state_scene_changed)
 
     def _open(self, url):
+        self._generation += 1
+        generation = self._generation
+
+        def on_status(stats):
+            # A stream that has been replaced may still report its last words (its all-off,
+            # "stopped") after the new one started: those are not the device's state now.
+            if generation == self._generation:
+                self._status_from_thread.emit(stats)
+
         return open_stream(
             url,
             self.profile,
             scene=self.state.scene,
-            on_status=self._status_from_thread.emit,
+            on_status=on_status,
             reconnect=url is not None,
             process=self.process,
             realtime=self.realtime,
         )
 
     def _switch(self, url) -> bool:
+        previous = self._generation
         try:
             new = self._open(url)
         except LinkError as exc:
+            self._generation = previous  # the current stream stays, and so do its reports
             self.error_raised.emit(str(exc))
             return False
         self.streamer.stop()  # all off on the old link

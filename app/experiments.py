@@ -1,4 +1,18 @@
-"""The Experiments tab: the paper's experiments and the calibration, run from the keyboard."""
+"""The Experiments tab: an experimenter's console, and a separate window for the participant.
+
+As in PsychoPy's split between the experimenter and the participant, the participant's window
+(:class:`ParticipantWindow`, full screen on a second screen when there is one) shows only the
+instructions, the response prompt, the rating box and the feedback; the console
+(:class:`ExperimentsPanel`, the tuner's Experiments tab) shows the run: the participant id in
+large type, the experiment, the progress, what the current trial plays, the array's health (rate,
+late frames, link errors), where the results go, and an event log.
+
+A run refuses to start while the array is disconnected. If the link drops during a run, the run
+pauses with the array off, the console says so, and once the array is back the experimenter
+presents the interrupted trial again (its row records how often it was presented). The tuning
+scene is saved when a run starts and restored, paused, when it ends; a run never writes the
+tuner's settings.
+"""
 
 from __future__ import annotations
 
@@ -11,6 +25,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from tactile_core.device import default_profile
 from tactile_core.experiments import RUNNERS, open_session
 from tactile_core.experiments.analysis import analyze
+from tactile_core.experiments.results import SESSION_FILE, check_participant
 from tactile_core.scene import Scene
 
 from .state import TunerState
@@ -30,41 +45,151 @@ KEYS = {
     "detect": "Y (felt) or N (not felt); R to feel it again",
 }
 GAP_S = 0.8  # the array is off between a question's answer and the next stimulus
+LINK_DOWN = ("disconnected", "stopped", "failed", "refused")
+"""Stream states in which the array is not being driven."""
+
+
+def _confirm(parent, title: str, text: str) -> bool:
+    box = QtWidgets.QMessageBox(parent)
+    box.setIcon(QtWidgets.QMessageBox.Icon.Question)
+    box.setWindowTitle(title)
+    box.setText(text)
+    box.setStandardButtons(
+        QtWidgets.QMessageBox.StandardButton.Yes | QtWidgets.QMessageBox.StandardButton.No
+    )
+    box.setDefaultButton(QtWidgets.QMessageBox.StandardButton.No)
+    return box.exec() == QtWidgets.QMessageBox.StandardButton.Yes
+
+
+class ParticipantWindow(QtWidgets.QWidget):
+    """What the participant sees: the instructions and the response prompt, nothing else."""
+
+    closed = QtCore.Signal()
+
+    def __init__(self, parent=None):
+        super().__init__(parent, QtCore.Qt.WindowType.Window)
+        self.setWindowTitle("tactile-tuner - participant")
+        self.setObjectName("participant_window")
+        layout = QtWidgets.QVBoxLayout(self)
+        layout.setContentsMargins(60, 60, 60, 60)
+        big = self.font()
+        big.setPointSize(big.pointSize() + 12)
+        self.prompt = QtWidgets.QLabel("")
+        self.prompt.setObjectName("experiment_prompt")
+        self.prompt.setWordWrap(True)
+        self.prompt.setFont(big)
+        self.prompt.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        self.keys_label = QtWidgets.QLabel("")
+        self.keys_label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        self.rating_edit = QtWidgets.QLineEdit()
+        self.rating_edit.setObjectName("rating")
+        self.rating_edit.setFont(big)
+        self.rating_edit.setMaximumWidth(220)
+        self.rating_edit.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        self.rating_error = QtWidgets.QLabel("")
+        self.rating_error.setObjectName("rating_error")
+        self.rating_error.setStyleSheet("color: #c0392b;")
+        self.rating_error.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        self.feedback = QtWidgets.QLabel("")
+        self.feedback.setObjectName("experiment_feedback")
+        self.feedback.setFont(big)
+        self.feedback.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        self.countdown = QtWidgets.QLabel("")
+        self.countdown.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        layout.addStretch(2)
+        layout.addWidget(self.prompt)
+        layout.addWidget(self.keys_label)
+        row = QtWidgets.QHBoxLayout()
+        row.addStretch(1)
+        row.addWidget(self.rating_edit)
+        row.addStretch(1)
+        layout.addLayout(row)
+        layout.addWidget(self.rating_error)
+        layout.addWidget(self.feedback)
+        layout.addWidget(self.countdown)
+        layout.addStretch(3)
+        self.rating_edit.setVisible(False)
+
+    def show_on(self, screen_index: int | None) -> None:
+        """Full screen on screen ``screen_index``, or an ordinary window for None."""
+        screens = QtGui.QGuiApplication.screens()
+        if screen_index is not None and 0 <= screen_index < len(screens):
+            self.setScreen(screens[screen_index])
+            self.setGeometry(screens[screen_index].geometry())
+            self.showFullScreen()
+        else:
+            self.resize(900, 600)
+            self.showNormal()
+        self.raise_()
+        self.activateWindow()
+
+    def closeEvent(self, event) -> None:  # Qt override
+        self.closed.emit()
+        super().closeEvent(event)
 
 
 class ExperimentsPanel(QtWidgets.QWidget):
-    """Runs an experiment runner against the array, driven from the keyboard.
+    """The experimenter's console: sets up, starts, watches and analyses the runs.
 
-    The screen never shows the stimulus (the views are hidden while a run is active); the
-    array plays each trial's scene through the tuner's state, so it reaches a device or the
-    simulated array like any other scene.
+    Parameters
+    ----------
+    state : TunerState
+        The tuner's state; a run plays each trial's scene through it.
+    profile : callable
+        The device profile the run plays on (recorded in the session).
+    stats : callable, optional
+        The stream's :class:`~tactile_core.streamer.StreamStats` now.
+    device : callable, optional
+        A one-line description of the link ("simulated array", a port).
     """
 
     running_changed = QtCore.Signal(bool)
     error_raised = QtCore.Signal(str)
     calibration_done = QtCore.Signal(object)
     """``(offset, gain, threshold)`` lists when a calibration run finishes."""
+    _analysis_done = QtCore.Signal(object, str)
+    _analysis_progress = QtCore.Signal(float, str)
 
-    def __init__(self, state: TunerState, profile=None, stats=None, parent=None):
+    def __init__(self, state: TunerState, profile=None, stats=None, device=None, parent=None):
         super().__init__(parent)
         self.state = state
         self.profile = profile or default_profile
-        """Callable: the device profile the run plays on (recorded in the session)."""
         self.stats = stats
-        """Callable: the stream's :class:`StreamStats` now (None: no health recorded)."""
-        self._health0 = None
+        self.device = device or (lambda: "simulated array")
+        self.confirm = lambda title, text: _confirm(self, title, text)
+        """Asks the experimenter yes or no (tests answer it themselves)."""
         self.runner = None
+        self.saved_scene: Scene | None = None
+        """The tuning scene while a run plays its own (restored, paused, when it ends)."""
         self.trial_started = 0.0
+        self._health0 = None
+        self._presentations = 0
         self._paused = False
-        layout = QtWidgets.QVBoxLayout(self)
+        self._link_lost = False
+        self.last_calibration = None
+        self.participant_window = ParticipantWindow()
+        self.participant_window.closed.connect(self._on_participant_window_closed)
+        # The participant's widgets, under the names the console drives them by.
+        pw = self.participant_window
+        self.prompt, self.keys_label, self.feedback = pw.prompt, pw.keys_label, pw.feedback
+        self.rating_edit, self.countdown = pw.rating_edit, pw.countdown
+        self.rating_edit.returnPressed.connect(self._on_rating_return_pressed)
 
+        layout = QtWidgets.QHBoxLayout(self)
+        left = QtWidgets.QVBoxLayout()
+        layout.addLayout(left, 2)
         setup = QtWidgets.QGroupBox("Session")
         form = QtWidgets.QFormLayout(setup)
         self.experiment_combo = QtWidgets.QComboBox()
         for key, title in TITLES.items():
             self.experiment_combo.addItem(title, key)
-        self.participant_edit = QtWidgets.QLineEdit("P01")
+        self.participant_edit = QtWidgets.QLineEdit()
         self.participant_edit.setObjectName("participant")
+        self.participant_edit.setPlaceholderText("required: letters, digits, _ . -")
+        self.participant_edit.setToolTip(
+            "The participant's id (it names the folder of their results); no default, so that "
+            "nobody resumes someone else's session by accident"
+        )
         folder_row = QtWidgets.QHBoxLayout()
         self.folder_edit = QtWidgets.QLineEdit(str(Path.home() / "tactile-results"))
         browse = QtWidgets.QPushButton("Browse...")
@@ -73,72 +198,106 @@ class ExperimentsPanel(QtWidgets.QWidget):
         folder_row.addWidget(browse)
         self.seed_spin = QtWidgets.QSpinBox()
         self.seed_spin.setRange(0, 2**31 - 1)
+        self.seed_spin.setToolTip("Seeds the orders and every random choice of the session")
         self.emphasis_spin = QtWidgets.QDoubleSpinBox()
         self.emphasis_spin.setRange(0.0, 0.9)
         self.emphasis_spin.setSingleStep(0.1)
         self.emphasis_spin.setToolTip(
-            "Experiment 3: slow the point down near corners (0 = the paper)"
+            "Experiment 3: slow the point down near corners (0 = the paper; 4.3 suggests it)"
         )
+        self.screen_combo = QtWidgets.QComboBox()
+        self.screen_combo.setObjectName("participant_screen")
+        self.screen_combo.setToolTip(
+            "Where the participant's window goes: full screen on a screen, or a window"
+        )
+        self._fill_screens()
         form.addRow("experiment", self.experiment_combo)
         form.addRow("participant id", self.participant_edit)
         form.addRow("results folder", folder_row)
         form.addRow("seed", self.seed_spin)
         form.addRow("corner emphasis (Exp. 3)", self.emphasis_spin)
+        form.addRow("participant window", self.screen_combo)
         buttons = QtWidgets.QHBoxLayout()
         self.start_button = QtWidgets.QPushButton("Start / resume")
         self.start_button.setObjectName("experiment_start")
         self.stop_button = QtWidgets.QPushButton("Stop")
-        self.analyze_button = QtWidgets.QPushButton("Analyze results folder")
-        self.save_profile_button = QtWidgets.QPushButton("Save calibrated profile...")
-        self.save_profile_button.setEnabled(False)
-        for b in (
-            self.start_button,
-            self.stop_button,
-            self.analyze_button,
-            self.save_profile_button,
-        ):
+        self.resume_button = QtWidgets.QPushButton("Present again")
+        self.resume_button.setToolTip("After a pause or a lost link: present the trial again")
+        self.resume_button.setEnabled(False)
+        for b in (self.start_button, self.stop_button, self.resume_button):
             buttons.addWidget(b)
         form.addRow(buttons)
-        layout.addWidget(setup)
+        left.addWidget(setup)
 
         run = QtWidgets.QGroupBox("Run")
         v = QtWidgets.QVBoxLayout(run)
-        self.prompt = QtWidgets.QLabel("Set up a session and press Start.")
-        self.prompt.setObjectName("experiment_prompt")
-        self.prompt.setWordWrap(True)
-        font = self.prompt.font()
-        font.setPointSize(font.pointSize() + 8)
-        self.prompt.setFont(font)
-        self.keys_label = QtWidgets.QLabel("")
-        self.rating_edit = QtWidgets.QLineEdit()
-        self.rating_edit.setObjectName("rating")
-        self.rating_edit.setValidator(QtGui.QIntValidator(0, 100, self))
-        self.rating_edit.setMaximumWidth(120)
-        self.rating_edit.returnPressed.connect(self._on_rating_return_pressed)
-        self.feedback = QtWidgets.QLabel("")
-        self.feedback.setObjectName("experiment_feedback")
-        self.feedback.setFont(font)
+        huge = self.font()
+        huge.setPointSize(huge.pointSize() + 14)
+        huge.setBold(True)
+        self.participant_label = QtWidgets.QLabel("no participant")
+        self.participant_label.setObjectName("participant_label")
+        self.participant_label.setFont(huge)
+        self.run_label = QtWidgets.QLabel("Set up a session and press Start.")
+        self.run_label.setObjectName("run_label")
+        self.run_label.setWordWrap(True)
         self.progress = QtWidgets.QProgressBar()
-        self.countdown = QtWidgets.QLabel("")
-        for w in (
-            self.prompt,
-            self.keys_label,
-            self.rating_edit,
-            self.feedback,
-            self.countdown,
-            self.progress,
-        ):
+        self.health_label = QtWidgets.QLabel("")
+        self.health_label.setObjectName("health_label")
+        self.health_label.setWordWrap(True)
+        self.path_label = QtWidgets.QLabel("")
+        self.path_label.setWordWrap(True)
+        self.path_label.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.log = QtWidgets.QPlainTextEdit()
+        self.log.setObjectName("experiment_log")
+        self.log.setReadOnly(True)
+        self.log.setMaximumBlockCount(500)
+        self.log.setPlaceholderText("events of the run")
+        for w in (self.participant_label, self.run_label, self.progress, self.health_label,
+                  self.path_label):  # fmt: skip
             v.addWidget(w)
+        v.addWidget(self.log, 1)
+        left.addWidget(run, 1)
+
+        right = QtWidgets.QGroupBox("Analysis")
+        r = QtWidgets.QVBoxLayout(right)
+        row = QtWidgets.QHBoxLayout()
+        self.analyze_button = QtWidgets.QPushButton("Analyze results folder")
+        self.paper_rounding_check = QtWidgets.QCheckBox("paper's rounding of p")
+        self.paper_rounding_check.setToolTip(
+            "Round each p to three decimals before x 6, as the paper's tables did"
+        )
+        self.save_profile_button = QtWidgets.QPushButton("Save calibrated profile...")
+        self.save_profile_button.setEnabled(False)
+        for w in (self.analyze_button, self.paper_rounding_check, self.save_profile_button):
+            row.addWidget(w)
+        row.addStretch(1)
+        r.addLayout(row)
+        self.analysis_progress = QtWidgets.QProgressBar()
+        self.analysis_progress.setVisible(False)
+        r.addWidget(self.analysis_progress)
         self.output = QtWidgets.QPlainTextEdit()
         self.output.setReadOnly(True)
         self.output.setPlaceholderText("analysis output")
-        v.addWidget(self.output)
-        layout.addWidget(run, 1)
+        self.output.setLineWrapMode(QtWidgets.QPlainTextEdit.LineWrapMode.NoWrap)
+        self.output.setFont(
+            QtGui.QFontDatabase.systemFont(QtGui.QFontDatabase.SystemFont.FixedFont)
+        )
+        self.figures = QtWidgets.QTabWidget()
+        self.figures.setObjectName("analysis_figures")
+        split = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
+        split.addWidget(self.output)
+        split.addWidget(self.figures)
+        r.addWidget(split, 1)
+        layout.addWidget(right, 3)
 
         self.start_button.clicked.connect(self.start)
         self.stop_button.clicked.connect(self.stop)
+        self.resume_button.clicked.connect(self.present_again)
         self.analyze_button.clicked.connect(self.run_analysis)
         self.save_profile_button.clicked.connect(self._on_save_profile_clicked)
+        self._analysis_done.connect(self._on_analysis_done)
+        self._analysis_progress.connect(self._on_analysis_progress)
+        self._analysis_thread = None
         self.limit_timer = QtCore.QTimer(self)
         self.limit_timer.setSingleShot(True)
         self.limit_timer.timeout.connect(lambda: self.submit(None))
@@ -147,8 +306,9 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.gap_timer = QtCore.QTimer(self)
         self.gap_timer.setSingleShot(True)
         self.gap_timer.timeout.connect(self._present)
-        self.rating_edit.setVisible(False)
-        self.last_calibration = None
+        self.health_timer = QtCore.QTimer(self)
+        self.health_timer.timeout.connect(self._on_health_timer_timeout)
+        self.health_timer.start(500)
 
     # --- session ------------------------------------------------------------------------------
 
@@ -157,31 +317,80 @@ class ExperimentsPanel(QtWidgets.QWidget):
         """True while a runner is active."""
         return self.runner is not None
 
+    def _fill_screens(self) -> None:
+        self.screen_combo.clear()
+        self.screen_combo.addItem("a window (this screen)", None)
+        for i, screen in enumerate(QtGui.QGuiApplication.screens()):
+            size = screen.geometry()
+            self.screen_combo.addItem(
+                f"full screen on {screen.name() or f'screen {i + 1}'} "
+                f"({size.width()} x {size.height()})",
+                i,
+            )
+        if len(QtGui.QGuiApplication.screens()) > 1:  # a second screen: the participant's
+            self.screen_combo.setCurrentIndex(self.screen_combo.count() - 1)
+
+    def log_event(self, text: str) -> None:
+        """Add a timestamped line to the console's event log."""
+        self.log.appendPlainText(f"{time.strftime('%H:%M:%S')}  {text}")
+
+    def _device_state(self) -> str:
+        return "" if self.stats is None else self.stats().state
+
     def start(self) -> bool:
-        """Open (or resume) the session and start the selected experiment."""
+        """Open (or resume) the session and start the selected experiment; False (and a
+        message) if it cannot start."""
         if self.runner is not None:
             return False
         kind = self.experiment_combo.currentData()
+        pid = self.participant_edit.text()
+        try:
+            pid = check_participant(pid)
+        except ValueError as exc:
+            self.error_raised.emit(str(exc))
+            return False
+        state = self._device_state()
+        if state in LINK_DOWN:
+            self.error_raised.emit(
+                f"the array is not connected ({state}: {self.stats().status}); connect it, or "
+                f"choose the simulated array, before starting"
+            )
+            return False
+        folder = Path(self.folder_edit.text().strip() or ".")
+        existing = folder / f"participant-{pid}" / SESSION_FILE
+        title = TITLES[kind]
+        if existing.exists():
+            question = (
+                f"Participant {pid} already has results in {existing.parent}.\n\n"
+                f"Resume {title} for {pid}?"
+            )
+        else:
+            question = f"Start {title} for a new participant, {pid}?"
+        if not self.confirm("Start the run", question):
+            return False
         try:
             profile = self.profile()
-            session = open_session(
-                self.folder_edit.text().strip() or ".",
-                self.participant_edit.text().strip(),
-                seed=self.seed_spin.value(),
-                device_profile=profile.name,
-            )
+            session = open_session(folder, pid, seed=self.seed_spin.value(),
+                                   device_profile=profile.name)  # fmt: skip
             if kind == "exp3":
-                runner = RUNNERS[kind](
-                    session, emphasis=self.emphasis_spin.value(), profile=profile
-                )
+                runner = RUNNERS[kind](session, emphasis=self.emphasis_spin.value(),
+                                       profile=profile)  # fmt: skip
             else:
                 runner = RUNNERS[kind](session, profile=profile)
         except (ValueError, OSError) as exc:
             self.error_raised.emit(str(exc))
             return False
         self.runner = runner
-        self.output.clear()
+        self.saved_scene = self.state.scene
+        self._link_lost = False
+        self.participant_label.setText(f"participant {pid}")
+        self.path_label.setText(f"results: {runner.path}")
+        self.log_event(f"started {title} for {pid} on {self.device()} ({runner.done} done)")
+        if runner.recovered:
+            self.log_event(f"resumed after a crash: {runner.recovered}; that trial comes again")
         self.feedback.setText("")
+        self.participant_window.rating_error.setText("")
+        self.participant_window.show_on(self.screen_combo.currentData())
         self.running_changed.emit(True)
         if runner.finished:
             self._finish()
@@ -194,11 +403,22 @@ class ExperimentsPanel(QtWidgets.QWidget):
         if self.runner is None:
             return
         self._stop_timers()
-        self.runner.close()
-        self.runner = None
-        self.state.set_scene(self.state.scene.replace(playing=False))
-        self.prompt.setText("Stopped. Start again with the same participant to resume.")
+        runner, self.runner = self.runner, None
+        runner.close()
+        self.log_event(f"stopped at {runner.done} of {runner.total}; start again to resume")
+        self.run_label.setText("Stopped. Start again with the same participant to resume.")
+        self.prompt.setText("Please wait.")
         self.rating_edit.setVisible(False)
+        self._end_run()
+
+    def _end_run(self) -> None:
+        """Back to the tuning scene, paused (the participant's hand may still be on the array),
+        and the participant's window closed."""
+        saved, self.saved_scene = self.saved_scene, None
+        if saved is not None:
+            self.state.set_scene(saved.replace(playing=False, epoch=self.state.scene.epoch + 1))
+        self.participant_window.hide()
+        self.resume_button.setEnabled(False)
         self.running_changed.emit(False)
 
     def _stop_timers(self) -> None:
@@ -224,16 +444,27 @@ class ExperimentsPanel(QtWidgets.QWidget):
             self._finish()
             return
         self._paused = False
+        self.resume_button.setEnabled(False)
         done, total = runner.progress()
         self.progress.setRange(0, max(total, 1))
         self.progress.setValue(done)
+        info = ", ".join(f"{k} {v}" for k, v in trial.info.items())
+        self.run_label.setText(
+            f"{TITLES[runner.experiment]}: trial {done + 1} of {total}, {trial.stage} "
+            f"{trial.index} ({trial.kind}{': ' + info if info else ''})"
+        )
         self.prompt.setText(trial.prompt)
         self.keys_label.setText(f"keys: {KEYS[trial.kind]}")
         self.rating_edit.setVisible(trial.kind == "rating")
+        self.participant_window.rating_error.setText("")
         if trial.kind == "rating":
             self.rating_edit.clear()
             self.rating_edit.setFocus()
         self._play(trial.scene)
+        self._presentations += 1
+        if self._presentations > 1:
+            self.log_event(f"trial {trial.stage} {trial.index} presented again "
+                           f"({self._presentations} times)")  # fmt: skip
         self.trial_started = time.monotonic()
         self._health0 = self._health_counts()
         if trial.time_limit_s:
@@ -246,11 +477,8 @@ class ExperimentsPanel(QtWidgets.QWidget):
         if self.stats is None:
             return None
         stats = self.stats()
-        return {
-            "late_frames": stats.late,
-            "skipped_frames": stats.skipped,
-            "link_errors": stats.errors,
-        }
+        return {"late_frames": stats.late, "skipped_frames": stats.skipped,
+                "link_errors": stats.errors}  # fmt: skip
 
     def _on_tick_timer_timeout(self) -> None:
         trial = self.runner.current if self.runner else None
@@ -267,15 +495,21 @@ class ExperimentsPanel(QtWidgets.QWidget):
             return False
         trial = runner.current
         rt = time.monotonic() - self.trial_started
-        health = None
+        health = {"presentations": self._presentations}
         now, before = self._health_counts(), self._health0
         if now is not None and before is not None:
-            health = {key: now[key] - before[key] for key in now}
+            health.update({key: now[key] - before[key] for key in now})
         try:
             feedback = runner.answer(answer, rt_s=rt, health=health)
-        except (ValueError, OSError) as exc:
-            self.feedback.setText(str(exc))
+        except OSError as exc:  # the disk: the runner stays on this trial; a retry records it
+            self.feedback.setText("Please wait.")
+            self.log_event(f"could not record the answer ({exc}); the trial stays: retry")
+            self.error_raised.emit(f"could not record the answer: {exc}")
             return False
+        except ValueError as exc:
+            self.participant_window.rating_error.setText(str(exc))
+            return False
+        self._presentations = 0
         self._stop_timers()
         self.feedback.setText(feedback)
         if trial.kind in ("direction", "shape", "detect"):
@@ -298,16 +532,70 @@ class ExperimentsPanel(QtWidgets.QWidget):
         if self.runner and self.runner.current and self.runner.current.scene is not None:
             self._play(self.runner.current.scene)
 
-    def pause(self) -> None:
-        """Esc during a run: the array is off; Start resumes the same trial."""
+    def pause(self, why: str = "paused (Esc)") -> None:
+        """The array off; the trial is presented again when the run resumes."""
+        if self.runner is None:
+            return
         self._paused = True
         self._stop_timers()
-        self.prompt.setText("Paused (all off). Press Enter to present the same trial again.")
+        self._play(None)
+        self.gap_timer.stop()
+        self.prompt.setText("Paused. Please wait.")
+        self.rating_edit.setVisible(False)
+        self.resume_button.setEnabled(not self._link_lost)
+        trial = self.runner.current
+        where = f" at trial {trial.stage} {trial.index}" if trial else ""
+        self.log_event(f"{why}{where}; the array is off")
+
+    def present_again(self) -> None:
+        """Resume after a pause: the current trial, from its beginning."""
+        if self.runner is None or not self._paused:
+            return
+        if self._link_lost:
+            self.error_raised.emit("the array is still disconnected")
+            return
+        self._present()
+
+    def on_device_status(self, stats) -> None:
+        """The stream's state changed: a lost link pauses the run; its return is logged."""
+        if self.runner is None:
+            return
+        if stats.state in LINK_DOWN and not self._link_lost:
+            self._link_lost = True
+            self.pause(f"link lost ({stats.status})")
+        elif stats.state in ("streaming", "paused", "idle") and self._link_lost:
+            self._link_lost = False
+            self.resume_button.setEnabled(True)
+            self.log_event("the array is back: press Present again (or Enter)")
+
+    def _on_health_timer_timeout(self) -> None:
+        if self.stats is None:
+            return
+        s = self.stats()
+        link = f"{self.device()}: {s.state}"
+        self.health_label.setText(
+            f"{link} | {s.achieved_rate_hz:.0f} Hz | late {s.late}, skipped {s.skipped}, "
+            f"link errors {s.errors}"
+        )
+        self.health_label.setStyleSheet("color: #c0392b;" if s.state in LINK_DOWN else "")
+
+    def _on_participant_window_closed(self) -> None:
+        if self.runner is not None and not self._paused:
+            self.pause("the participant's window was closed")
 
     def _on_rating_return_pressed(self) -> None:
         text = self.rating_edit.text().strip()
-        if text:
-            self.submit(int(text))
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or not 0 <= value <= 100:
+            self.participant_window.rating_error.setText(
+                f"A rating is a whole number from 0 to 100; {text or 'nothing'} is not one."
+            )
+            self.rating_edit.selectAll()
+            return
+        self.submit(value)
 
     def handle_key(self, event) -> bool:
         """Keys while running; True if the key was used."""
@@ -318,10 +606,12 @@ class ExperimentsPanel(QtWidgets.QWidget):
         k = QtCore.Qt.Key
         if self._paused:
             if key in (k.Key_Return, k.Key_Enter):
-                self._present()
+                self.present_again()
                 return True
             return False
         kind = runner.current.kind
+        if kind == "rating":
+            return False  # the rating box takes digits and Enter itself
         if kind == "prepare" and k.Key_1 <= key <= k.Key_4:
             return self.select_key(key - k.Key_1 + 1)
         if kind in ("continue", "prepare") and k.Key_A <= key <= k.Key_Z:
@@ -343,12 +633,12 @@ class ExperimentsPanel(QtWidgets.QWidget):
     def _finish(self) -> None:
         runner = self.runner
         self._stop_timers()
-        self.state.set_scene(self.state.scene.replace(playing=False))
-        folder = runner.session.folder
-        self.prompt.setText(f"Finished. Results are in {folder}.")
+        self.prompt.setText("Thank you. This part is finished.")
         self.keys_label.setText("")
         self.rating_edit.setVisible(False)
+        self.run_label.setText(f"Finished. Results are in {runner.session.folder}.")
         self.progress.setValue(self.progress.maximum())
+        self.log_event(f"finished {runner.experiment}: {runner.done} answers in {runner.path}")
         if runner.experiment == "calibration":
             try:
                 self.last_calibration = runner.calibration()
@@ -359,20 +649,78 @@ class ExperimentsPanel(QtWidgets.QWidget):
                 self.calibration_done.emit(self.last_calibration)
         runner.close()
         self.runner = None
-        self.running_changed.emit(False)
+        self._end_run()
 
     # --- analysis and profiles -----------------------------------------------------------------
 
-    def run_analysis(self) -> bool:
-        """Run ``tactile analyze`` on the results folder and show its output."""
-        buffer = io.StringIO()
-        try:
-            analyze(self.folder_edit.text().strip(), out=lambda s="": buffer.write(f"{s}\n"))
-        except (ValueError, OSError) as exc:
-            self.error_raised.emit(str(exc))
+    def run_analysis(self, wait: bool = False) -> bool:
+        """Run ``tactile analyze`` on the results folder in the background; its tables go to
+        the output (fixed-width), its figures to tabs. ``wait`` blocks until it is done (for
+        tests and scripts); returns whether it succeeded (True at once when not waiting)."""
+        if self._analysis_thread is not None and self._analysis_thread.is_alive():
             return False
-        self.output.setPlainText(buffer.getvalue())
+        import threading
+
+        folder = self.folder_edit.text().strip()
+        rounding = self.paper_rounding_check.isChecked()
+        self.output.setPlainText(f"analysing {folder} ...")
+        self.analysis_progress.setRange(0, 100)
+        self.analysis_progress.setValue(0)
+        self.analysis_progress.setVisible(True)
+        self.analyze_button.setEnabled(False)
+        self._analysis_result = None
+
+        def work():
+            buffer = io.StringIO()
+            try:
+                result = analyze(
+                    folder,
+                    out=lambda s="": buffer.write(f"{s}\n"),
+                    paper_rounding=rounding,
+                    progress=lambda f, what: self._analysis_progress.emit(f, what),
+                )
+            except (ValueError, OSError) as exc:
+                self._analysis_done.emit(None, str(exc))
+                return
+            self._analysis_done.emit(result, buffer.getvalue())
+
+        self._analysis_thread = threading.Thread(target=work, name="analyze", daemon=True)
+        self._analysis_thread.start()
+        if wait:
+            deadline = time.monotonic() + 120
+            while self._analysis_result is None and time.monotonic() < deadline:
+                QtWidgets.QApplication.processEvents(
+                    QtCore.QEventLoop.ProcessEventsFlag.AllEvents, 50
+                )
+            return bool(self._analysis_result)
         return True
+
+    def _on_analysis_progress(self, fraction: float, what: str) -> None:
+        self.analysis_progress.setValue(round(fraction * 100))
+        self.analysis_progress.setFormat(f"{what} %p%")
+
+    def _on_analysis_done(self, result, text: str) -> None:
+        self.analysis_progress.setVisible(False)
+        self.analyze_button.setEnabled(True)
+        if result is None:
+            self.output.setPlainText(text)
+            self.error_raised.emit(text)
+            self._analysis_result = False
+            return
+        self.output.setPlainText(text)
+        while self.figures.count():
+            widget = self.figures.widget(0)
+            self.figures.removeTab(0)
+            widget.deleteLater()
+        for path in result.get("figures", []):
+            label = QtWidgets.QLabel()
+            label.setPixmap(QtGui.QPixmap(path))
+            label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+            scroll = QtWidgets.QScrollArea()
+            scroll.setWidget(label)
+            scroll.setWidgetResizable(True)
+            self.figures.addTab(scroll, Path(path).stem)
+        self._analysis_result = True
 
     def _on_browse_clicked(self) -> None:
         folder = QtWidgets.QFileDialog.getExistingDirectory(

@@ -53,8 +53,10 @@ class _KeyFilter(QtCore.QObject):
     def eventFilter(self, obj, event):
         if event.type() != QtCore.QEvent.Type.KeyPress or event.isAutoRepeat():
             return False
-        if not self.window.isActiveWindow() and QtWidgets.QApplication.activeWindow() is not None:
-            return False
+        active = QtWidgets.QApplication.activeWindow()
+        ours = (self.window, self.window.experiments.participant_window)
+        if active is not None and active not in ours:
+            return False  # a dialog or another window: its keys are its own
         key = event.key()
         if key == QtCore.Qt.Key.Key_Escape:
             self.window.all_off()
@@ -147,7 +149,10 @@ class MainWindow(QtWidgets.QMainWindow):
         self.compare = CompareView(self.state)
         self.blind = BlindPanel(self.state)
         self.experiments = ExperimentsPanel(
-            self.state, lambda: self.device.profile, lambda: self.device.stats
+            self.state,
+            lambda: self.device.profile,
+            lambda: self.device.stats,
+            lambda: self.device.description,
         )
         self.tabs = QtWidgets.QTabWidget()
         self.tabs.addTab(self.tune_stack, "Tune")
@@ -194,6 +199,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.heatmap.draw_released.connect(self._on_heatmap_draw_released)
         self.blind.blind_changed.connect(self._on_blind_changed)
         self.experiments.running_changed.connect(self._on_experiments_running_changed)
+        self.device.status_changed.connect(self.experiments.on_device_status)
         self.experiments.error_raised.connect(self.show_error)
         self.experiments.save_profile_requested = self.save_calibrated_profile
         self._key_filter = _KeyFilter(self)
@@ -575,10 +581,10 @@ class MainWindow(QtWidgets.QMainWindow):
             self.state.set_view_mode(str(mode))
 
     def save_settings(self) -> None:
-        """Remember the scene and the window layout for the next start."""
-        preset = Preset(
-            self.state.scene, self.preset_name, self.preset_notes, self.device.profile.name
-        )
+        """Remember the scene and the window layout for the next start. During a run the
+        tuning scene saved when it started is remembered, never a trial's."""
+        scene = self.experiments.saved_scene or self.state.scene
+        preset = Preset(scene, self.preset_name, self.preset_notes, self.device.profile.name)
         self.settings.setValue("scene", json.dumps(preset.to_dict()))
         self.settings.setValue("geometry", self.saveGeometry())
         self.settings.setValue("windowState", self.saveState())
@@ -588,6 +594,8 @@ class MainWindow(QtWidgets.QMainWindow):
     def closeEvent(self, event) -> None:  # Qt override
         self.display_timer.stop()
         self.device.shutdown()  # all off first
+        self.experiments.stop()  # a run: its file closed, the participant released
+        self.experiments.participant_window.hide()
         try:
             self.save_settings()
         finally:

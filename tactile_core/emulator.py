@@ -47,6 +47,8 @@ class Emulator:
         self.seqs: list[int] = []
         self.levels: list[bytes] = []  # channel order
         self.events: list[tuple[float, str]] = []
+        self.unplugged = False
+        """Set (from any thread) to close the device as if it were unplugged; the run ends."""
         self.hellos = 0
         self.queries = 0
         self.seq_gaps = 0
@@ -117,7 +119,7 @@ class Emulator:
             now = time.monotonic()
             if end is not None and now >= end:
                 break
-            if close_at is not None and now >= close_at:
+            if self.unplugged or (close_at is not None and now >= close_at):
                 self.events.append((now, "closed"))
                 self.close()
                 break

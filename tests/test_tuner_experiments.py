@@ -3,7 +3,7 @@
 import csv
 
 import pytest
-from PySide6 import QtCore
+from PySide6 import QtCore, QtGui, QtWidgets
 
 import tactile_core as tc
 
@@ -26,6 +26,7 @@ def window(qtbot, tmp_path):
     panel = win.experiments
     panel.folder_edit.setText(str(tmp_path / "results"))
     panel.participant_edit.setText("P01")
+    panel.confirm = lambda title, text: True  # the experimenter says yes
     win.tabs.setCurrentWidget(panel)
     yield win
     panel.stop()
@@ -81,7 +82,7 @@ def test_experiment3_by_keyboard_hides_the_display_and_records_every_answer(
                 lambda: panel.runner is None or not panel.gap_timer.isActive(), timeout=2000
             )
     assert answered == 40
-    assert "Finished" in panel.prompt.text()
+    assert "Finished" in panel.run_label.text() and "finished" in panel.prompt.text()
     assert window.tune_stack.currentIndex() == 0 and window.tabs.isTabEnabled(0)
     assert window.controls_dock.isVisible()
     data = rows(tmp_path / "results" / "participant-P01" / "exp3.csv")
@@ -126,7 +127,7 @@ def test_experiment1_preparation_keys_and_ratings_then_stop_and_resume(window, q
     done = panel.runner.done
     assert done == 4
     panel.stop()
-    assert "resume" in panel.prompt.text()
+    assert "resume" in panel.run_label.text()
     panel.start()  # the same participant: resumes
     assert panel.runner.done == done and panel.runner.current.kind == "rating"
     data = rows(tmp_path / "results" / "participant-P01" / "exp1.csv")
@@ -211,7 +212,7 @@ def test_bad_participant_id_is_refused(window):
     assert "participant" in window.last_error and not panel.running
 
 
-def test_analyze_button_shows_the_tables(window, tmp_path):
+def test_analyze_button_shows_the_tables(window, qtbot, tmp_path):
     from tactile_core.cli import main
 
     assert (
@@ -220,9 +221,14 @@ def test_analyze_button_shows_the_tables(window, tmp_path):
         )
         == 0
     )
-    assert window.experiments.run_analysis()
-    text = window.experiments.output.toPlainText()
-    assert "Table 2" in text and "CT, MM" in text
+    panel = window.experiments
+    assert panel.run_analysis()  # in the background: the window stays responsive
+    qtbot.waitUntil(lambda: "Table 2" in panel.output.toPlainText(), timeout=60_000)
+    assert "CT, MM" in panel.output.toPlainText()
+    fixed = QtGui.QFontDatabase.systemFont(QtGui.QFontDatabase.SystemFont.FixedFont)
+    assert panel.output.font().family() == fixed.family()  # tables line up
+    assert panel.figures.count() == 1 and panel.figures.tabText(0) == "fig8-exp3-scores"
+    assert not panel.figures.widget(0).widget().pixmap().isNull()
 
 
 def test_scene_gain_scales_what_is_sent(window, qtbot):
@@ -253,3 +259,155 @@ def test_an_experiment_runs_against_a_port(window, qtbot, emulator_thread):
         press(qtbot, window, QtCore.Qt.Key.Key_C)
     panel.stop()
     qtbot.waitUntil(lambda: not any(emulator.levels[-1]), timeout=3000)
+
+
+# --- a participant's window, an experimenter's console ----------------------------------------
+
+
+def test_participant_window_shows_only_the_prompt_and_the_console_the_run(window, qtbot):
+    panel = window.experiments
+    choose(panel, "exp2")
+    assert panel.start()
+    pw = panel.participant_window
+    assert pw.isVisible() and pw is not window
+    widgets = pw.findChildren(QtWidgets.QWidget)
+    assert {type(w).__name__ for w in widgets} <= {"QLabel", "QLineEdit"}  # nothing to set up
+    assert "Experiment 2" in pw.prompt.text()
+    assert panel.participant_label.text() == "participant P01"
+    assert panel.participant_label.font().pointSize() >= panel.font().pointSize() + 10
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    wait_trial(qtbot, panel, "direction")
+    assert "trial 2 of 124" in panel.run_label.text() and "length 2" in panel.run_label.text()
+    assert "length" not in pw.prompt.text()  # the stimulus stays off the participant's screen
+    assert "participant-P01" in panel.path_label.text()
+    qtbot.waitUntil(lambda: "Hz" in panel.health_label.text(), timeout=2000)
+    panel.stop()
+    assert not pw.isVisible()
+
+
+def test_the_participant_id_is_required(window):
+    panel = window.experiments
+    panel.participant_edit.setText("")
+    assert not panel.start()
+    assert "participant must be" in window.last_error
+
+
+def test_resuming_an_existing_participant_asks_first(window, qtbot):
+    panel = window.experiments
+    choose(panel, "exp3")
+    asked = []
+    panel.confirm = lambda title, text: asked.append(text) or True
+    assert panel.start() and "new participant, P01" in asked[-1]
+    panel.stop()
+    panel.confirm = lambda title, text: asked.append(text) or False
+    assert not panel.start() and not panel.running
+    assert "P01 already has results" in asked[-1]
+
+
+def test_a_run_refuses_to_start_while_the_array_is_disconnected(window):
+    from tactile_core.streamer import StreamStats
+
+    panel = window.experiments
+    panel.stats = lambda: StreamStats(state="disconnected", status="device disconnected: /dev/x")
+    assert not panel.start() and not panel.running
+    assert "not connected" in window.last_error and "/dev/x" in window.last_error
+
+
+def test_a_lost_link_pauses_the_run_and_the_trial_is_presented_again(window, qtbot, tmp_path):
+    from tactile_core.streamer import StreamStats
+
+    panel = window.experiments
+    choose(panel, "exp3")
+    panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    wait_trial(qtbot, panel, "shape")
+    trial = panel.runner.current
+    panel.on_device_status(StreamStats(state="disconnected", status="device disconnected"))
+    assert not window.state.scene.playing  # the array is off
+    assert "link lost" in panel.log.toPlainText()
+    assert not panel.submit(trial.info["shape"])  # no answers while the link is down
+    panel.on_device_status(StreamStats(state="streaming", status="reconnected"))
+    assert "back" in panel.log.toPlainText() and panel.resume_button.isEnabled()
+    press(qtbot, window, QtCore.Qt.Key.Key_Return)
+    assert panel.runner.current == trial and window.state.scene.playing
+    press(
+        qtbot,
+        window,
+        QtCore.Qt.Key.Key_C if trial.info["shape"] == "circle" else QtCore.Qt.Key.Key_S,
+    )
+    panel.stop()
+    data = rows(tmp_path / "results" / "participant-P01" / "exp3.csv")
+    assert data[-1]["presentations"] == "2"  # marked: presented twice
+    assert data[-2]["presentations"] == "1"
+
+
+def test_a_real_link_drop_reaches_the_run(window, qtbot, emulator_thread):
+    emulator, path = emulator_thread
+    window.device_panel.port_combo.setCurrentText(path)
+    qtbot.mouseClick(window.device_panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
+    panel = window.experiments
+    choose(panel, "exp3")
+    panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    wait_trial(qtbot, panel, "shape")
+    emulator.unplugged = True
+    qtbot.waitUntil(lambda: "link lost" in panel.log.toPlainText(), timeout=5000)
+    assert panel._paused and not window.state.scene.playing
+
+
+def test_a_run_restores_the_tuning_scene_and_never_writes_settings(window, qtbot):
+    tuning = window.state.scene.replace(shape=tc.Circle((2.0, 3.0), 1.5), mu=0.5, method="IM")
+    window.state.set_scene(tuning)
+    before = window.settings.value("scene")
+    panel = window.experiments
+    choose(panel, "exp3")
+    panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    wait_trial(qtbot, panel, "shape")
+    assert window.state.scene.shape != tuning.shape  # the trial plays
+    window.save_settings()  # e.g. the window closed mid-run
+    saved = window.settings.value("scene")
+    assert '"mu": 0.5' in saved and '"radius": 1.5' in saved  # the tuning scene, not the trial's
+    panel.stop()
+    scene = window.state.scene
+    assert (scene.shape, scene.mu, scene.method) == (tuning.shape, tuning.mu, tuning.method)
+    assert not scene.playing  # restored paused: a hand may still be on the array
+    del before
+
+
+def test_an_invalid_rating_is_refused_visibly(window, qtbot):
+    panel = window.experiments
+    choose(panel, "exp1")
+    panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_R)
+    assert panel.runner.current.kind == "rating"
+    done = panel.runner.done
+    for text in ("150", "-3", "abc"):
+        panel.rating_edit.setText(text)
+        qtbot.keyClick(panel.rating_edit, QtCore.Qt.Key.Key_Return)
+        assert "0 to 100" in panel.participant_window.rating_error.text()
+        assert panel.runner.done == done
+    panel.rating_edit.setText("100")
+    qtbot.keyClick(panel.rating_edit, QtCore.Qt.Key.Key_Return)
+    assert panel.runner.done == done + 1 and panel.participant_window.rating_error.text() == ""
+
+
+def test_a_full_disk_keeps_the_trial_on_screen(window, qtbot, monkeypatch):
+    import errno
+
+    panel = window.experiments
+    choose(panel, "exp3")
+    panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    wait_trial(qtbot, panel, "shape")
+    trial = panel.runner.current
+
+    def full(row):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(panel.runner._file, "append", full)
+    assert not panel.submit("circle")
+    assert panel.runner.current == trial and "No space" in window.last_error
+    monkeypatch.undo()
+    assert panel.submit("circle")
+    assert panel.runner.done == 2

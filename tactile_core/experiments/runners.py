@@ -28,9 +28,10 @@ METHODS = ("CT", "MM", "AS", "IM")
 DIRECTIONS = ("up", "down", "left", "right")
 SHAPES = ("circle", "square")
 MU, GAMMA = 0.33, 0.7
-HEALTH_FIELDS = ("late_frames", "skipped_frames", "link_errors")
+HEALTH_FIELDS = ("late_frames", "skipped_frames", "link_errors", "presentations")
 """Per trial, the stream's health while it was presented: frames sent more than 1 ms late,
-deadlines skipped after a stall, link errors (empty when no stream was watched)."""
+deadlines skipped after a stall, link errors (empty when no stream was watched), and how many
+times the trial was presented (more than 1 after a pause or a lost link presented it again)."""
 
 
 @dataclass(frozen=True)
@@ -178,7 +179,8 @@ class Runner:
         """Record the answer to the current trial, advance, and return the feedback text.
 
         ``health`` holds the stream's ``late_frames``, ``skipped_frames`` and ``link_errors``
-        while the trial was presented (see :data:`HEALTH_FIELDS`).
+        while the trial was presented, and its number of ``presentations`` (see
+        :data:`HEALTH_FIELDS`).
 
         Raises
         ------
@@ -205,7 +207,7 @@ class Runner:
             time=now(),
         )
         for key in HEALTH_FIELDS:
-            row[key] = "" if health is None else int(health.get(key, 0))
+            row[key] = "" if health is None or key not in health else int(health[key])
         if self._file is not None:
             try:
                 self._file.append(row)  # durable before the runner moves on
