@@ -1,6 +1,7 @@
 """GUI responsiveness: the tuner's display refresh while it streams at 300 Hz.
 
-Run by ``tactile bench --part gui`` (it needs Qt, so it lives in ``app``).
+Run by ``tactile bench --part gui`` or ``tactile-tuner --bench`` (it needs Qt, so it lives
+with the GUI, registered under the entry point group ``tactile.bench``).
 """
 
 from __future__ import annotations
@@ -199,3 +200,13 @@ def gui_latency_table(rate_hz: float = 300.0, changes: int = 30):
         f"{changes} times through the tuner's state (as a control does) at random phases; "
         "latency from the change to the emulator's receipt of the first frame of the new shape.",
     )
+
+
+def run(quick: bool = False, out=print) -> list:
+    """The GUI's benchmark tables (``tactile bench --part gui`` and ``tactile-tuner --bench``),
+    printed as Markdown; returns them."""
+    tables = [gui_table(seconds=3.0 if quick else 10.0), gui_latency_table()]
+    for table in tables:
+        out(table.markdown())
+        out("")
+    return tables

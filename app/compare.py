@@ -365,9 +365,10 @@ class BlindPanel(QtWidgets.QWidget):
         return path
 
     def _on_save_clicked(self) -> None:
-        path, _ = QtWidgets.QFileDialog.getSaveFileName(
-            self, "Save ratings", "blind-ab.csv", "CSV (*.csv)"
-        )
+        from . import dialogs
+
+        name = f"blind-ab-{dialogs.today()}.csv"
+        path = dialogs.save_path(self, "ratings", "Save ratings", name, ["CSV (*.csv)"])
         if path:
             try:
                 self.save(path)

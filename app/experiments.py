@@ -723,16 +723,19 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self._analysis_result = True
 
     def _on_browse_clicked(self) -> None:
-        folder = QtWidgets.QFileDialog.getExistingDirectory(
-            self, "Results folder", self.folder_edit.text()
-        )
+        from . import dialogs
+
+        folder = dialogs.folder_path(self, "results", "Results folder", self.folder_edit.text())
         if folder:
-            self.folder_edit.setText(folder)
+            self.folder_edit.setText(str(folder))
 
     def _on_save_profile_clicked(self) -> None:
-        path, _ = QtWidgets.QFileDialog.getSaveFileName(
-            self, "Save calibrated profile", "calibrated.json", "Profiles (*.json)"
-        )
+        from . import dialogs
+
+        pid = dialogs.safe_name(self.participant_edit.text() or "participant")
+        name = f"{self.profile().name}-calibrated-{pid}-{dialogs.today()}.json"
+        path = dialogs.save_path(self, "profiles", "Save calibrated profile", name,
+                                 ["Profiles (*.json)"])  # fmt: skip
         if path:
             self.save_profile_requested(path)
 

@@ -13,6 +13,16 @@ import sys
 import traceback
 
 
+def _size(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size must look like 1280x720, got {text!r}") from None
+    if not (320 <= w <= 10_000 and 240 <= h <= 10_000):
+        raise argparse.ArgumentTypeError(f"size must be within 320x240 .. 10000x10000: {text}")
+    return w, h
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Command-line options of ``tactile-tuner``."""
     p = argparse.ArgumentParser(prog="tactile-tuner", description=__doc__.splitlines()[0])
@@ -34,16 +44,38 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--no-restore", action="store_true", help="ignore the last session's state")
     p.add_argument(
+        "--size",
+        metavar="WxH",
+        type=_size,
+        default=None,
+        help="window size in pixels, e.g. 1280x720 (default: the last session's, on screen)",
+    )
+    p.add_argument("--theme", choices=("system", "light", "dark"), default="system", help="colours")
+    p.add_argument(
         "--realtime",
         action="store_true",
         help="real-time priority for the stream (Linux; needs an rtprio limit or root)",
     )
+    p.add_argument("--bench", action="store_true", help="print the GUI's benchmark tables and exit")
+    p.add_argument("--quick", action="store_true", help="with --bench: shorter runs")
     return p
 
 
 def main(argv=None) -> int:
     """Entry point of ``tactile-tuner``."""
     args = build_parser().parse_args(argv)
+    if args.bench:
+        from .bench import run
+
+        run(quick=args.quick)
+        return 0
+
+    from .preflight import check
+
+    problem = check()
+    if problem:  # before Qt, which would abort the process with a longer message
+        print(f"tactile-tuner: {problem}", file=sys.stderr)
+        return 1
 
     from tactile_core.device import ProfileError, load_profile
     from tactile_core.presets import PresetError, load_preset
@@ -60,6 +92,10 @@ def main(argv=None) -> int:
     QtCore.QCoreApplication.setOrganizationName("tactile-tuner")
     QtCore.QCoreApplication.setApplicationName("tactile-tuner")
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication(sys.argv[:1])
+    if args.theme != "system":
+        from .theme import apply_theme
+
+        apply_theme(app, args.theme)
 
     from .window import MainWindow
 
@@ -88,7 +124,9 @@ def main(argv=None) -> int:
     tabs = {"tune": 0, "compare": 1, "blind": 2, "experiments": 3}
     if args.tab:
         window.tabs.setCurrentIndex(min(tabs[args.tab], window.tabs.count() - 1))
-    window.resize(1400, 900)
+    if args.size:
+        window.resize(*args.size)
+    window.fit_to_screen()
     window.show()
 
     if args.screenshot:

@@ -34,6 +34,23 @@ def slider_to_gamma(position: int) -> float:
     return round(10.0 ** (2.0 * position / _GAMMA_STEPS - 1.0), 3)
 
 
+def tip(text: str) -> str:
+    """A tooltip that wraps (rich text) instead of one line as wide as the screen."""
+    return f"<qt>{text}</qt>"
+
+
+METHOD_TIPS = {
+    "CT": "Closest tactor (paper 2.2): the tactor of the cell containing the point, at full "
+    "intensity. Bi-level.",
+    "MM": "Midpoint (paper 2.3): one tactor per column (row) of a stroke, as a scan-converted "
+    "line. Bi-level.",
+    "AS": "Area sampling (paper 2.4): each of up to 4 tactors gets the overlap of a unit box "
+    "around the point. Anti-aliased.",
+    "IM": "Interpolated midpoint (paper 2.5): MM's tactors, intensity interpolated between "
+    "column centres. Anti-aliased.",
+}
+
+
 def _spin(lo, hi, step, decimals, suffix="") -> QtWidgets.QDoubleSpinBox:
     box = QtWidgets.QDoubleSpinBox()
     box.setRange(lo, hi)
@@ -76,17 +93,30 @@ class ControlsPanel(QtWidgets.QWidget):
         grid.addWidget(self.off_button, 0, 2)
         self.view_buttons = QtWidgets.QButtonGroup(self)
         row = QtWidgets.QHBoxLayout()
+        view_tips = {
+            "raw": "The methods' intensities before the correction (paper 2.2-2.5).",
+            "corrected": "After the threshold/gamma correction (paper 2.6).",
+            "sent": "What went to the array: the device levels (23 on the palm array).",
+            "felt": "What the motors would make of it: the profile's response curve.",
+        }
         for i, mode in enumerate(VIEW_MODES):
             button = QtWidgets.QRadioButton(mode)
             button.setObjectName(f"view_{mode}")
+            button.setToolTip(tip(view_tips[mode]))
             self.view_buttons.addButton(button, i)
             row.addWidget(button)
         self.view_buttons.idClicked.connect(lambda i: self.state.set_view_mode(VIEW_MODES[i]))
         grid.addLayout(row, 1, 0, 1, 3)
         self.levels_check = QtWidgets.QCheckBox("values in cells")
+        self.levels_check.setToolTip(tip("Write each cell's value (or device level) in it"))
+        self.play_button.setToolTip(
+            tip("Play or pause the trace (Space); paused, the array is off")
+        )
+        self.restart_button.setToolTip(tip("Start the trace again from t = 0"))
+        self.off_button.setToolTip(tip("Everything off now and pause (Esc, from anywhere)"))
         self.levels_check.toggled.connect(self.state.set_show_levels)
         self.draw_check = QtWidgets.QCheckBox("draw mode (drag on the heatmap)")
-        self.draw_check.setToolTip(DRAW_HELP)
+        self.draw_check.setToolTip(tip(DRAW_HELP))
         self.draw_check.toggled.connect(self.draw_mode_toggled.emit)
         grid.addWidget(self.levels_check, 2, 0)
         grid.addWidget(self.draw_check, 2, 1, 1, 2)
@@ -99,6 +129,7 @@ class ControlsPanel(QtWidgets.QWidget):
         for i, (name, method) in enumerate(METHODS.items()):
             button = QtWidgets.QRadioButton(f"{i + 1}  {name}  {method.title}")
             button.setObjectName(f"method_{name}")
+            button.setToolTip(tip(METHOD_TIPS.get(name, method.title)))
             self.method_buttons.addButton(button, i)
             grid.addWidget(button)
         self.method_buttons.idClicked.connect(self._on_method_clicked)
@@ -113,6 +144,18 @@ class ControlsPanel(QtWidgets.QWidget):
         self.gamma_slider = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
         self.gamma_slider.setRange(0, _GAMMA_STEPS)
         self.gamma_spin = _spin(GAMMA_MIN, GAMMA_MAX, 0.01, 2)
+        mu_tip = tip(
+            "Threshold mu, 0-1 of full drive (paper 2.6): the least a lit tactor gets, "
+            "(1 - mu) I^gamma + mu. The paper uses 0.33."
+        )
+        gamma_tip = tip(
+            "Gamma, 0.1-10, no unit (paper 2.6): below 1 raises weak intensities, above 1 lowers "
+            "them. The paper uses 0.7 (1.4 in two stages of Experiment 2)."
+        )
+        for widget in (self.mu_slider, self.mu_spin):
+            widget.setToolTip(mu_tip)
+        for widget in (self.gamma_slider, self.gamma_spin):
+            widget.setToolTip(gamma_tip)
         form.addWidget(QtWidgets.QLabel("threshold mu"), 0, 0)
         form.addWidget(self.mu_slider, 0, 1)
         form.addWidget(self.mu_spin, 0, 2)
@@ -145,6 +188,10 @@ class ControlsPanel(QtWidgets.QWidget):
             for label in labels:
                 lo = 0.0 if label in ("radius", "edge") else -10.0
                 spin = _spin(lo, 20.0, 0.05, 3)
+                spin.setToolTip(tip(
+                    f"{label} in grid units (paper 2.1): 1 unit = one tactor pitch (18 mm on the "
+                    "palm array); tactors sit at the cells' centres, x + 0.5, y + 0.5"
+                ))  # fmt: skip
                 spin.valueChanged.connect(self._on_shape_edited)
                 form.addRow(label, spin)
                 fields.append(spin)
@@ -168,15 +215,33 @@ class ControlsPanel(QtWidgets.QWidget):
         self.subsamples_spin.setRange(1, 64)
         self.subsamples_spin.setKeyboardTracking(False)
         self.dither_check = QtWidgets.QCheckBox("temporal dithering")
+        tips = {
+            self.duration_spin: "Trace duration in seconds, t from 0 to 1 (paper 3.4.2: 2 s).",
+            self.pause_spin: "Seconds off between traces (paper 3.4.2 and 3.4.3: 0.5 s; "
+            "Experiment 3 retraces continuously: 0).",
+            self.direction_combo: "Forward follows f(t): counter-clockwise for circles and "
+            "squares (paper 3.4.2, 3.4.4); reverse runs t from 1 to 0.",
+            self.rate_spin: "Frames a second sent to the array, 10-1000 Hz (capped at what the "
+            "link carries: 311 at 115200 baud). Not the PWM carrier, about 300 Hz on the "
+            "paper's array (3.3).",
+            self.filter_combo: "point: each frame is the trace at the middle of its interval "
+            "(the paper's pipeline). box: the average of S sub-samples over the interval.",
+            self.subsamples_spin: "Sub-samples S of the box filter, 1-64.",
+            self.dither_check: "Error feedback per tactor, so averages finer than the device's "
+            "23 levels go out; off: plain rounding (the paper's pipeline).",
+        }
+        for widget, text in tips.items():
+            widget.setToolTip(tip(text))
         self.emphasis_spin = _spin(0.0, 0.9, 0.1, 2)
-        self.emphasis_spin.setToolTip(
-            "Corner emphasis: the point slows down near the shape's corners (0 = constant speed)"
-        )
+        self.emphasis_spin.setToolTip(tip(
+            "Corner emphasis 0-0.9 (beyond the paper; its 4.3 suggests it): the point slows near "
+            "corners; 0.5 doubles the dwell; 0 = constant speed"
+        ))  # fmt: skip
         self.gain_spin = _spin(0.0, 1.0, 0.05, 2)
-        self.gain_spin.setToolTip(
-            "Master intensity (0-1): scales the part above the threshold, "
-            "mu + gain (1 - mu) I^gamma"
-        )
+        self.gain_spin.setToolTip(tip(
+            "Master intensity 0-1 (beyond the paper): scales the part above the threshold, "
+            "mu + gain (1 - mu) I^gamma, so no lit tactor drops below mu"
+        ))  # fmt: skip
         form.addRow("duration", self.duration_spin)
         form.addRow("pause", self.pause_spin)
         form.addRow("direction", self.direction_combo)
@@ -244,13 +309,19 @@ class ControlsPanel(QtWidgets.QWidget):
             return
         self.state.update(shape=shape)
 
+    def method_names(self) -> list[str]:
+        """The methods in key order (key 1 first)."""
+        return list(METHODS)
+
     def set_felt_available(self, available: bool) -> None:
         """'felt' needs the device profile's motor response curve."""
         button = self.view_buttons.button(VIEW_MODES.index("felt"))
         button.setEnabled(available)
-        button.setToolTip(
-            "" if available else "the device profile has no motor response curve ('response')"
-        )
+        button.setToolTip(tip(
+            "What the motors would make of the levels sent: the profile's response curve."
+            if available
+            else "Not available: the device profile has no motor response curve ('response')."
+        ))  # fmt: skip
         if not available and self.state.view_mode == "felt":
             self.state.set_view_mode("sent")
 
@@ -259,7 +330,7 @@ class ControlsPanel(QtWidgets.QWidget):
         for name in ("MM", "IM"):
             button = self.method_buttons.button(list(METHODS).index(name))
             button.setEnabled(not on)
-            button.setToolTip(DRAW_HELP if on else "")
+            button.setToolTip(tip(DRAW_HELP) if on else tip(METHOD_TIPS[name]))
         self.shape_combo.setEnabled(not on)
         self.shape_stack.setEnabled(not on)
         if self.draw_check.isChecked() != on:
@@ -358,6 +429,14 @@ class DevicePanel(QtWidgets.QWidget):
         layout.addWidget(self.link_label, 1, 3, 1, 2)
         layout.addWidget(self.status_label, 2, 0, 1, 5)
         layout.setColumnStretch(1, 1)
+        self.port_combo.setToolTip(tip(
+            "A serial port or any pyserial URL (/dev/ttyUSB0, COM3, socket://host:port, "
+            "rfc2217://..., spy://...); sim for the built-in simulated array. Enter connects."
+        ))  # fmt: skip
+        self.connect_button.setToolTip(tip("Stream to the device; it is asked who it is first"))
+        self.profile_button.setToolTip(tip("Load a device profile (grid, levels, baud, channel "
+                                           "order, calibration, motor response)"))  # fmt: skip
+        self.port_combo.lineEdit().returnPressed.connect(self._on_connect_clicked)
         self.refresh_button.clicked.connect(self.refresh_ports)
         self.connect_button.clicked.connect(self._on_connect_clicked)
         self.disconnect_button.clicked.connect(device.disconnect_device)

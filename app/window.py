@@ -25,6 +25,7 @@ from tactile_core.presets import (
 )
 from tactile_core.render import point_entries
 
+from . import dialogs
 from .compare import BlindPanel, CompareView
 from .device import DeviceController
 from .experiments import ExperimentsPanel
@@ -42,9 +43,32 @@ HIDDEN_EXPERIMENT = (
 )
 
 
+def _same_tuning(a, b) -> bool:
+    """Whether two scenes are the same tuning (playing state and restarts aside)."""
+    return a.replace(playing=True, epoch=0) == b.replace(playing=True, epoch=0)
+
+
+def is_text_input(widget) -> bool:
+    """True for a widget that takes typed text (a field, a spin box, an editable drop-down)."""
+    if isinstance(
+        widget,
+        (QtWidgets.QLineEdit, QtWidgets.QAbstractSpinBox, QtWidgets.QTextEdit,
+         QtWidgets.QPlainTextEdit),
+    ):  # fmt: skip
+        return True
+    return isinstance(widget, QtWidgets.QComboBox) and widget.isEditable()
+
+
 class _KeyFilter(QtCore.QObject):
-    """Application-wide keys: Esc always turns everything off; Space and 1-4 act unless a
-    text field has the focus (so typing a number into a box still works)."""
+    """Application-wide keys.
+
+    - **Esc** turns everything off from anywhere in the window, even with the cursor in a text
+      box; but with a menu, a drop-down or a dialog open, Esc is theirs (it closes them).
+    - **Space** and **1-8** (play/pause, methods) act unless a text input has the focus, so
+      typing ``COM2`` or ``0.35`` never switches the method. **Enter** in a field commits its
+      value and gives the keys back to the window.
+    - During an experiment the run owns the keyboard.
+    """
 
     def __init__(self, window):
         super().__init__(window)
@@ -53,37 +77,35 @@ class _KeyFilter(QtCore.QObject):
     def eventFilter(self, obj, event):
         if event.type() != QtCore.QEvent.Type.KeyPress or event.isAutoRepeat():
             return False
-        active = QtWidgets.QApplication.activeWindow()
+        app = QtWidgets.QApplication
+        if app.activePopupWidget() is not None or app.activeModalWidget() is not None:
+            return False  # a menu, a drop-down list or a dialog: Esc closes it, nothing more
+        active = app.activeWindow()
         ours = (self.window, self.window.experiments.participant_window)
         if active is not None and active not in ours:
-            return False  # a dialog or another window: its keys are its own
+            return False  # another window: its keys are its own
+        if not isinstance(obj, QtWidgets.QWidget) or obj.window() not in ours:
+            return False  # the event on its way to a widget's parent: act on it once
         key = event.key()
         if key == QtCore.Qt.Key.Key_Escape:
             self.window.all_off()
             if self.window.experiments.running:
                 self.window.experiments.pause()
-            return False  # dialogs still see Esc
+            return False
         if self.window.experiments.running:
             # A run owns the keyboard (its rating box takes digits and Enter itself).
             return self.window.experiments.handle_key(event)
-        focus = QtWidgets.QApplication.focusWidget()
-        typing = isinstance(
-            focus,
-            (
-                QtWidgets.QLineEdit,
-                QtWidgets.QAbstractSpinBox,
-                QtWidgets.QTextEdit,
-                QtWidgets.QPlainTextEdit,
-            ),
-        )
-        if typing:
+        focus = app.focusWidget()
+        if is_text_input(focus):
+            if key in (QtCore.Qt.Key.Key_Return, QtCore.Qt.Key.Key_Enter):
+                # Let the field commit its value first, then give the keys back.
+                QtCore.QTimer.singleShot(0, self.window.return_focus)
             return False
         if key == QtCore.Qt.Key.Key_Space:
             self.window.toggle_play()
             return True
-        if QtCore.Qt.Key.Key_1 <= key <= QtCore.Qt.Key.Key_4:
-            self.window.press_number(key - QtCore.Qt.Key.Key_1 + 1)
-            return True
+        if QtCore.Qt.Key.Key_1 <= key <= QtCore.Qt.Key.Key_8:
+            return self.window.press_number(key - QtCore.Qt.Key.Key_1 + 1)
         return False
 
 
@@ -125,20 +147,46 @@ class MainWindow(QtWidgets.QMainWindow):
         self._trace_cache = (None, None)
         self._display_times: list[float] = []
         self._draw_backup = None
+        self._pulse = None  # (scene before, held) while a tactor is pulsed from the heatmap
+        self._scrub_s = None  # trace time the cursor was dragged to (while paused)
+        self._preset_scene = (
+            preset.scene if preset is not None else getattr(self, "_restored_preset_scene", None)
+        )
 
         # Tune tab ----------------------------------------------------------------------------
         grid = self.device.profile.grid
         self.heatmap = HeatmapView(grid.cols, grid.rows, title="Array")
         self.heatmap.setObjectName("heatmap")
         self.curves = CurvesView()
+        self.lanes_check = QtWidgets.QCheckBox("one lane per tactor")
+        self.lanes_check.setObjectName("lanes")
+        self.lanes_check.setToolTip(
+            "Activation curves in lanes, one row per tactor labelled (col,row): the sequence of a "
+            "bi-level method, whose curves all sit at 1, can be read (the paper's Figure 3)"
+        )
+        self.lanes_check.toggled.connect(self.curves.set_lanes)
+        curves_box = QtWidgets.QWidget()
+        box = QtWidgets.QVBoxLayout(curves_box)
+        box.setContentsMargins(0, 0, 0, 0)
+        bar = QtWidgets.QHBoxLayout()
+        hint = QtWidgets.QLabel("drag the dashed cursor to scrub; hover a curve or a cell")
+        hint.setObjectName("curves_hint")
+        bar.addWidget(self.lanes_check)
+        bar.addStretch(1)
+        bar.addWidget(hint)
+        box.addLayout(bar)
+        box.addWidget(self.curves, 1)
         self.correction = CorrectionView()
         right = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
-        right.addWidget(self.curves)
+        right.addWidget(curves_box)
         right.addWidget(self.correction)
+        right.setSizes([600, 360])
         tune = QtWidgets.QSplitter(QtCore.Qt.Orientation.Horizontal)
         tune.addWidget(self.heatmap)
         tune.addWidget(right)
-        tune.setSizes([420, 560])
+        tune.setStretchFactor(0, 0)
+        tune.setStretchFactor(1, 1)
+        self.tune_split = tune
         self.hidden_label = QtWidgets.QLabel(HIDDEN_BLIND)
         self.hidden_label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
         self.hidden_label.setWordWrap(True)
@@ -159,13 +207,30 @@ class MainWindow(QtWidgets.QMainWindow):
         self.tabs.addTab(self.compare, "Compare")
         self.tabs.addTab(self.blind, "Blind A/B")
         self.tabs.addTab(self.experiments, "Experiments")
-        self.setCentralWidget(self.tabs)
+        self.banner = QtWidgets.QLabel()
+        self.banner.setObjectName("device_banner")
+        self.banner.setWordWrap(True)
+        self.banner.setStyleSheet(
+            "background: #c0392b; color: white; font-weight: bold; padding: 6px;"
+        )
+        self.banner.setVisible(False)
+        central = QtWidgets.QWidget()
+        column = QtWidgets.QVBoxLayout(central)
+        column.setContentsMargins(0, 0, 0, 0)
+        column.setSpacing(0)
+        column.addWidget(self.banner)
+        column.addWidget(self.tabs, 1)
+        self.setCentralWidget(central)
 
         # Docks -------------------------------------------------------------------------------
         self.controls = ControlsPanel(self.state)
         scroll = QtWidgets.QScrollArea()
         scroll.setWidget(self.controls)
         scroll.setWidgetResizable(True)
+        # Never sideways: the controls are laid out for the dock's width and scroll vertically.
+        scroll.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        scroll.setMinimumWidth(self.controls.minimumSizeHint().width() + 18)
+        self.controls_scroll = scroll
         dock = QtWidgets.QDockWidget("Controls", self)
         dock.setObjectName("controls_dock")
         dock.setWidget(scroll)
@@ -176,6 +241,10 @@ class MainWindow(QtWidgets.QMainWindow):
         dock.setObjectName("device_dock")
         dock.setWidget(self.device_panel)
         self.addDockWidget(QtCore.Qt.DockWidgetArea.BottomDockWidgetArea, dock)
+        self.device_dock = dock
+        self._pulse_timer = QtCore.QTimer(self)
+        self._pulse_timer.setSingleShot(True)
+        self._pulse_timer.timeout.connect(lambda: self._end_pulse(restore=True))
 
         self._build_menu()
         self.statusBar().showMessage("ready")
@@ -197,6 +266,13 @@ class MainWindow(QtWidgets.QMainWindow):
         self.device_panel.profile_requested.connect(self._on_profile_requested)
         self.heatmap.point_drawn.connect(self._on_heatmap_point_drawn)
         self.heatmap.draw_released.connect(self._on_heatmap_draw_released)
+        self.heatmap.cell_hovered.connect(self.curves.highlight)
+        self.curves.curve_hovered.connect(self.heatmap.highlight)
+        self.heatmap.cell_clicked.connect(self.pulse_cell)
+        self.curves.scrubbed.connect(self._on_curves_scrubbed)
+        self.device.status_changed.connect(self._on_device_status_changed)
+        self.state.playing_changed.connect(self._on_state_playing_changed)
+        self.state.scene_changed.connect(lambda _: self._update_title())
         self.blind.blind_changed.connect(self._on_blind_changed)
         self.experiments.running_changed.connect(self._on_experiments_running_changed)
         self.device.status_changed.connect(self.experiments.on_device_status)
@@ -206,6 +282,11 @@ class MainWindow(QtWidgets.QMainWindow):
         QtWidgets.QApplication.instance().installEventFilter(self._key_filter)
 
         self._on_state_scene_changed(self.state.scene)
+        self._update_title()
+        screen = QtGui.QGuiApplication.primaryScreen()
+        if screen is not None:  # a default that fits; a saved size replaces it below
+            area = screen.availableGeometry()
+            self.resize(min(1400, round(area.width() * 0.92)), min(900, round(area.height() * 0.9)))
         self.controls.set_felt_available(self.device.profile.response is not None)
         self.display_timer = QtCore.QTimer(self)
         self.display_timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
@@ -237,28 +318,166 @@ class MainWindow(QtWidgets.QMainWindow):
         menu.addAction("Play / pause\tSpace", self.toggle_play)
         menu.addAction("All off\tEsc", self.all_off)
         menu.addAction("Restart trace", self.state.restart)
+        self.view_menu = menu = self.menuBar().addMenu("&View")
+        self._dock_actions = []
+        for dock in self.findChildren(QtWidgets.QDockWidget):
+            action = dock.toggleViewAction()
+            action.setText(f"{dock.windowTitle()} panel")
+            menu.addAction(action)
+            self._dock_actions.append(action)
+        lanes = menu.addAction("Activation curves in lanes")
+        lanes.setCheckable(True)
+        lanes.toggled.connect(self.lanes_check.setChecked)
+        self.lanes_check.toggled.connect(lanes.setChecked)
+        menu.addSeparator()
+        menu.addAction("Reset layout", self.reset_layout)
 
     # --- actions -----------------------------------------------------------------------------
 
     def all_off(self) -> None:
         """Everything off now (Esc, the button, the menu)."""
+        self._end_pulse(restore=True)
         self.device.all_off()
-        self.statusBar().showMessage("all off")
+        self.statusBar().showMessage("all off (Space plays again)")
+
+    def _on_state_playing_changed(self, playing: bool) -> None:
+        if playing:
+            self._scrub_s = None
+            self.statusBar().showMessage("playing", 2000)
+
+    def reset_layout(self) -> None:
+        """The docks where they start: controls on the left, device below; all shown."""
+        areas = QtCore.Qt.DockWidgetArea
+        for dock, area in ((self.controls_dock, areas.LeftDockWidgetArea),
+                           (self.device_dock, areas.BottomDockWidgetArea)):  # fmt: skip
+            dock.setFloating(False)
+            self.addDockWidget(area, dock)
+            dock.show()
+        self.resizeDocks([self.controls_dock], [self.controls_scroll.minimumWidth()],
+                         QtCore.Qt.Orientation.Horizontal)  # fmt: skip
+        self._fit_heatmap()
+
+    def fit_to_screen(self) -> None:
+        """Keep the window on its screen and no larger than it (a saved size from a larger
+        screen, or the default, is shrunk to fit)."""
+        screen = self.screen() or QtGui.QGuiApplication.primaryScreen()
+        if screen is None:
+            return
+        area = screen.availableGeometry()
+        frame = self.frameGeometry()
+        w = min(self.width(), area.width() - (frame.width() - self.width()))
+        h = min(self.height(), area.height() - (frame.height() - self.height()))
+        if (w, h) != (self.width(), self.height()):
+            self.resize(w, h)
+        geometry = self.frameGeometry()
+        x = min(max(geometry.x(), area.left()), area.right() - geometry.width() + 1)
+        y = min(max(geometry.y(), area.top()), area.bottom() - geometry.height() + 1)
+        self.move(x, y)
+
+    def _fit_heatmap(self) -> None:
+        """Give the heatmap the width at which its square cells fill its height."""
+        total = sum(self.tune_split.sizes())
+        if total <= 0:
+            return
+        want = self.heatmap.preferred_width(self.tune_split.height())
+        want = min(max(want, 220), round(total * 0.55))
+        self.tune_split.setSizes([want, total - want])
+
+    def resizeEvent(self, event) -> None:  # Qt override
+        super().resizeEvent(event)
+        QtCore.QTimer.singleShot(0, self._fit_heatmap)
+
+    def _update_title(self) -> None:
+        """``tactile-tuner - preset[*] - method, mu, gamma``: current, with a star once the
+        scene differs from the preset it came from."""
+        scene = self.state.scene
+        modified = self._preset_scene is not None and not _same_tuning(scene, self._preset_scene)
+        name = self.preset_name + (" *" if modified else "")
+        self.setWindowTitle(
+            f"tactile-tuner - {name} - {scene.method}, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
+        )
+
+    def _on_device_status_changed(self, stats) -> None:
+        """A lost device is obvious: a banner over the tabs and the heatmap marked."""
+        lost = stats.state in ("disconnected", "failed", "refused") or (
+            stats.state == "stopped" and not self.device.simulated
+        )
+        if lost:
+            self.banner.setText(f"Device not streaming ({stats.state}): {stats.status}")
+        self.banner.setVisible(lost)
+        self.heatmap.set_streaming(not lost, f"not streaming: {stats.state}")
+
+    # --- pulses and scrubbing ------------------------------------------------------------------
+
+    def pulse_cell(self, col: int, row: int, hold: bool = False) -> None:
+        """Play one tactor alone at full drive: a 0.3 s pulse, or held (Shift+click) until the
+        next click, Space or Esc. The scene before it comes back afterwards."""
+        if self.experiments.running or self.blind.active or self.heatmap.drawing:
+            return
+        held = self._pulse is not None and self._pulse[1]
+        self._end_pulse(restore=True)
+        if held:
+            return  # a click releases a held tactor
+        centre = (col + 0.5, row + 0.5)
+        backup = self.state.scene
+        self._pulse = (backup, hold)
+        self.state.set_scene(backup.replace(
+            shape=tc.Line(centre, centre), method="CT", mu=0.0, gamma=1.0, gain=1.0,
+            duration_s=0.3, pause_s=0.0, repeat=hold, playing=True, epoch=backup.epoch + 1,
+        ))  # fmt: skip
+        what = "holding" if hold else "pulsing"
+        self.statusBar().showMessage(
+            f"{what} tactor ({col},{row})" + (": click again or press Esc to release" if hold
+                                              else ""), 4000)  # fmt: skip
+        if not hold:
+            self._pulse_timer.start(400)
+
+    def _end_pulse(self, restore: bool) -> None:
+        if self._pulse is None:
+            return
+        backup, _ = self._pulse
+        self._pulse = None
+        self._pulse_timer.stop()
+        if restore:
+            self.state.set_scene(backup.replace(epoch=self.state.scene.epoch + 1))
+
+    def _on_curves_scrubbed(self, time_s: float) -> None:
+        """The cursor dragged: the array pauses; the views show the trace at that time."""
+        if self.state.scene.playing:
+            self.state.update(playing=False)
+        self._scrub_s = max(0.0, float(time_s))
 
     def toggle_play(self) -> None:
         """Play or pause the trace (Space)."""
+        if self._pulse is not None:
+            self._end_pulse(restore=True)
+            return
         self.state.update(playing=not self.state.scene.playing)
 
-    def press_number(self, key: int) -> None:
-        """Keys 1-4: the method, or in blind A/B the shuffled method behind the key."""
+    def press_number(self, key: int) -> bool:
+        """Number keys: the method, or in blind A/B the shuffled method behind the key; True if
+        the key meant something."""
         if self.blind.mapping and not self.blind.revealed:
+            if key > len(self.blind.mapping):
+                return False
             self.blind.select_key(key)
-            return
-        name = list(METHODS)[key - 1]
+            return True
+        names = self.controls.method_names()
+        if key > len(names):
+            return False
+        name = names[key - 1]
         if self.heatmap.drawing and METHODS[name].needs_shape:
             self.show_error(f"{name} is not available in draw mode: {DRAW_HELP}")
-            return
+            return True
         self.state.update(method=name)
+        return True
+
+    def return_focus(self) -> None:
+        """Give the keyboard back to the window (after Enter in a field)."""
+        focus = QtWidgets.QApplication.focusWidget()
+        if focus is not None and is_text_input(focus):
+            focus.clearFocus()
+        self.tabs.setFocus()
 
     def show_error(self, message: str) -> None:
         """Tell the user what went wrong, without stopping anything."""
@@ -290,7 +509,8 @@ class MainWindow(QtWidgets.QMainWindow):
         self.set_draw_mode(False)
         self.state.set_scene(preset.scene.replace(epoch=self.state.scene.epoch + 1))
         self.preset_name, self.preset_notes = preset.name, preset.notes
-        self.setWindowTitle(f"tactile-tuner - {preset.name}")
+        self._preset_scene = preset.scene
+        self._update_title()
         self.statusBar().showMessage(f"loaded preset {preset.name}", 5000)
         return True
 
@@ -312,14 +532,13 @@ class MainWindow(QtWidgets.QMainWindow):
         return True
 
     def _on_open_preset(self) -> None:
-        path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Open preset", "", "Presets (*.json)")
+        path = dialogs.open_path(self, "presets", "Open preset", ["Presets (*.json)"])
         if path:
             self.load_preset_file(path)
 
     def _on_save_preset(self) -> None:
-        path, _ = QtWidgets.QFileDialog.getSaveFileName(
-            self, "Save preset", "preset.json", "Presets (*.json)"
-        )
+        name = f"{dialogs.tuning_tag(self.state.scene)}-{dialogs.today()}.json"
+        path = dialogs.save_path(self, "presets", "Save preset", name, ["Presets (*.json)"])
         if path:
             self.save_preset_file(path)
 
@@ -365,23 +584,25 @@ class MainWindow(QtWidgets.QMainWindow):
         return True
 
     def _on_export_curves(self) -> None:
-        path, _ = QtWidgets.QFileDialog.getSaveFileName(
-            self, "Export activation curves", "curves.csv", "CSV (*.csv);;PNG (*.png);;SVG (*.svg)"
-        )
+        scene = self.state.scene
+        kind = type(scene.shape).__name__.lower() if scene.shape is not None else "none"
+        name = f"curves-{kind}-{dialogs.tuning_tag(scene)}-{dialogs.today()}.csv"
+        path = dialogs.save_path(self, "exports", "Export activation curves", name,
+                                 ["CSV (*.csv)", "PNG (*.png)", "SVG (*.svg)"])  # fmt: skip
         if path:
             self.export_curves(path)
 
     def _on_export_lut(self) -> None:
-        path, _ = QtWidgets.QFileDialog.getSaveFileName(
-            self, "Export correction table", "tactile_lut.h", "C header (*.h);;CSV (*.csv)"
-        )
+        scene = self.state.scene
+        levels = self.device.profile.levels
+        name = f"lut-mu{scene.mu:.2f}-gamma{scene.gamma:.2f}-{levels}levels.h"
+        path = dialogs.save_path(self, "exports", "Export correction table", name,
+                                 ["C header (*.h)", "CSV (*.csv)"])  # fmt: skip
         if path:
             self.export_lut(path)
 
     def _on_profile_requested(self) -> None:
-        path, _ = QtWidgets.QFileDialog.getOpenFileName(
-            self, "Device profile", "", "Profiles (*.json)"
-        )
+        path = dialogs.open_path(self, "profiles", "Device profile", ["Profiles (*.json)"])
         if path:
             try:
                 self.device.set_profile(load_profile(path))
@@ -391,25 +612,27 @@ class MainWindow(QtWidgets.QMainWindow):
     # --- draw mode and blind A/B -----------------------------------------------------------
 
     def set_draw_mode(self, on: bool) -> None:
-        """Drag on the heatmap to move a free point (CT and AS only)."""
+        """Drag on the heatmap to move a free point (CT and AS only). Leaving draw mode puts back
+        the whole scene it changed (shape, method, pause, playing)."""
         on = bool(on)
         if on == self.heatmap.drawing:
             return
         if on:
+            self._end_pulse(restore=True)
             self._draw_backup = self.state.scene
             changes = {"pause_s": 0.0, "playing": False}
             if METHODS[self.state.scene.method].needs_shape:
                 changes["method"] = "AS"
                 self.statusBar().showMessage(f"draw mode uses AS: {DRAW_HELP}", 10_000)
             centre = (self.heatmap.cols / 2, self.heatmap.rows / 2)
+            self.heatmap.set_drawing(True)
             self.state.update(shape=tc.Line(centre, centre), **changes)
+            self.curves.clear_curves()  # a free point has no trace to plot
         else:
-            backup = self._draw_backup
+            self.heatmap.set_drawing(False)
+            backup, self._draw_backup = self._draw_backup, None
             if backup is not None:
-                self.state.update(
-                    shape=backup.shape, pause_s=backup.pause_s, playing=backup.playing
-                )
-        self.heatmap.set_drawing(on)
+                self.state.set_scene(backup.replace(epoch=self.state.scene.epoch + 1))
         self.controls.set_draw_mode(on)
 
     def _on_heatmap_point_drawn(self, x: float, y: float) -> None:
@@ -474,6 +697,12 @@ class MainWindow(QtWidgets.QMainWindow):
         self.correction.set_params(scene.mu, scene.gamma, profile.levels, profile.response)
         if scene.shape is None:
             return
+        if self.heatmap.drawing or self._pulse is not None:
+            # A free point or a pulsed tactor has no trace worth plotting: no curves, no frames
+            self.curves.clear_curves()
+            self.heatmap.set_cell_frames({})
+            self.heatmap.set_outline(None)
+            return
         curves = activation_curves(
             scene.shape,
             scene.method,
@@ -489,7 +718,10 @@ class MainWindow(QtWidgets.QMainWindow):
         self.heatmap.set_cell_frames(colors)
         self.heatmap.set_outline(None if self.heatmap.drawing else scene.shape.outline())
         if not self.blind.active:
-            self.curves.plotItem.setTitle(f"{scene.method} activation: solid corrected, dashed raw")
+            self.curves.plotItem.setTitle(
+                f"{scene.method} activation, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}: "
+                "solid corrected, dashed raw"
+            )
 
     def _on_device_connection_changed(self, description: str) -> None:
         self.statusBar().showMessage(f"streaming to {description}", 5000)
@@ -514,7 +746,12 @@ class MainWindow(QtWidgets.QMainWindow):
         if trace is not None and trace_time is not None and scene.playing:
             t = trace.parameter1(trace_time)
             phase = math.fmod(trace_time, trace.period_s) if trace.repeat else trace_time
+        elif trace is not None and self._scrub_s is not None and not scene.playing:
+            phase = min(self._scrub_s, trace.period_s)  # scrubbing: where the cursor was left
+            t = trace.parameter1(phase)
         mode = self.state.view_mode
+        if self._scrub_s is not None and mode in ("sent", "felt") and not scene.playing:
+            mode = "corrected"  # the array is paused while scrubbing: show what it would get
         grid = self.device.profile.grid
         labels = None
         if mode in ("raw", "corrected"):
@@ -567,6 +804,7 @@ class MainWindow(QtWidgets.QMainWindow):
         except (ValueError, TypeError):
             return None  # a damaged setting: start from the default
         self.preset_name, self.preset_notes = preset.name, preset.notes
+        self._restored_preset_scene = preset.scene
         return preset.scene
 
     def _restore_layout(self) -> None:
@@ -579,6 +817,7 @@ class MainWindow(QtWidgets.QMainWindow):
         mode = self.settings.value("view_mode")
         if mode:
             self.state.set_view_mode(str(mode))
+        self.lanes_check.setChecked(str(self.settings.value("lanes", "false")).lower() == "true")
 
     def save_settings(self) -> None:
         """Remember the scene and the window layout for the next start. During a run the
@@ -589,10 +828,13 @@ class MainWindow(QtWidgets.QMainWindow):
         self.settings.setValue("geometry", self.saveGeometry())
         self.settings.setValue("windowState", self.saveState())
         self.settings.setValue("view_mode", self.state.view_mode)
+        self.settings.setValue("lanes", self.lanes_check.isChecked())
         self.settings.sync()
 
     def closeEvent(self, event) -> None:  # Qt override
         self.display_timer.stop()
+        for box in self.findChildren(QtWidgets.QMessageBox):
+            box.close()
         self.device.shutdown()  # all off first
         self.experiments.stop()  # a run: its file closed, the participant released
         self.experiments.participant_window.hide()

@@ -13,11 +13,13 @@ def test_every_source_package_is_listed_in_pyproject():
     listed = set(config["packages"])
     found = {
         ".".join(init.parent.relative_to(ROOT).parts)
-        for top in ("tactile_core", "app")
-        for init in (ROOT / top).rglob("__init__.py")
+        for init in (ROOT / "tactile_core").rglob("__init__.py")
         if "__pycache__" not in init.parts
     }
     assert found <= listed, f"missing from pyproject packages: {sorted(found - listed)}"
+    # The GUI lives in app/ but installs under its own name, not a generic top-level "app".
+    assert "app" not in listed and config["package-dir"]["tactile_tuner"] == "app"
+    assert not list((ROOT / "app").glob("*/__init__.py"))  # no subpackages left out
     mapped = {name for name in listed if name.startswith("tactile_core._assets")}
     assert config["package-dir"]["tactile_core._assets"] == "assets"
     for name in mapped - {"tactile_core._assets"}:

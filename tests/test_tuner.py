@@ -20,7 +20,7 @@ pytestmark = pytest.mark.usefixtures("qt_settings")
 
 @pytest.fixture
 def window(qtbot):
-    from app.window import MainWindow
+    from tactile_tuner.window import MainWindow
 
     win = MainWindow(restore=False)
     qtbot.addWidget(win)
@@ -69,7 +69,7 @@ def test_mu_spin_box_reaches_the_wire(window, qtbot):
 
 
 def test_gamma_slider_is_logarithmic(window):
-    from app.panels import gamma_to_slider, slider_to_gamma
+    from tactile_tuner.panels import gamma_to_slider, slider_to_gamma
 
     assert slider_to_gamma(0) == pytest.approx(0.1)
     assert slider_to_gamma(500) == pytest.approx(1.0)
@@ -344,7 +344,7 @@ def test_draw_mode_moves_a_free_point_with_ct_and_as_only(window, qtbot):
 
 
 def test_closing_the_window_turns_the_array_off(qtbot):
-    from app.window import MainWindow
+    from tactile_tuner.window import MainWindow
 
     win = MainWindow(restore=False)
     qtbot.addWidget(win)
@@ -359,7 +359,7 @@ def test_closing_the_window_turns_the_array_off(qtbot):
 
 
 def test_last_session_is_restored(qtbot):
-    from app.window import MainWindow
+    from tactile_tuner.window import MainWindow
 
     first = MainWindow(restore=True)
     qtbot.addWidget(first)
@@ -375,7 +375,7 @@ def test_last_session_is_restored(qtbot):
 
 
 def test_damaged_settings_fall_back_to_the_default(qtbot):
-    from app.window import MainWindow
+    from tactile_tuner.window import MainWindow
 
     QtCore.QSettings().setValue("scene", "{broken")
     win = MainWindow(restore=True)
@@ -411,7 +411,7 @@ def test_screenshot_command(tmp_path):
     out = tmp_path / "shot.png"
     env = {"QT_QPA_PLATFORM": "offscreen", "HOME": str(tmp_path), "PATH": "/usr/bin:/bin"}
     proc = subprocess.run(
-        [sys.executable, "-m", "app.main", "--screenshot", str(out)],
+        [sys.executable, "-m", "tactile_tuner.main", "--screenshot", str(out)],
         capture_output=True, text=True, timeout=120, env=env,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr
@@ -426,7 +426,8 @@ def test_bad_command_line_files_exit_2(tmp_path):
     bad.write_text("{")
     for args in (["--preset", str(bad)], ["--profile", str(bad)]):
         proc = subprocess.run(
-            [sys.executable, "-m", "app.main", *args, "--screenshot", str(tmp_path / "x.png")],
+            [sys.executable, "-m", "tactile_tuner.main", *args, "--screenshot",
+             str(tmp_path / "x.png")],
             capture_output=True, text=True, timeout=60,
             env={"QT_QPA_PLATFORM": "offscreen", "PATH": "/usr/bin:/bin"},
         )  # fmt: skip
@@ -444,8 +445,8 @@ def test_app_has_no_stray_top_level_message_boxes_after_errors(window):
 
 
 def test_felt_view_needs_a_response_curve(qtbot, tmp_path):
-    from app.window import MainWindow
     from tactile_core.device import default_profile, profile_from_dict
+    from tactile_tuner.window import MainWindow
 
     data = default_profile().to_dict()
     data.pop("response")

@@ -10,14 +10,16 @@ import tactile_core as tc
 
 @pytest.fixture(autouse=True)
 def quick_runs(qt_settings, monkeypatch):
-    import app.experiments
+    import tactile_tuner.experiments
 
-    monkeypatch.setattr(app.experiments, "GAP_S", 0.01)  # no pause between questions in tests
+    monkeypatch.setattr(
+        tactile_tuner.experiments, "GAP_S", 0.01
+    )  # no pause between questions in tests
 
 
 @pytest.fixture
 def window(qtbot, tmp_path):
-    from app.window import MainWindow
+    from tactile_tuner.window import MainWindow
 
     win = MainWindow(restore=False)
     qtbot.addWidget(win)

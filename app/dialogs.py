@@ -1,0 +1,86 @@
+"""File dialogs that remember their folder per kind of file and propose useful names.
+
+Each kind (presets, exports, ratings, profiles, results) remembers the folder last used for it
+(in the tuner's settings); a proposed name carries what the file holds (method, mu and gamma,
+participant, date); a name typed without an extension gets the selected filter's.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import re
+from pathlib import Path
+
+from PySide6 import QtCore, QtWidgets
+
+
+def today() -> str:
+    """``YYYY-MM-DD``, for file names."""
+    return dt.date.today().isoformat()
+
+
+def tuning_tag(scene) -> str:
+    """``AS-mu0.33-gamma0.70``: a scene's method and correction, for file names."""
+    return f"{scene.method}-mu{scene.mu:.2f}-gamma{scene.gamma:.2f}"
+
+
+def safe_name(text: str) -> str:
+    """``text`` with anything but letters, digits and ``._-`` turned into ``-``."""
+    return re.sub(r"[^A-Za-z0-9._-]+", "-", text).strip("-") or "untitled"
+
+
+def filter_extensions(selected_filter: str) -> list[str]:
+    """The extensions of a dialog filter such as ``"CSV (*.csv)"``: ``[".csv"]``."""
+    return [f".{e.lower()}" for e in re.findall(r"\*\.(\w+)", selected_filter)]
+
+
+def with_filter_extension(path, selected_filter: str) -> Path:
+    """``path``, with the selected filter's extension added if it has none of the filter's."""
+    path = Path(path)
+    extensions = filter_extensions(selected_filter)
+    if extensions and path.suffix.lower() not in extensions:
+        path = path.with_name(path.name + extensions[0])
+    return path
+
+
+def _folder(kind: str) -> str:
+    value = QtCore.QSettings().value(f"folders/{kind}")
+    if value and Path(str(value)).is_dir():
+        return str(value)
+    return str(Path.home())
+
+
+def _remember(kind: str, path: Path) -> None:
+    QtCore.QSettings().setValue(f"folders/{kind}", str(path.parent))
+
+
+def save_path(parent, kind: str, title: str, name: str, filters: list[str]) -> Path | None:
+    """Ask where to save; the chosen path (extension added), or None if cancelled."""
+    start = str(Path(_folder(kind)) / name)
+    path, selected = QtWidgets.QFileDialog.getSaveFileName(parent, title, start, ";;".join(filters))
+    if not path:
+        return None
+    path = with_filter_extension(path, selected or filters[0])
+    _remember(kind, path)
+    return path
+
+
+def open_path(parent, kind: str, title: str, filters: list[str]) -> Path | None:
+    """Ask for a file to open (starting in the folder last used for ``kind``)."""
+    path, _ = QtWidgets.QFileDialog.getOpenFileName(
+        parent, title, _folder(kind), ";;".join(filters)
+    )
+    if not path:
+        return None
+    path = Path(path)
+    _remember(kind, path)
+    return path
+
+
+def folder_path(parent, kind: str, title: str, start: str = "") -> Path | None:
+    """Ask for a folder."""
+    folder = QtWidgets.QFileDialog.getExistingDirectory(parent, title, start or _folder(kind))
+    if not folder:
+        return None
+    QtCore.QSettings().setValue(f"folders/{kind}", folder)
+    return Path(folder)
