@@ -211,6 +211,13 @@ class ExperimentsPanel(QtWidgets.QWidget):
             "Where the participant's window goes: full screen on a screen, or a window"
         )
         self._fill_screens()
+        # Long titles elide rather than widen the tab past a 1280-pixel screen.
+        for combo in (self.experiment_combo, self.screen_combo):
+            combo.setSizeAdjustPolicy(
+                QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon
+            )
+            combo.setMinimumContentsLength(18)
+        self.experiment_combo.setToolTip("The paper's experiment to run (Section 5)")
         form.addRow("experiment", self.experiment_combo)
         form.addRow("participant id", self.participant_edit)
         form.addRow("results folder", folder_row)
@@ -268,10 +275,11 @@ class ExperimentsPanel(QtWidgets.QWidget):
         )
         self.save_profile_button = QtWidgets.QPushButton("Save calibrated profile...")
         self.save_profile_button.setEnabled(False)
-        for w in (self.analyze_button, self.paper_rounding_check, self.save_profile_button):
+        for w in (self.analyze_button, self.save_profile_button):
             row.addWidget(w)
         row.addStretch(1)
         r.addLayout(row)
+        r.addWidget(self.paper_rounding_check)
         self.analysis_progress = QtWidgets.QProgressBar()
         self.analysis_progress.setVisible(False)
         r.addWidget(self.analysis_progress)

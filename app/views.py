@@ -44,6 +44,30 @@ def _style_plot(plot: pg.PlotItem, colors: dict) -> None:
     plot.titleLabel.setText(plot.titleLabel.text)
 
 
+class ElidedLabel(QtWidgets.QLabel):
+    """A one-line label that shortens its text with an ellipsis instead of widening its panel.
+
+    The full text stays available as the tooltip.
+    """
+
+    def __init__(self, text: str, parent=None):
+        super().__init__(text, parent)
+        self.setToolTip(text)
+        self.setSizePolicy(
+            QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Preferred
+        )
+
+    def minimumSizeHint(self) -> QtCore.QSize:  # Qt override
+        return QtCore.QSize(0, super().minimumSizeHint().height())
+
+    def paintEvent(self, event) -> None:  # Qt override
+        painter = QtGui.QPainter(self)
+        text = self.fontMetrics().elidedText(
+            self.text(), QtCore.Qt.TextElideMode.ElideRight, self.contentsRect().width()
+        )
+        painter.drawText(self.contentsRect(), int(self.alignment()), text)
+
+
 class _PaletteMixin:
     """Restyle when the application palette changes (light <-> dark)."""
 

@@ -31,7 +31,7 @@ from .device import DeviceController
 from .experiments import ExperimentsPanel
 from .panels import DRAW_HELP, ControlsPanel, DevicePanel
 from .state import TunerState
-from .views import CorrectionView, CurvesView, HeatmapView, cell_colors
+from .views import CorrectionView, CurvesView, ElidedLabel, HeatmapView, cell_colors
 
 DISPLAY_HZ = 60
 HIDDEN_BLIND = (
@@ -169,11 +169,16 @@ class MainWindow(QtWidgets.QMainWindow):
         box = QtWidgets.QVBoxLayout(curves_box)
         box.setContentsMargins(0, 0, 0, 0)
         bar = QtWidgets.QHBoxLayout()
-        hint = QtWidgets.QLabel("drag the dashed cursor to scrub; hover a curve or a cell")
+        hint = ElidedLabel("drag the cursor to scrub; hover for values; dashed: raw")
         hint.setObjectName("curves_hint")
+        hint.setToolTip(
+            "Solid curves are corrected, dashed ones raw. Pause, then drag the dashed cursor to "
+            "show any instant of the trace on the heatmap; hover a curve or a heatmap cell to "
+            "read its tactor and value"
+        )
+        hint.setAlignment(QtCore.Qt.AlignmentFlag.AlignRight | QtCore.Qt.AlignmentFlag.AlignVCenter)
         bar.addWidget(self.lanes_check)
-        bar.addStretch(1)
-        bar.addWidget(hint)
+        bar.addWidget(hint, 1)
         box.addLayout(bar)
         box.addWidget(self.curves, 1)
         self.correction = CorrectionView()
@@ -380,7 +385,8 @@ class MainWindow(QtWidgets.QMainWindow):
         if total <= 0:
             return
         want = self.heatmap.preferred_width(self.tune_split.height())
-        want = min(max(want, 220), round(total * 0.55))
+        right = self.tune_split.widget(1).minimumSizeHint().width()
+        want = min(max(want, 220), round(total * 0.55), total - right)
         self.tune_split.setSizes([want, total - want])
 
     def resizeEvent(self, event) -> None:  # Qt override
@@ -719,8 +725,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.heatmap.set_outline(None if self.heatmap.drawing else scene.shape.outline())
         if not self.blind.active:
             self.curves.plotItem.setTitle(
-                f"{scene.method} activation, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}: "
-                "solid corrected, dashed raw"
+                f"{scene.method} activation, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
             )
 
     def _on_device_connection_changed(self, description: str) -> None:

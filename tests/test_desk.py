@@ -296,6 +296,31 @@ def test_at_1280x720_the_controls_never_scroll_sideways(window, qtbot):
     assert scroll.viewport().width() >= window.controls.minimumSizeHint().width()
 
 
+def test_at_1280x720_the_window_fits_on_every_tab(window, qtbot):
+    # The window cannot be narrower than its widest tab: one wide tab widened it to 1472 px.
+    for i in range(window.tabs.count()):
+        window.tabs.setCurrentIndex(i)
+        window.resize(1280, 720)
+        qtbot.wait(20)
+        assert window.minimumSizeHint().width() <= 1280, window.tabs.tabText(i)
+        assert window.width() <= 1280, window.tabs.tabText(i)
+    window.tabs.setCurrentIndex(0)
+
+
+@pytest.mark.parametrize("size", [(1280, 720), (1600, 1000)])
+def test_the_curve_title_and_hint_fit_their_panel(window, qtbot, size):
+    # A title wider than its plot is cut off at the right (it was, at 1600 x 1000).
+    window.resize(*size)
+    qtbot.wait(50)
+    window._fit_heatmap()
+    qtbot.wait(20)
+    title = window.curves.plotItem.titleLabel.item.boundingRect().width()
+    assert 0 < title <= window.curves.width()
+    hint = window.findChild(QtWidgets.QLabel, "curves_hint")
+    assert hint.minimumSizeHint().width() == 0  # elides; never sets the panel's width
+    assert "drag the dashed cursor" in hint.toolTip()
+
+
 def test_every_parameter_has_a_short_tooltip_with_unit_or_section(window):
     c = window.controls
     widgets = [c.mu_spin, c.mu_slider, c.gamma_spin, c.gamma_slider, c.duration_spin,
