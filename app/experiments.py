@@ -26,6 +26,8 @@ from tactile_core.device import default_profile
 from tactile_core.experiments import RUNNERS, open_session
 from tactile_core.experiments.analysis import analyze
 from tactile_core.experiments.results import SESSION_FILE, check_participant
+from tactile_core.experiments.runners import INTERVAL_GAP_S, INTERVAL_S
+from tactile_core.experiments.tuning import save_correction
 from tactile_core.scene import Scene
 
 from .state import TunerState
@@ -35,6 +37,7 @@ TITLES = {
     "exp2": "Experiment 2: shortest line whose direction is felt (AS)",
     "exp3": "Experiment 3: circle or square, per method",
     "calibration": "Tactor calibration: detection threshold of every tactor",
+    "correction": "Tune the correction by feel: measure mu and gamma",
 }
 KEYS = {
     "continue": "any letter key to go on",
@@ -43,6 +46,7 @@ KEYS = {
     "direction": "arrow keys",
     "shape": "C for circle, S for square",
     "detect": "Y (felt) or N (not felt); R to feel it again",
+    "interval": "1 or 2 once both intervals have played; R to feel both again",
 }
 GAP_S = 0.8  # the array is off between a question's answer and the next stimulus
 LINK_DOWN = ("disconnected", "stopped", "failed", "refused")
@@ -128,6 +132,46 @@ class ParticipantWindow(QtWidgets.QWidget):
         super().closeEvent(event)
 
 
+class TuningResultDialog(QtWidgets.QDialog):
+    """The result of tuning the correction by feel: mu and gamma with their intervals, and
+    *Apply* (to the tuner now) and *Save as preset...*; without a correction, why not."""
+
+    applied = QtCore.Signal()
+    save_requested = QtCore.Signal()
+
+    def __init__(self, result, preset_path=None, parent=None):
+        super().__init__(parent)
+        self.setWindowTitle("Correction measured" if result.ok else "No correction")
+        self.setObjectName("tuning_result")
+        layout = QtWidgets.QVBoxLayout(self)
+        text = QtWidgets.QPlainTextEdit(result.summary())
+        text.setReadOnly(True)
+        text.setFont(QtGui.QFontDatabase.systemFont(QtGui.QFontDatabase.SystemFont.FixedFont))
+        text.setMinimumSize(520, 220)
+        layout.addWidget(text)
+        if preset_path is not None:
+            where = QtWidgets.QLabel(f"Kept in {preset_path.parent} (correction.json and "
+                                     f"{preset_path.name}).")  # fmt: skip
+            where.setWordWrap(True)
+            layout.addWidget(where)
+        buttons = QtWidgets.QDialogButtonBox()
+        self.apply_button = buttons.addButton(
+            "Apply", QtWidgets.QDialogButtonBox.ButtonRole.AcceptRole
+        )
+        self.save_button = buttons.addButton(
+            "Save as preset...", QtWidgets.QDialogButtonBox.ButtonRole.ActionRole
+        )
+        buttons.addButton(QtWidgets.QDialogButtonBox.StandardButton.Close)
+        for b in (self.apply_button, self.save_button):
+            b.setEnabled(result.ok)
+        self.apply_button.setToolTip("Set the tuner's mu and gamma to the measured ones")
+        self.apply_button.clicked.connect(self.applied)
+        self.apply_button.clicked.connect(self.accept)
+        self.save_button.clicked.connect(self.save_requested)
+        buttons.rejected.connect(self.reject)
+        layout.addWidget(buttons)
+
+
 class ExperimentsPanel(QtWidgets.QWidget):
     """The experimenter's console: sets up, starts, watches and analyses the runs.
 
@@ -147,6 +191,9 @@ class ExperimentsPanel(QtWidgets.QWidget):
     error_raised = QtCore.Signal(str)
     calibration_done = QtCore.Signal(object)
     """``(offset, gain, threshold)`` lists when a calibration run finishes."""
+    correction_measured = QtCore.Signal(object, object)
+    """``(TuningResult, preset path or None)`` when a tuning run finishes, with or without a
+    correction (``result.ok``)."""
     _analysis_done = QtCore.Signal(object, str)
     _analysis_progress = QtCore.Signal(float, str)
 
@@ -314,11 +361,34 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.gap_timer = QtCore.QTimer(self)
         self.gap_timer.setSingleShot(True)
         self.gap_timer.timeout.connect(self._present)
+        # Two-interval trials: interval 1, a gap, interval 2, then the question.
+        self.interval_timer = QtCore.QTimer(self)
+        self.interval_timer.setSingleShot(True)
+        self.interval_timer.timeout.connect(self._next_interval)
+        self._steps: list = []
+        self.last_tuning = None
         self.health_timer = QtCore.QTimer(self)
         self.health_timer.timeout.connect(self._on_health_timer_timeout)
         self.health_timer.start(500)
 
     # --- session ------------------------------------------------------------------------------
+
+    def prepare_tuning(self) -> None:
+        """Set the console up for tuning the correction by feel, and say what comes."""
+        from tactile_core.experiments.tuning import TuningPlan
+
+        self.experiment_combo.setCurrentIndex(self.experiment_combo.findData("correction"))
+        plan = TuningPlan()
+        trials = 5 * plan.threshold_trials + 2 * plan.gamma_trials + plan.corner_trials
+        self.run_label.setText(
+            "Tuning the correction by feel. 1. Type the participant's id. 2. Their hand on the "
+            "array, the participant's window in front of them. 3. Start. Part 1: which of two "
+            "intervals held a weak vibration, at 5 tactors (mu: the drive just felt). Part 2: "
+            "which of two felt stronger, a point between tactors or one on a tactor (gamma: "
+            f"where they feel the same). {trials} trials, about {round(trials * 3.2 / 60)} "
+            "minutes; Esc pauses with the array off, Start resumes later."
+        )
+        self.participant_edit.setFocus()
 
     @property
     def running(self) -> bool:
@@ -430,9 +500,39 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.running_changed.emit(False)
 
     def _stop_timers(self) -> None:
-        for timer in (self.limit_timer, self.tick_timer, self.gap_timer):
+        for timer in (self.limit_timer, self.tick_timer, self.gap_timer, self.interval_timer):
             timer.stop()
+        self._steps = []
         self.countdown.setText("")
+
+    # --- two-interval trials ------------------------------------------------------------------
+
+    @property
+    def intervals_playing(self) -> bool:
+        """True while the intervals of a two-interval trial are being played."""
+        return bool(self._steps) or self.interval_timer.isActive()
+
+    def _play_intervals(self, trial) -> None:
+        """Play interval 1, a silent gap, interval 2; then ask (the participant's window shows
+        which interval is playing, in large type)."""
+        one, two = trial.intervals
+        self._steps = [(one, INTERVAL_S, "1"), (None, INTERVAL_GAP_S, ""), (two, INTERVAL_S, "2"),
+                       (None, 0.0, None)]  # fmt: skip
+        self._next_interval()
+
+    def _next_interval(self) -> None:
+        if not self._steps:
+            return
+        scene, seconds, label = self._steps.pop(0)
+        self._play(scene)
+        if label is None:  # both played: the question
+            self.countdown.setText("")
+            self.prompt.setText(self.runner.current.prompt if self.runner and
+                                self.runner.current else "")  # fmt: skip
+            self.trial_started = time.monotonic()
+            return
+        self.countdown.setText(f"interval {label}" if label else "")
+        self.interval_timer.start(round(seconds * 1000))
 
     # --- trials -------------------------------------------------------------------------------
 
@@ -468,7 +568,11 @@ class ExperimentsPanel(QtWidgets.QWidget):
         if trial.kind == "rating":
             self.rating_edit.clear()
             self.rating_edit.setFocus()
-        self._play(trial.scene)
+        if trial.kind == "interval":
+            self.prompt.setText("Feel both intervals.")
+            self._play_intervals(trial)
+        else:
+            self._play(trial.scene)
         self._presentations += 1
         if self._presentations > 1:
             self.log_event(f"trial {trial.stage} {trial.index} presented again "
@@ -501,6 +605,8 @@ class ExperimentsPanel(QtWidgets.QWidget):
         runner = self.runner
         if runner is None or runner.current is None or self.gap_timer.isActive() or self._paused:
             return False
+        if self.intervals_playing:
+            return False  # both intervals first
         trial = runner.current
         rt = time.monotonic() - self.trial_started
         health = {"presentations": self._presentations}
@@ -520,7 +626,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self._presentations = 0
         self._stop_timers()
         self.feedback.setText(feedback)
-        if trial.kind in ("direction", "shape", "detect"):
+        if trial.kind in ("direction", "shape", "detect", "interval"):
             self._play(None)  # silence before the next stimulus
             self.gap_timer.start(round(GAP_S * 1000))
         else:
@@ -536,9 +642,15 @@ class ExperimentsPanel(QtWidgets.QWidget):
         return True
 
     def replay(self) -> None:
-        """Play the current trial's stimulus again (calibration: R)."""
-        if self.runner and self.runner.current and self.runner.current.scene is not None:
-            self._play(self.runner.current.scene)
+        """Play the current trial's stimulus again (calibration: R), or both its intervals."""
+        trial = self.runner.current if self.runner else None
+        if trial is None or self._paused:
+            return
+        if trial.kind == "interval":
+            self.interval_timer.stop()
+            self._play_intervals(trial)
+        elif trial.scene is not None:
+            self._play(trial.scene)
 
     def pause(self, why: str = "paused (Esc)") -> None:
         """The array off; the trial is presented again when the run resumes."""
@@ -630,6 +742,12 @@ class ExperimentsPanel(QtWidgets.QWidget):
                 return self.submit(arrows[key])
         if kind == "shape" and key in (k.Key_C, k.Key_S):
             return self.submit("circle" if key == k.Key_C else "square")
+        if kind == "interval":
+            if key in (k.Key_1, k.Key_2):
+                return self.submit("1" if key == k.Key_1 else "2")
+            if key == k.Key_R:
+                self.replay()
+                return True
         if kind == "detect":
             if key in (k.Key_Y, k.Key_N):
                 return self.submit("yes" if key == k.Key_Y else "no")
@@ -647,6 +765,8 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.run_label.setText(f"Finished. Results are in {runner.session.folder}.")
         self.progress.setValue(self.progress.maximum())
         self.log_event(f"finished {runner.experiment}: {runner.done} answers in {runner.path}")
+        if runner.experiment == "correction":
+            self._finish_tuning(runner)
         if runner.experiment == "calibration":
             try:
                 self.last_calibration = runner.calibration()
@@ -658,6 +778,27 @@ class ExperimentsPanel(QtWidgets.QWidget):
         runner.close()
         self.runner = None
         self._end_run()
+
+    def _finish_tuning(self, runner) -> None:
+        """Keep the measured correction (record and preset in the participant's folder), or
+        say why there is none; the window offers to apply it."""
+        result = runner.result()
+        preset = None
+        if result.ok:
+            try:
+                _, preset = save_correction(runner, result)
+            except (OSError, ValueError) as exc:
+                self.error_raised.emit(f"could not save the correction: {exc}")
+            self.last_calibration = runner.calibration()
+            self.save_profile_button.setEnabled(True)
+            self.log_event(f"correction: mu {result.mu:.3f}, gamma {result.gamma:.3f} "
+                           f"({result.trials} trials); saved {preset}")  # fmt: skip
+            self.run_label.setText(f"Finished: mu {result.mu:.3f}, gamma {result.gamma:.3f}.")
+        else:
+            self.log_event(f"no correction: {result.message}")
+            self.run_label.setText("Finished without a correction (see the log).")
+        self.last_tuning = result
+        self.correction_measured.emit(result, preset)
 
     # --- analysis and profiles -----------------------------------------------------------------
 

@@ -28,7 +28,7 @@ from tactile_core.render import point_entries
 from . import dialogs
 from .compare import BlindPanel, CompareView
 from .device import DeviceController
-from .experiments import ExperimentsPanel
+from .experiments import ExperimentsPanel, TuningResultDialog
 from .panels import DRAW_HELP, ControlsPanel, DevicePanel
 from .state import TunerState
 from .views import CorrectionView, CurvesView, ElidedLabel, HeatmapView, cell_colors
@@ -282,6 +282,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.experiments.running_changed.connect(self._on_experiments_running_changed)
         self.device.status_changed.connect(self.experiments.on_device_status)
         self.experiments.error_raised.connect(self.show_error)
+        self.experiments.correction_measured.connect(self._on_correction_measured)
         self.experiments.save_profile_requested = self.save_calibrated_profile
         self._key_filter = _KeyFilter(self)
         QtWidgets.QApplication.instance().installEventFilter(self._key_filter)
@@ -323,6 +324,8 @@ class MainWindow(QtWidgets.QMainWindow):
         menu.addAction("Play / pause\tSpace", self.toggle_play)
         menu.addAction("All off\tEsc", self.all_off)
         menu.addAction("Restart trace", self.state.restart)
+        menu.addSeparator()
+        menu.addAction("Tune the correction by feel...", self.start_tuning)
         self.view_menu = menu = self.menuBar().addMenu("&View")
         self._dock_actions = []
         for dock in self.findChildren(QtWidgets.QDockWidget):
@@ -496,6 +499,27 @@ class MainWindow(QtWidgets.QMainWindow):
         box.setAttribute(QtCore.Qt.WidgetAttribute.WA_DeleteOnClose)
         box.open()  # not modal to the event loop: streaming and display keep running
 
+    # --- tuning the correction by feel ----------------------------------------------------------
+
+    def start_tuning(self) -> None:
+        """Guide the experimenter to the tuning procedure (the Experiments tab, set up)."""
+        self.tabs.setCurrentWidget(self.experiments)
+        self.experiments.prepare_tuning()
+
+    def _on_correction_measured(self, result, preset_path) -> None:
+        self.tuning_dialog = dialog = TuningResultDialog(result, preset_path, self)
+        dialog.applied.connect(lambda: self.apply_correction(result.mu, result.gamma))
+        dialog.save_requested.connect(lambda: self.apply_correction(result.mu, result.gamma))
+        dialog.save_requested.connect(self._on_save_preset)
+        dialog.setAttribute(QtCore.Qt.WidgetAttribute.WA_DeleteOnClose)
+        dialog.open()
+
+    def apply_correction(self, mu: float, gamma: float) -> None:
+        """Set the tuner's mu and gamma (a measured correction)."""
+        self.state.update(mu=mu, gamma=gamma)
+        self.statusBar().showMessage(f"applied the measured correction: mu {mu:.3f}, "
+                                     f"gamma {gamma:.3f}", 8000)  # fmt: skip
+
     # --- presets -----------------------------------------------------------------------------
 
     def load_preset_file(self, path) -> bool:
@@ -653,7 +677,8 @@ class MainWindow(QtWidgets.QMainWindow):
         """A run hides everything that shows the stimulus (participants see the screen). A
         calibration run measures raw drive, so a calibrated profile is set aside meanwhile."""
         runner = self.experiments.runner
-        if running and runner is not None and runner.experiment == "calibration":
+        # Tuning measures thresholds on raw drive, as the calibration does.
+        if running and runner is not None and runner.experiment in ("calibration", "correction"):
             if self.device.profile.calibrated:
                 self._profile_before_calibration = self.device.profile
                 self.device.set_profile(self.device.profile.without_calibration())

@@ -272,6 +272,127 @@ def cmd_simulate(args) -> int:
     return 0
 
 
+def _tuning_plan(args):
+    from .experiments.tuning import TuningPlan
+
+    return TuningPlan(args.trials_per_tactor, args.trials_per_place, args.corner_trials)
+
+
+def _print_tuning(result, args, extra: dict) -> int:
+    import json
+
+    if args.json:
+        print(json.dumps({**result.to_dict(), **extra}, indent=2))
+    else:
+        print(result.summary())
+    if not result.ok:
+        print(f"tactile tune-correction: no correction: {result.message}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def cmd_tune_correction(args) -> int:
+    """Measure mu and gamma by feel: against the simulated participant, or a person at an
+    array (keys typed in the terminal)."""
+    from .experiments.tuning import simulate_tuning
+
+    plan = _tuning_plan(args)
+    seed = _validate.integer("seed", args.seed, 0, 2**31 - 1)
+    if args.simulate:
+        if args.device is not None:
+            raise UsageError("--simulate and --device exclude each other")
+        if args.threshold is None or args.exponent is None:
+            raise UsageError("--simulate needs --threshold TH and --exponent K")
+        result = simulate_tuning(
+            args.threshold, args.exponent, seed=seed, plan=plan, threshold_sd=args.threshold_sd,
+            weber=args.weber, lapse=args.lapse,
+        )  # fmt: skip
+        expected = {"mu": args.threshold, "gamma": 1.0 / (2.0 * args.exponent)}
+        return _print_tuning(result, args, {"simulated": True, "expected": expected,
+                                            "seed": seed})  # fmt: skip
+    if args.device is None or args.participant is None or args.results is None:
+        raise UsageError("a session needs --device URL --participant ID --results DIR "
+                         "(or --simulate)")  # fmt: skip
+    return _tune_at_array(args, plan, seed)
+
+
+def _tune_at_array(args, plan, seed) -> int:
+    """The procedure at a real array: trials played by the streamer, answers typed."""
+    from .device import ProfileError, load_profile
+    from .experiments.results import check_participant, open_session
+    from .experiments.runners import INTERVAL_GAP_S, INTERVAL_S
+    from .experiments.tuning import CorrectionTuning, save_correction
+    from .link import LinkError, open_link
+    from .streamer import Streamer
+
+    pid = check_participant(args.participant)
+    check_folder(args.results, "--results")
+    try:
+        profile = load_profile(args.profile)
+    except ProfileError as exc:
+        raise UsageError(str(exc)) from None
+    session = open_session(args.results, pid, seed=seed, device_profile=profile.name)
+    runner = CorrectionTuning(session, plan, profile=profile)
+    stop = threading.Event()
+    _install_stop_handlers(stop)
+    try:
+        link = open_link(args.device, profile)
+    except LinkError as exc:
+        runner.close()
+        print(f"tactile tune-correction: {exc}", file=sys.stderr)
+        return 1
+    streamer = Streamer(link, profile, scene=None)
+    streamer.start()
+
+    def play(scene, seconds):
+        streamer.set_scene(scene)
+        stop.wait(seconds)
+        streamer.all_off()
+
+    try:
+        if runner.recovered:
+            print(f"resumed after a crash: {runner.recovered}", file=sys.stderr)
+        print(f"{runner.done} of {runner.total} answered so far; q then Enter stops (resume "
+              "later with the same command)", file=sys.stderr)  # fmt: skip
+        while not runner.finished and not stop.is_set():
+            trial = runner.current
+            done, total = runner.progress()
+            if trial.kind == "continue":
+                answer = input(f"[{done + 1}/{total}] {trial.prompt} (Enter) ")
+                if answer.strip().lower() == "q":
+                    break
+                runner.answer("continue")
+                continue
+            while not stop.is_set():
+                for k, scene in enumerate(trial.intervals):
+                    print(f"  interval {k + 1}", file=sys.stderr, flush=True)
+                    play(scene, INTERVAL_S)
+                    if k == 0:
+                        stop.wait(INTERVAL_GAP_S)
+                answer = input(f"[{done + 1}/{total}] {trial.prompt} ").strip().lower()
+                if answer in ("1", "2", "q"):
+                    break
+                if answer != "r":
+                    print("  type 1 or 2 (r: again, q: stop)", file=sys.stderr)
+            if stop.is_set() or answer == "q":
+                break
+            runner.answer(answer)
+    except EOFError:
+        pass  # standard input closed: stop; everything answered is on disk
+    finally:
+        stats = streamer.stop()
+        link.close()
+        runner.close()
+    if not runner.finished:
+        print(f"stopped at {runner.done} of {runner.total}; {stats.summary()}", file=sys.stderr)
+        return 1
+    result = runner.result()
+    if result.ok:
+        record, preset = save_correction(runner, result)
+        print(f"saved {record} and {preset}", file=sys.stderr)
+    return _print_tuning(result, args, {"participant": pid})
+
+
 def cmd_bench(args) -> int:
     """Print the benchmark tables."""
     from . import bench
@@ -367,8 +488,43 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.set_defaults(func=cmd_simulate)
 
+    p = sub.add_parser(
+        "tune-correction",
+        help="measure mu and gamma by feel (a participant at an array, or simulated)",
+        description="Two-interval forced choices find the drive one tactor is just felt at "
+        "(mu) and the gamma at which a point between tactors feels as strong as one on a "
+        "tactor. --simulate runs it against the simulated participant of the contract.",
+    )
+    p.add_argument("--simulate", action="store_true", help="the simulated participant")
+    p.add_argument("--threshold", type=float, default=None, help="simulated TH in [0, 0.95]")
+    p.add_argument("--exponent", type=float, default=None, help="simulated K in [0.1, 10]")
+    p.add_argument("--threshold-sd", type=float, default=0.02,
+                   help="simulated threshold spread, drive units (default 0.02)")  # fmt: skip
+    p.add_argument("--weber", type=float, default=0.15,
+                   help="simulated magnitude noise, log units (default 0.15)")  # fmt: skip
+    p.add_argument("--lapse", type=float, default=0.03,
+                   help="simulated lapse rate (default 0.03)")  # fmt: skip
+    p.add_argument("--seed", type=int, default=0, help="seeds the procedure (and simulation)")
+    p.add_argument("--device", metavar="URL", default=None, help="port or URL; 'sim' for the "
+                   "simulated array")  # fmt: skip
+    p.add_argument("--participant", metavar="ID", default=None)
+    p.add_argument("--results", metavar="DIR", default=None, help="results folder")
+    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument("--trials-per-tactor", type=int, default=20, help="threshold trials per "
+                   "tactor, 5 tactors (default 20)")  # fmt: skip
+    p.add_argument("--trials-per-place", type=int, default=24,
+                   help="constancy trials at each of 2 places (default 24)")  # fmt: skip
+    p.add_argument("--corner-trials", type=int, default=12,
+                   help="constancy trials at the cell corner, the check (default 12)")  # fmt: skip
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.set_defaults(func=cmd_tune_correction)
+
     p = sub.add_parser("bench", help="print the speed/accuracy tables")
-    p.add_argument("--part", choices=("core", "device", "gui", "experiments", "all"), default="all")
+    p.add_argument(
+        "--part",
+        choices=("core", "device", "gui", "experiments", "tuning", "all"),
+        default="all",
+    )
     p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")
     p.set_defaults(func=cmd_bench)
     return parser

@@ -413,3 +413,81 @@ def test_a_full_disk_keeps_the_trial_on_screen(window, qtbot, monkeypatch):
     monkeypatch.undo()
     assert panel.submit("circle")
     assert panel.runner.done == 2
+
+
+@pytest.fixture
+def quick_tuning(monkeypatch):
+    import functools
+
+    import tactile_tuner.experiments
+    from tactile_core.experiments import RUNNERS
+    from tactile_core.experiments.tuning import CorrectionTuning, TuningPlan
+
+    monkeypatch.setattr(tactile_tuner.experiments, "INTERVAL_S", 0.03)
+    monkeypatch.setattr(tactile_tuner.experiments, "INTERVAL_GAP_S", 0.02)
+    monkeypatch.setitem(
+        RUNNERS, "correction", functools.partial(CorrectionTuning, plan=TuningPlan(12, 16, 4))
+    )
+
+
+def test_tune_by_feel_guides_plays_two_intervals_and_applies_the_result(
+    window, qtbot, quick_tuning, tmp_path
+):
+    from tactile_core.experiments.tuning import SimulatedObserver
+
+    panel = window.experiments
+    window.start_tuning()
+    assert window.tabs.currentWidget() is panel
+    assert panel.experiment_combo.currentData() == "correction"
+    assert "Part 1" in panel.run_label.text() and "Esc pauses" in panel.run_label.text()
+    assert panel.start()
+    Key = QtCore.Qt.Key
+    press(qtbot, window, Key.Key_G)  # the instructions
+    trial = panel.runner.current
+    assert trial.kind == "interval"
+    # Interval 1 plays first: the array plays it (or is silent), then interval 2, then the
+    # question; a key pressed before both have played is not taken.
+    first = trial.intervals[0]
+    if first is None:
+        assert not window.state.scene.playing
+    else:
+        assert window.state.scene.shape == first.shape and window.state.scene.gain == first.gain
+    assert panel.intervals_playing
+    press(qtbot, window, Key.Key_1)
+    assert panel.runner.done == 1  # only the instructions so far
+    observer = SimulatedObserver(0.3, 1.0, seed=4)
+    while panel.runner is not None:
+        qtbot.waitUntil(lambda: not panel.intervals_playing and not panel.gap_timer.isActive(),
+                        timeout=3000)  # fmt: skip
+        if panel.runner is None:  # the last answer finished the run
+            break
+        trial = panel.runner.current
+        if trial.kind == "continue":
+            press(qtbot, window, Key.Key_G)
+            continue
+        answer = observer.respond(trial)
+        press(qtbot, window, Key.Key_1 if answer == "1" else Key.Key_2)
+    result = panel.last_tuning
+    assert result is not None and result.ok, result.message
+    folder = tmp_path / "results" / "participant-P01"
+    assert (folder / "correction.json").exists() and (folder / "correction-P01.json").exists()
+    assert len(rows(folder / "correction.csv")) == 2 + 5 * 12 + 2 * 16 + 4
+    dialog = window.tuning_dialog
+    assert f"{result.mu:.3f}" in dialog.findChild(QtWidgets.QPlainTextEdit).toPlainText()
+    dialog.apply_button.click()
+    assert (window.state.scene.mu, window.state.scene.gamma) == (result.mu, result.gamma)
+    assert panel.save_profile_button.isEnabled()  # the thresholds feed the calibration
+
+
+def test_escape_while_the_intervals_play_pauses_with_the_array_off(window, qtbot, quick_tuning):
+    panel = window.experiments
+    choose(panel, "correction")
+    assert panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)
+    assert panel.intervals_playing
+    qtbot.keyClick(window.experiments.prompt, QtCore.Qt.Key.Key_Escape)
+    assert not panel.intervals_playing and not window.state.scene.playing
+    qtbot.wait(150)  # the interval timer would have played interval 2 by now
+    assert not window.state.scene.playing
+    panel.present_again()
+    assert panel.intervals_playing

@@ -11,20 +11,36 @@ from .results import Session, open_session
 from .runners import RUNNERS, Calibration, Experiment1, Experiment2, Experiment3, Trial
 from .staircase import Staircase
 from .stats import ORDERS, assign_orders, pairwise_wilcoxon
+from .tuning import (
+    CorrectionTuning,
+    SimulatedObserver,
+    TuningPlan,
+    TuningResult,
+    save_correction,
+    simulate_tuning,
+)
+
+RUNNERS["correction"] = CorrectionTuning
 
 __all__ = [
     "ORDERS",
     "RUNNERS",
     "Calibration",
+    "CorrectionTuning",
     "Experiment1",
     "Experiment2",
     "Experiment3",
     "Psychometric",
     "Session",
+    "SimulatedObserver",
     "SimulatedParticipant",
     "Staircase",
     "Trial",
+    "TuningPlan",
+    "TuningResult",
     "assign_orders",
     "open_session",
     "pairwise_wilcoxon",
+    "save_correction",
+    "simulate_tuning",
 ]

@@ -143,7 +143,7 @@ def _short(value) -> str:
     return text if len(text) <= 200 else text[:197] + "..."
 
 
-_SALT = {"exp1": 101, "exp2": 202, "exp3": 303, "calibration": 404}
+_SALT = {"exp1": 101, "exp2": 202, "exp3": 303, "calibration": 404, "correction": 505}
 _FIELDS = {
     "participant": str, "index": int, "seed": int, "created": str, "software_version": str,
     "device_profile": str, "orders": dict, "parameters": dict, "notes": str, "pipeline": dict,

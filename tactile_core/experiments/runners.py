@@ -47,7 +47,8 @@ class Trial:
     kind : str
         The answer expected: ``"continue"`` (any key; instructions or rest), ``"prepare"``
         (free switching with keys 1-4, then continue), ``"rating"`` (0-100), ``"direction"``
-        (up/down/left/right), ``"shape"`` (circle/square), ``"detect"`` (yes/no).
+        (up/down/left/right), ``"shape"`` (circle/square), ``"detect"`` (yes/no),
+        ``"interval"`` (a two-interval forced choice: ``"1"`` or ``"2"``).
     prompt : str
         What the screen says.
     scene : Scene or None
@@ -58,6 +59,10 @@ class Trial:
         After this long without an answer, the UI answers None (a timeout).
     info : dict
         The condition, recorded with the answer.
+    intervals : tuple of (Scene or None)
+        For ``"interval"`` trials: what the array plays in interval 1 and in interval 2, each
+        :data:`INTERVAL_S` long with :data:`INTERVAL_GAP_S` of silence between (``scene`` is
+        None); the answer is the interval chosen.
     """
 
     experiment: str
@@ -69,6 +74,13 @@ class Trial:
     options: tuple = ()
     time_limit_s: float | None = None
     info: dict = field(default_factory=dict, compare=False)
+    intervals: tuple = ()
+
+
+INTERVAL_S = 0.5
+"""Length of each interval of a two-interval trial, seconds."""
+INTERVAL_GAP_S = 0.5
+"""Silence between the two intervals of a two-interval trial, seconds."""
 
 
 class Runner:
@@ -123,8 +135,10 @@ class Runner:
     """``{condition: {"mu": mu, "gamma": gamma}}`` as the session records them."""
 
     def run_record(self) -> dict:
-        """What ``session.json`` records of this run: the whole pipeline it plays."""
-        return {
+        """What ``session.json`` records of this run: the whole pipeline it plays, and the
+        participant's measured correction if there is one (recorded, not applied: each
+        condition sets its own mu and gamma)."""
+        record = {
             "pipeline": self.pipeline.to_dict(),
             "levels": self.profile.levels,
             "conditions": self.conditions,
@@ -132,6 +146,16 @@ class Runner:
             "software_version": __version__,
             "started": now(),
         }
+        if self.session.folder and self.experiment != "correction":
+            from .tuning import load_correction
+
+            measured = load_correction(self.session.folder)
+            if measured is not None:
+                record["participant_correction"] = {
+                    key: measured.get(key)
+                    for key in ("mu", "mu_ci", "gamma", "gamma_ci", "trials", "measured")
+                }
+        return record
 
     def make_scene(self, shape, method, mu, gamma, **kwargs) -> Scene:
         """A trial's scene, on the session's pipeline."""
@@ -606,30 +630,54 @@ class Calibration(Runner):
         return {**trial.info, "answer": answer, **self._after}
 
     def calibration(self) -> tuple[list[float], list[float], list[float]]:
-        """Per-tactor ``(offset, gain, threshold)`` in flat cell order from the measurements.
-
-        With a tactor's threshold ``th`` and the median threshold ``t_ref``, perceived intensity
-        is modelled as linear in drive above threshold, ``(d - th) / (1 - th)``. Matching the
-        median tactor at every corrected intensity ``I`` gives
-        ``d = th + (1 - th) / (1 - t_ref) * (I - t_ref)``: gain ``(1 - th) / (1 - t_ref)`` and
-        offset ``th - t_ref * gain``. ``I = t_ref`` maps to the tactor's own threshold and ``I = 1``
-        to full drive.
-        """
+        """Per-tactor ``(offset, gain, threshold)`` in flat cell order from the measurements
+        (:func:`calibration_from_thresholds`; every tactor must have been measured)."""
         if len(self.thresholds) < self.grid.size:
             raise ValueError(
                 f"calibration needs all {self.grid.size} thresholds, has {len(self.thresholds)}"
             )
-        import statistics
+        return calibration_from_thresholds(self.thresholds, self.grid)
 
-        t_ref = statistics.median(self.thresholds.values())
-        offset, gain, threshold = [], [], []
-        for i in range(self.grid.size):
-            th = self.thresholds[self.grid.cell(i)]
-            g = (1.0 - th) / (1.0 - t_ref) if t_ref < 1.0 else 1.0
-            offset.append(min(max(th - t_ref * g, -1.0), 1.0))
-            gain.append(min(max(g, 1e-3), 10.0))
-            threshold.append(th)
-        return offset, gain, threshold
+
+def calibration_from_thresholds(thresholds: dict, grid) -> tuple[list, list, list]:
+    """Per-tactor ``(offset, gain, threshold)`` in flat cell order from detection thresholds.
+
+    With a tactor's threshold ``th`` and the median threshold ``t_ref``, perceived intensity is
+    modelled as linear in drive above threshold, ``(d - th) / (1 - th)``. Matching the median
+    tactor at every corrected intensity ``I`` gives
+    ``d = th + (1 - th) / (1 - t_ref) * (I - t_ref)``: gain ``(1 - th) / (1 - t_ref)`` and offset
+    ``th - t_ref * gain``. ``I = t_ref`` maps to the tactor's own threshold and ``I = 1`` to full
+    drive. A tactor without a threshold is left as it is (offset 0, gain 1) and given ``t_ref``.
+
+    Parameters
+    ----------
+    thresholds : dict
+        ``{(col, row): threshold}`` (drive fractions in [0, 1]); at least one.
+    grid : Grid
+
+    Returns
+    -------
+    offset, gain, threshold : list of float, each of length ``grid.size``
+    """
+    import statistics
+
+    if not thresholds:
+        raise ValueError("calibration needs at least one threshold")
+    t_ref = statistics.median(thresholds.values())
+    offset, gain, threshold = [], [], []
+    for i in range(grid.size):
+        cell = grid.cell(i)
+        if cell not in thresholds:
+            offset.append(0.0)
+            gain.append(1.0)
+            threshold.append(t_ref)
+            continue
+        th = thresholds[cell]
+        g = (1.0 - th) / (1.0 - t_ref) if t_ref < 1.0 else 1.0
+        offset.append(min(max(th - t_ref * g, -1.0), 1.0))
+        gain.append(min(max(g, 1e-3), 10.0))
+        threshold.append(th)
+    return offset, gain, threshold
 
 
 RUNNERS = {
@@ -638,4 +686,5 @@ RUNNERS = {
     "exp3": Experiment3,
     "calibration": Calibration,
 }
-"""Runner classes by experiment name."""
+"""Runner classes by experiment name (``"correction"``, the tuning procedure, is added by
+:mod:`tactile_core.experiments.tuning`)."""
