@@ -381,12 +381,9 @@ class ExperimentsPanel(QtWidgets.QWidget):
         plan = TuningPlan()
         trials = 5 * plan.threshold_trials + 2 * plan.gamma_trials + plan.corner_trials
         self.run_label.setText(
-            "Tuning the correction by feel. 1. Type the participant's id. 2. Their hand on the "
-            "array, the participant's window in front of them. 3. Start. Part 1: which of two "
-            "intervals held a weak vibration, at 5 tactors (mu: the drive just felt). Part 2: "
-            "which of two felt stronger, a point between tactors or one on a tactor (gamma: "
-            f"where they feel the same). {trials} trials, about {round(trials * 3.2 / 60)} "
-            "minutes; Esc pauses with the array off, Start resumes later."
+            "Tune by feel: type the id, then Start. Part 1 (mu): which interval held a weak "
+            f"vibration. Part 2 (gamma): which felt stronger. {trials} trials, about "
+            f"{round(trials * 3.2 / 60)} minutes; Esc pauses with the array off."
         )
         self.participant_edit.setFocus()
 

@@ -512,8 +512,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
     p.add_argument("--trials-per-tactor", type=int, default=20, help="threshold trials per "
                    "tactor, 5 tactors (default 20)")  # fmt: skip
-    p.add_argument("--trials-per-place", type=int, default=24,
-                   help="constancy trials at each of 2 places (default 24)")  # fmt: skip
+    p.add_argument("--trials-per-place", type=int, default=40,
+                   help="constancy trials at each of 2 places (default 40)")  # fmt: skip
     p.add_argument("--corner-trials", type=int, default=12,
                    help="constancy trials at the cell corner, the check (default 12)")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print the result as JSON")

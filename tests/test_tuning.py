@@ -300,7 +300,7 @@ def test_cli_simulate_prints_mu_gamma_and_trials_as_json(capsys):
     assert code == 0
     assert abs(out["mu"] - 0.3) <= 0.03
     assert abs(out["gamma"] / 0.4 - 1) <= 0.3
-    assert out["trials"] == 5 * 20 + 2 * 24 + 12
+    assert out["trials"] == 5 * 20 + 2 * 40 + 12
     assert out["expected"] == {"mu": 0.3, "gamma": 0.4}
 
 

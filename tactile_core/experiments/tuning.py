@@ -452,7 +452,7 @@ class TuningPlan:
     """
 
     threshold_trials: int = 20
-    gamma_trials: int = 24
+    gamma_trials: int = 40
     corner_trials: int = 12
     tactors: tuple | None = None
 
@@ -649,8 +649,8 @@ class CorrectionTuning(Runner):
     ----------
     session : Session
     plan : TuningPlan, optional
-        Trial counts (the defaults: 20 per tactor, 24 per place, 12 at the corner: 160 trials,
-        about 8 minutes at 3 s a trial).
+        Trial counts (the defaults: 20 per tactor, 40 per place, 12 at the corner: 192 trials,
+        about 10 minutes at 3.2 s a trial; the README's benchmark table shows why).
     write, profile
         As for every runner.
     """
@@ -798,8 +798,10 @@ class CorrectionTuning(Runner):
             if fit.location >= MU_MAX or math.isnan(fit.ci[1]):
                 problem = f"not felt reliably ({share:.0%} right; chance is 50%)"
             elif math.isnan(fit.ci[0]):
-                problem = (f"not bounded from below (mostly right down to drive "
-                           f"{min(drives):.2f}): the track did not reach the threshold")  # fmt: skip
+                problem = (
+                    f"not bounded from below (mostly right down to drive {min(drives):.2f}): "
+                    "the track did not reach the threshold"
+                )
             self.threshold_fits[cell] = (fit, not problem, problem)
             if problem:
                 problems.append(f"({cell[0]},{cell[1]}) {problem}")
