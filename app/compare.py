@@ -1,4 +1,4 @@
-"""Comparing methods: all four side by side, and blind A/B ratings on the array."""
+"""Comparing methods: any set side by side, and blind A/B ratings on the array."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from PySide6 import QtCore, QtWidgets
 
 import tactile_core as tc
 from tactile_core.curves import activation_curves
-from tactile_core.methods import METHODS
+from tactile_core.methods import METHODS, PAPER_METHODS, get_method, method_names
 from tactile_core.outfile import atomic_file, check_output
 
 from .state import TunerState
@@ -22,37 +22,135 @@ from .views import CurvesView, HeatmapView, cell_colors
 RATINGS = ("quality", "smoothness", "thickness")
 
 
-class CompareView(QtWidgets.QWidget):
-    """Four heatmaps (CT, MM, AS, IM) and their activation curves on one time axis, all at the
-    current time of the trace. The array plays the method selected in the controls."""
+class MethodSetEdit(QtWidgets.QWidget):
+    """A set of methods to compare, typed as specs (``AS EN RO:r=1.5``) or picked from a menu
+    of every registered method; a set outside ``low..high`` methods or with an unknown name is
+    refused with the reason shown, and the last good set stays."""
 
-    def __init__(self, state: TunerState, parent=None):
+    methods_changed = QtCore.Signal(list)
+
+    def __init__(self, methods, low: int, high: int, parent=None):
+        super().__init__(parent)
+        self.low, self.high = low, high
+        self.methods = list(methods)
+        row = QtWidgets.QHBoxLayout(self)
+        row.setContentsMargins(0, 0, 0, 0)
+        row.addWidget(QtWidgets.QLabel("methods"))
+        self.edit = QtWidgets.QLineEdit(" ".join(self.methods))
+        self.edit.setObjectName("method_set")
+        self.edit.setToolTip(
+            f"{low} to {high} methods, separated by spaces; parameters as RO:r=1.5 or "
+            "GS:sigma=0.7. Enter applies."
+        )
+        self.edit.editingFinished.connect(self._on_edited)
+        row.addWidget(self.edit, 1)
+        self.pick = QtWidgets.QToolButton()
+        self.pick.setText("pick")
+        self.pick.setPopupMode(QtWidgets.QToolButton.ToolButtonPopupMode.InstantPopup)
+        self.menu = QtWidgets.QMenu(self.pick)
+        self.menu.aboutToShow.connect(self._fill_menu)
+        self.pick.setMenu(self.menu)
+        row.addWidget(self.pick)
+        self.problem = QtWidgets.QLabel("")
+        self.problem.setObjectName("method_set_problem")
+        self.problem.setStyleSheet("color: #c62828")
+        row.addWidget(self.problem)
+
+    def _fill_menu(self) -> None:
+        self.menu.clear()
+        chosen = {get_method(m).name for m in self.methods}
+        for name in method_names():
+            action = self.menu.addAction(f"{name}  {METHODS[name].title}")
+            action.setCheckable(True)
+            action.setChecked(name in chosen)
+            action.toggled.connect(lambda on, n=name: self._toggle(n, on))
+
+    def _toggle(self, name: str, on: bool) -> None:
+        kept = [m for m in self.methods if get_method(m).name != name]
+        self.apply([*kept, name] if on else kept)
+
+    def _on_edited(self) -> None:
+        self.apply(self.edit.text().split())
+
+    def apply(self, specs) -> bool:
+        """Use ``specs`` if they are a valid set; otherwise show why and keep the last one."""
+        try:
+            methods = [get_method(s).spec for s in specs]
+            if not self.low <= len(methods) <= self.high:
+                raise ValueError(f"choose {self.low} to {self.high} methods, got {len(methods)}")
+            if len(set(methods)) != len(methods):
+                raise ValueError("each method once")
+        except ValueError as exc:
+            self.problem.setText(str(exc))
+            self.edit.setText(" ".join(self.methods))
+            return False
+        self.problem.setText("")
+        self.edit.setText(" ".join(methods))
+        if methods != self.methods:
+            self.methods = methods
+            self.methods_changed.emit(methods)
+        return True
+
+
+class CompareView(QtWidgets.QWidget):
+    """Any 2-6 methods (the paper's four by default): their heatmaps and activation curves on
+    one time axis, all at the current time of the trace. The array plays the method selected in
+    the controls."""
+
+    def __init__(self, state: TunerState, parent=None, methods=PAPER_METHODS):
         super().__init__(parent)
         self.state = state
-        grid = QtWidgets.QGridLayout(self)
-        self.heatmaps = {}
-        self.curves = {}
-        for i, (name, method) in enumerate(METHODS.items()):
+        outer = QtWidgets.QVBoxLayout(self)
+        outer.setContentsMargins(0, 0, 0, 0)
+        self.chooser = MethodSetEdit(methods, 2, 6)
+        self.chooser.methods_changed.connect(self.set_methods)
+        outer.addWidget(self.chooser)
+        self._holder = QtWidgets.QWidget()
+        outer.addWidget(self._holder, 1)
+        self.methods: list[str] = []
+        self.heatmaps: dict = {}
+        self.curves: dict = {}
+        self._shown_scene = None
+        self.set_methods(list(methods))
+
+    def set_methods(self, methods) -> None:
+        """Show ``methods`` (2-6 specs) side by side."""
+        methods = [get_method(m).spec for m in methods]
+        if not 2 <= len(methods) <= 6 or len(set(methods)) != len(methods):
+            raise ValueError(f"compare needs 2 to 6 distinct methods, got {methods}")
+        old = self._holder.layout()
+        if old is not None:
+            while old.count():
+                widget = old.takeAt(0).widget()
+                if widget is not None:
+                    widget.deleteLater()
+            QtWidgets.QWidget().setLayout(old)  # reparent the old layout away to drop it
+        grid = QtWidgets.QGridLayout(self._holder)
+        self.methods = methods
+        self.heatmaps, self.curves = {}, {}
+        for i, spec in enumerate(methods):
+            method = get_method(spec)
             # Short titles: a plot item never shrinks below its title's width.
-            heat = HeatmapView(title=name, colorbar=False)
-            heat.setToolTip(f"{name}: {method.title}")
+            heat = HeatmapView(title=spec, colorbar=False)
+            heat.setToolTip(f"{spec}: {method.title}")
             heat.plot.setLabel("bottom", "")
             heat.plot.setLabel("left", "")
-            heat.setMinimumSize(120, 160)
-            curve = CurvesView(title=f"{name} activation")
-            curve.setMinimumSize(120, 120)
+            heat.setMinimumSize(100, 160)
+            curve = CurvesView(title=f"{method.name} activation" if len(methods) <= 4 else "")
+            curve.setMinimumSize(100, 120)
             curve.setLabel("left", "")
             grid.addWidget(heat, 0, i)
             grid.addWidget(curve, 1, i)
-            self.heatmaps[name] = heat
-            self.curves[name] = curve
-        first = self.curves["CT"]
-        for name in ("MM", "AS", "IM"):
-            self.curves[name].setXLink(first)
+            grid.setColumnStretch(i, 1)
+            self.heatmaps[spec] = heat
+            self.curves[spec] = curve
+        first = self.curves[methods[0]]
+        for spec in methods[1:]:
+            self.curves[spec].setXLink(first)
         grid.setRowStretch(0, 3)
         grid.setRowStretch(1, 2)
-        for column in range(4):
-            grid.setColumnStretch(column, 1)
+        self.chooser.methods = list(methods)
+        self.chooser.edit.setText(" ".join(methods))
         self._shown_scene = None
 
     def _refresh(self) -> None:
@@ -64,7 +162,7 @@ class CompareView(QtWidgets.QWidget):
         if scene.shape is None:
             return
         outline = scene.shape.outline()
-        for name in METHODS:
+        for name in self.methods:
             curves = activation_curves(
                 scene.shape,
                 name,
@@ -90,7 +188,7 @@ class CompareView(QtWidgets.QWidget):
         if scene is not self._shown_scene and now - getattr(self, "_last_refresh", 0.0) > 0.1:
             self._last_refresh = now
             self._refresh()
-        for name in METHODS:
+        for name in self.methods:
             heat = self.heatmaps[name]
             if t is None or scene.shape is None:
                 heat.set_frame(np.zeros((heat.rows, heat.cols)))
@@ -121,7 +219,7 @@ class BlindPanel(QtWidgets.QWidget):
     def __init__(self, state: TunerState, parent=None, methods=None):
         super().__init__(parent)
         self.state = state
-        self.methods = list(methods or METHODS)
+        self.methods = list(methods or PAPER_METHODS)
         self.mapping: list[str] = []
         self.seed: int | None = None
         self.current_key: int | None = None
@@ -137,6 +235,9 @@ class BlindPanel(QtWidgets.QWidget):
         )
         intro.setWordWrap(True)
         layout.addWidget(intro)
+        self.chooser = MethodSetEdit(self.methods, 2, 8)
+        self.chooser.methods_changed.connect(self._on_methods_chosen)
+        layout.addWidget(self.chooser)
         buttons = QtWidgets.QHBoxLayout()
         self.start_button = QtWidgets.QPushButton("Start (shuffle)")
         self.start_button.setObjectName("blind_start")
@@ -210,9 +311,19 @@ class BlindPanel(QtWidgets.QWidget):
         if self.active:
             raise ValueError("blind A/B is running: reveal it before changing the methods")
         self.methods = methods
+        self.chooser.methods = list(methods)
+        self.chooser.edit.setText(" ".join(methods))
         self.mapping = []
         self._build_rows()
         self._enable(False)
+
+    def _on_methods_chosen(self, methods) -> None:
+        try:
+            self.set_methods(methods)
+        except ValueError as exc:
+            self.chooser.problem.setText(str(exc))
+            self.chooser.methods = list(self.methods)
+            self.chooser.edit.setText(" ".join(self.methods))
 
     @property
     def active(self) -> bool:
@@ -307,7 +418,7 @@ class BlindPanel(QtWidgets.QWidget):
             return False
         self.revealed = True
         for label, method in zip(self.method_labels, self.mapping):
-            label.setText(f"{method} ({METHODS[method].title})" if method in METHODS else method)
+            label.setText(f"{method} ({get_method(method).title})")
         self.reveal_button.setEnabled(False)
         self.status.setText("revealed")
         self.blind_changed.emit(False)

@@ -8,7 +8,7 @@ from PySide6 import QtCore, QtWidgets
 from serial.tools import list_ports
 
 import tactile_core as tc
-from tactile_core.methods import METHODS
+from tactile_core.methods import METHODS, PAPER_METHODS, UNAVAILABLE, get_method, method_names
 
 from .device import DeviceController
 from .state import VIEW_MODES, TunerState
@@ -48,6 +48,11 @@ METHOD_TIPS = {
     "around the point. Anti-aliased.",
     "IM": "Interpolated midpoint (paper 2.5): MM's tactors, intensity interpolated between "
     "column centres. Anti-aliased.",
+    "EN": "Energy model (Tactile Brush, Israr and Poupyrev 2011) on AS's cells: sqrt of the "
+    "areas, so the squares sum to 1.",
+    "PK": "Inverse distance over the 3 nearest tactors (Park et al. 2016), energy-normalised.",
+    "RO": "Smoothstep roll-off within radius r (Syntacts' spatializer).",
+    "GS": "Gaussian weights of spread sigma, cut below 0.05 (VRCH-Server and others).",
 }
 
 
@@ -124,15 +129,40 @@ class ControlsPanel(QtWidgets.QWidget):
 
         # Method ------------------------------------------------------------------------------
         box = QtWidgets.QGroupBox("Method (keys 1-4)")
-        grid = QtWidgets.QVBoxLayout(box)
+        grid = QtWidgets.QGridLayout(box)
         self.method_buttons = QtWidgets.QButtonGroup(self)
-        for i, (name, method) in enumerate(METHODS.items()):
+        for i, name in enumerate(PAPER_METHODS):
+            method = METHODS[name]
             button = QtWidgets.QRadioButton(f"{i + 1}  {name}  {method.title}")
             button.setObjectName(f"method_{name}")
             button.setToolTip(tip(METHOD_TIPS.get(name, method.title)))
             self.method_buttons.addButton(button, i)
-            grid.addWidget(button)
+            grid.addWidget(button, i, 0, 1, 3)
         self.method_buttons.idClicked.connect(self._on_method_clicked)
+        # The field's methods and plug-ins: a list and the method's parameter.
+        self.other_button = QtWidgets.QRadioButton("other")
+        self.other_button.setObjectName("method_other")
+        self.other_button.setToolTip(tip("A method of another haptic system, or a plug-in"))
+        self.method_buttons.addButton(self.other_button, len(PAPER_METHODS))
+        self.other_combo = QtWidgets.QComboBox()
+        self.other_combo.setObjectName("other_method")
+        self.other_combo.setSizeAdjustPolicy(
+            QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon
+        )
+        self.other_combo.setMinimumContentsLength(14)
+        self.param_label = QtWidgets.QLabel("")
+        self.param_spin = _spin(0.1, 10.0, 0.05, 2)
+        self.param_spin.setObjectName("method_param")
+        self.param_spin.setKeyboardTracking(False)
+        row = len(PAPER_METHODS)
+        grid.addWidget(self.other_button, row, 0)
+        grid.addWidget(self.other_combo, row, 1, 1, 2)
+        grid.addWidget(self.param_label, row + 1, 1, QtCore.Qt.AlignmentFlag.AlignRight)
+        grid.addWidget(self.param_spin, row + 1, 2)
+        grid.setColumnStretch(1, 1)
+        self.fill_other_methods()
+        self.other_combo.activated.connect(self._on_other_chosen)
+        self.param_spin.valueChanged.connect(self._on_param_changed)
         layout.addWidget(box)
 
         # Correction --------------------------------------------------------------------------
@@ -275,7 +305,58 @@ class ControlsPanel(QtWidgets.QWidget):
             self.state.update(**changes)
 
     def _on_method_clicked(self, index: int) -> None:
-        self._set(method=list(METHODS)[index])
+        if index < len(PAPER_METHODS):
+            self._set(method=PAPER_METHODS[index])
+        else:
+            self._on_other_chosen(self.other_combo.currentIndex())
+
+    def fill_other_methods(self) -> None:
+        """List the peer methods and the plug-ins (an unavailable plug-in is listed, greyed
+        out, with its error as the tooltip)."""
+        combo = self.other_combo
+        combo.blockSignals(True)
+        combo.clear()
+        for name in method_names():
+            if name in PAPER_METHODS:
+                continue
+            method = METHODS[name]
+            combo.addItem(f"{name}  {method.title}", name)
+            text = METHOD_TIPS.get(name, method.title)
+            if method.plugin:
+                text += f" Plug-in ({method.source.removeprefix('plugin ')})."
+            combo.setItemData(combo.count() - 1, tip(text), QtCore.Qt.ItemDataRole.ToolTipRole)
+        model = combo.model()
+        for label, error in UNAVAILABLE.items():
+            combo.addItem(f"{label}  (unavailable)", None)
+            item = model.item(combo.count() - 1)
+            item.setEnabled(False)
+            item.setToolTip(tip(f"Plug-in {label} could not be used: {error}"))
+        combo.blockSignals(False)
+
+    def _on_other_chosen(self, index: int) -> None:
+        name = self.other_combo.itemData(index)
+        if name is None or self._updating:
+            return
+        method = get_method(name)
+        current = get_method(self.state.scene.method)
+        if current.name == method.name:
+            return
+        self._set(method=method.spec)
+
+    def _on_param_changed(self, value: float) -> None:
+        if self._updating:
+            return
+        method = get_method(self.state.scene.method)
+        specs = method.param_specs
+        if not specs:
+            return
+        key = next(iter(specs))
+        try:
+            spec = method.with_params(**{key: value}).spec
+        except ValueError as exc:
+            self.state.error_raised.emit(str(exc))
+            return
+        self._set(method=spec)
 
     def _on_shape_kind_changed(self, index: int) -> None:
         if self._updating:
@@ -310,8 +391,8 @@ class ControlsPanel(QtWidgets.QWidget):
         self.state.update(shape=shape)
 
     def method_names(self) -> list[str]:
-        """The methods in key order (key 1 first)."""
-        return list(METHODS)
+        """The methods of the number keys, in key order (key 1 first): the paper's four."""
+        return list(PAPER_METHODS)
 
     def set_felt_available(self, available: bool) -> None:
         """'felt' needs the device profile's motor response curve."""
@@ -328,7 +409,7 @@ class ControlsPanel(QtWidgets.QWidget):
     def set_draw_mode(self, on: bool) -> None:
         """Reflect draw mode: MM and IM are unavailable on free points."""
         for name in ("MM", "IM"):
-            button = self.method_buttons.button(list(METHODS).index(name))
+            button = self.method_buttons.button(PAPER_METHODS.index(name))
             button.setEnabled(not on)
             button.setToolTip(tip(DRAW_HELP) if on else tip(METHOD_TIPS[name]))
         self.shape_combo.setEnabled(not on)
@@ -339,25 +420,53 @@ class ControlsPanel(QtWidgets.QWidget):
             self.draw_check.blockSignals(False)
 
     def set_method_hidden(self, hidden: bool) -> None:
-        """Blind A/B testing: hide which method is selected."""
+        """Blind A/B testing: hide which method is selected (and its parameter)."""
+        self._method_hidden = hidden
         for button in self.method_buttons.buttons():
             button.setEnabled(not hidden)
+        self.other_combo.setEnabled(not hidden)
         if hidden:
             self.method_buttons.setExclusive(False)
             for button in self.method_buttons.buttons():
                 button.setChecked(False)
             self.method_buttons.setExclusive(True)
+            self.other_combo.setCurrentIndex(-1)
+            self.param_label.setVisible(False)
+            self.param_spin.setVisible(False)
         else:
             self.refresh()
+
+    def _show_method(self, method) -> None:
+        if method.name in PAPER_METHODS:
+            index = PAPER_METHODS.index(method.name)
+        else:
+            index = len(PAPER_METHODS)
+            found = self.other_combo.findData(method.name)
+            if found < 0:  # a plug-in loaded since the list was filled
+                self.fill_other_methods()
+                found = self.other_combo.findData(method.name)
+            self.other_combo.setCurrentIndex(found)
+        if self.method_buttons.button(index).isEnabled():
+            self.method_buttons.button(index).setChecked(True)
 
     def refresh(self, *_):
         """Show the state's values (without writing them back)."""
         scene = self.state.scene
         self._updating = True
         try:
-            index = list(METHODS).index(scene.method)
-            if self.method_buttons.button(index).isEnabled():
-                self.method_buttons.button(index).setChecked(True)
+            method = get_method(scene.method)
+            hidden = getattr(self, "_method_hidden", False)
+            if not hidden:
+                self._show_method(method)
+            specs = {} if hidden else method.param_specs
+            self.param_label.setVisible(bool(specs))
+            self.param_spin.setVisible(bool(specs))
+            if specs:
+                key, (_, lo, hi, doc) = next(iter(specs.items()))
+                self.param_label.setText(key)
+                self.param_spin.setRange(lo, hi)
+                self.param_spin.setValue(method.values[key])
+                self.param_spin.setToolTip(tip(f"{method.name}'s {key}: {doc}"))
             self.mu_slider.setValue(round(scene.mu * 100))
             self.mu_spin.setValue(scene.mu)
             self.gamma_slider.setValue(gamma_to_slider(scene.gamma))

@@ -14,7 +14,7 @@ import tactile_core as tc
 from tactile_core import export
 from tactile_core.curves import activation_curves
 from tactile_core.device import ProfileError, find_profile, load_profile
-from tactile_core.methods import METHODS
+from tactile_core.methods import get_method
 from tactile_core.presets import (
     Preset,
     PresetError,
@@ -475,7 +475,7 @@ class MainWindow(QtWidgets.QMainWindow):
         if key > len(names):
             return False
         name = names[key - 1]
-        if self.heatmap.drawing and METHODS[name].needs_shape:
+        if self.heatmap.drawing and get_method(name).needs_shape:
             self.show_error(f"{name} is not available in draw mode: {DRAW_HELP}")
             return True
         self.state.update(method=name)
@@ -651,7 +651,7 @@ class MainWindow(QtWidgets.QMainWindow):
             self._end_pulse(restore=True)
             self._draw_backup = self.state.scene
             changes = {"pause_s": 0.0, "playing": False}
-            if METHODS[self.state.scene.method].needs_shape:
+            if get_method(self.state.scene.method).needs_shape:
                 changes["method"] = "AS"
                 self.statusBar().showMessage(f"draw mode uses AS: {DRAW_HELP}", 10_000)
             centre = (self.heatmap.cols / 2, self.heatmap.rows / 2)
@@ -787,7 +787,7 @@ class MainWindow(QtWidgets.QMainWindow):
         if mode in ("raw", "corrected"):
             values = np.zeros(grid.size)
             if t is not None:
-                sample1 = METHODS[scene.method].sample1
+                sample1 = get_method(scene.method).sample1
                 for i, v in point_entries(scene.shape, sample1, t, grid.cols, grid.rows):
                     values[i] = v
                 if mode == "corrected":

@@ -18,7 +18,7 @@ from . import _validate
 from ._version import __version__
 from .correction import check_correction, correct
 from .geometry import Grid
-from .methods import METHOD_NAMES, get_method
+from .methods import METHOD_NAMES, PEER_METHODS, get_method
 from .outfile import atomic_file, check_folder, check_output
 from .render import render
 from .shapes import parse_shape
@@ -36,7 +36,10 @@ def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None
         metavar="SHAPE",
         help="line:X0,Y0,X1,Y1 | circle:CX,CY,R | square:CX,CY,EDGE (grid units)",
     )
-    p.add_argument("--method", required=True, metavar="M", help=f"one of {', '.join(METHOD_NAMES)}")
+    paper, peers = ", ".join(METHOD_NAMES), ", ".join(PEER_METHODS)
+    p.add_argument("--method", required=True, metavar="M",
+                   help=f"the paper's {paper}, the peers {peers} or a plug-in; parameters as "
+                   "RO:r=1.5 or GS:sigma=0.7")  # fmt: skip
     p.add_argument("--mu", type=float, default=0.0, help="threshold in [0, 1] (default 0)")
     p.add_argument("--gamma", type=float, default=1.0, help="gamma > 0 (default 1)")
     p.add_argument(
@@ -50,7 +53,7 @@ def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None
 def _scene(args):
     """Validate the shared scene arguments; ValueError names what is wrong."""
     shape = parse_shape(args.shape)
-    method = get_method(args.method).name
+    method = get_method(args.method).spec
     mu, gamma = check_correction(args.mu, args.gamma)
     _validate.duration("duration", args.duration)
     for name in ("cols", "rows"):

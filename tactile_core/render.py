@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _validate
 from .geometry import SNAP_REL, Grid, clamp
-from .methods import get_method
+from .methods import METHODS, get_method
 from .shapes import Shape
 
 _DEFAULT_GRID = Grid()
@@ -94,8 +94,11 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     shape : Shape
         :class:`~tactile_core.shapes.Line`, :class:`~tactile_core.shapes.Circle`,
         :class:`~tactile_core.shapes.Square` or :class:`~tactile_core.shapes.Polyline`.
-    method : {"CT", "MM", "AS", "IM"}
-        Closest tactor, midpoint, area sampling or interpolated midpoint (paper 2.2-2.5).
+    method : str
+        Closest tactor, midpoint, area sampling or interpolated midpoint (``"CT"``, ``"MM"``,
+        ``"AS"``, ``"IM"``, paper 2.2-2.5), a peer method (``"EN"``, ``"PK"``, ``"RO"``,
+        ``"GS"``), a plug-in, or a spec with parameters such as ``"RO:r=1.5"`` (see
+        :mod:`tactile_core.methods`).
     t : float or array_like
         Trace parameter(s), finite and within [0, 1].
     grid : Grid, keyword-only
@@ -151,7 +154,8 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
 
     Parameters
     ----------
-    method : {"CT", "AS"}
+    method : str
+        A method that needs no shape: CT, AS, EN, PK, RO, GS (or a spec such as ``"RO:r=1.5"``).
     x, y : float or array_like
         Finite coordinates in grid units, broadcast together.
     grid : Grid, keyword-only
@@ -162,9 +166,10 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     """
     m = get_method(method)
     if m.needs_shape:
+        free = ", ".join(n for n, k in METHODS.items() if not k.needs_shape)
         raise ValueError(
-            f"method {m.name} needs a shape (it picks one tactor per column or row of a "
-            f"stroke); free points work with CT and AS"
+            f"method {m.name} needs a shape (it picks its tactors from the shape's strokes); "
+            f"free points work with {free}"
         )
     grid = check_grid(grid)
     try:

@@ -87,7 +87,7 @@ class Scene:
                 "shape must be a Line, Circle, Square or Polyline, "
                 f"got {_validate.shown(self.shape)}"
             )
-        object.__setattr__(self, "method", get_method(self.method).name)
+        object.__setattr__(self, "method", get_method(self.method).spec)
         mu, gamma = check_correction(self.mu, self.gamma)
         object.__setattr__(self, "mu", mu)
         object.__setattr__(self, "gamma", gamma)

@@ -1,33 +1,85 @@
-"""The four rendering methods of the paper, one module each, behind one registry.
+"""Rendering methods, one module each, behind one registry: the paper's four, the peer methods
+other haptic systems use, and plug-ins.
 
-========  ==========================  ===========  =======================================
-name      method                      paper        tactors lit at one instant
-========  ==========================  ===========  =======================================
-``CT``    closest tactor              2.2          exactly 1 (bi-level)
-``MM``    midpoint                    2.3          exactly 1 (bi-level)
-``AS``    area sampling               2.4          up to 4 (anti-aliased)
-``IM``    interpolated midpoint       2.5          up to 2 (anti-aliased)
-========  ==========================  ===========  =======================================
+========  ==========================  ===================  ================================
+name      method                      from                 tactors lit at one instant
+========  ==========================  ===================  ================================
+``CT``    closest tactor              paper 2.2            exactly 1 (bi-level)
+``MM``    midpoint                    paper 2.3            exactly 1 (bi-level)
+``AS``    area sampling               paper 2.4            up to 4 (anti-aliased)
+``IM``    interpolated midpoint       paper 2.5            up to 2 (anti-aliased)
+``EN``    energy model on AS's cells  Tactile Brush 2011   up to 4, ``sum I^2 = 1``
+``PK``    inverse distance, 3 nearest Park et al. 2016     up to 3, ``sum I^2 = 1``
+``RO``    smoothstep roll-off, ``r``  Syntacts 2021        up to 4 at ``r = 1``
+``GS``    Gaussian, ``sigma``         VRCH-Server          up to 6 at ``sigma = 0.5``
+========  ==========================  ===================  ================================
 
-Each module provides ``sample(shape, x, y, t, tol) -> [(cols, rows, values), ...]`` on arrays,
-one entry per tactor it may light (cells may fall outside the grid; the caller drops them), and
-``sample1`` with plain floats for the live path. ``tol`` is the snap tolerance of the cell
-lookup (:data:`tactile_core.geometry.SNAP_ULPS`). CT and AS depend on the point only, so they
-also render free coordinates (``shape`` may be None); MM and IM need the shape's strokes.
+**The method protocol.** A method is a module (or any object) with these attributes:
+
+- ``NAME``: 1-16 capital letters, digits or ``_``, starting with a letter;
+- ``TITLE``: a short description; ``BILEVEL`` (bool); ``NEEDS_SHAPE`` (bool: it picks tactors
+  from the shape's strokes and cannot render free points);
+- ``MAX_TACTORS``: the most tactors one frame lights (an int, or a function of the parameters);
+- ``sample(shape, x, y, t, tol, **params) -> [(cols, rows, values), ...]`` on arrays of shape
+  ``(n,)``, one entry per tactor it may light (cells as float arrays, may fall outside the grid;
+  the caller drops them), values in [0, 1];
+- ``sample1(shape, x, y, t, tol, **params) -> ((col, row, value), ...)`` with plain floats: the
+  live path, equal to ``sample`` at one point;
+- ``PARAMS`` (optional): ``{name: (default, low, high, description)}`` of float parameters.
+
+``tol`` is the snap tolerance of the cell lookup (:data:`tactile_core.geometry.SNAP_ULPS`).
+
+**Parameters** travel with the method's name as a *spec*, ``"RO:r=1.5"`` or
+``"GS:sigma=0.7"`` (defaults left out, so ``"RO"`` is ``"RO:r=1"``): the same string works in
+:func:`tactile_core.render`, :class:`tactile_core.Scene`, ``--method`` on the command line,
+presets and session records. :func:`get_method` parses and validates it.
+
+**Plug-ins** register under the entry-point group ``tactile_tuner.methods``; the entry point
+names a module or object that follows the protocol. They load on the first lookup of a name that
+is not built in, or on :func:`load_plugins`. A plug-in that fails to load, breaks the protocol or
+takes a built-in's name is listed in :data:`UNAVAILABLE` with its error and never takes the
+program down; one that raises or returns values outside [0, 1] while rendering is refused with a
+``ValueError`` naming it.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import functools
+import math
+import re
+import threading
+from dataclasses import dataclass, field
 from types import ModuleType
 
+import numpy as np
+
 from .. import _validate
-from . import area, closest, interpolated, midpoint
+from . import area, closest, energy, gaussian, interpolated, midpoint, park, rolloff
+
+ENTRY_POINT_GROUP = "tactile_tuner.methods"
+"""Entry-point group under which third-party methods register."""
+
+_NAME = re.compile(r"[A-Z][A-Z0-9_]{0,15}\Z")
+_ATTRS = ("NAME", "TITLE", "BILEVEL", "NEEDS_SHAPE", "MAX_TACTORS", "sample", "sample1")
 
 
 @dataclass(frozen=True)
 class Method:
-    """A rendering method as registered: its name, description and sampling functions."""
+    """A rendering method as registered, with its parameter values bound.
+
+    Attributes
+    ----------
+    name, title : str
+    bilevel, needs_shape : bool
+    max_tactors : int
+        The most tactors one frame lights, at these parameters.
+    module : module or object
+        The implementation (see the protocol above).
+    params : tuple of (str, float)
+        Parameter values that differ from the defaults, in the order of ``PARAMS``.
+    source : str
+        ``"paper"``, ``"peer"`` or ``"plugin <distribution>"``.
+    """
 
     name: str
     title: str
@@ -35,50 +87,288 @@ class Method:
     needs_shape: bool
     max_tactors: int
     module: ModuleType
+    params: tuple = ()
+    source: str = "paper"
+    _samplers: dict = field(default_factory=dict, repr=False, compare=False, hash=False)
+
+    @property
+    def spec(self) -> str:
+        """The name with its non-default parameters: ``"RO"``, ``"RO:r=1.5"``."""
+        if not self.params:
+            return self.name
+        return self.name + ":" + ",".join(f"{k}={_number(v)}" for k, v in self.params)
+
+    @property
+    def param_specs(self) -> dict:
+        """``{name: (default, low, high, description)}`` (empty for most methods)."""
+        return dict(getattr(self.module, "PARAMS", None) or {})
+
+    @property
+    def values(self) -> dict:
+        """Every parameter's value, defaults included."""
+        out = {k: spec[0] for k, spec in self.param_specs.items()}
+        out.update(self.params)
+        return out
+
+    @property
+    def plugin(self) -> bool:
+        """True for a method loaded from an entry point."""
+        return self.source.startswith("plugin")
 
     @property
     def sample(self):
-        """Vectorised sampler, see :func:`tactile_core.methods.area.sample`."""
-        return self.module.sample
+        """Vectorised sampler with the parameters bound, see the protocol above."""
+        return self._sampler("sample")
 
     @property
     def sample1(self):
-        """Scalar sampler for the live path."""
-        return self.module.sample1
+        """Scalar sampler for the live path, parameters bound."""
+        return self._sampler("sample1")
+
+    def _sampler(self, which: str):
+        hit = self._samplers.get(which)
+        if hit is None:
+            fn = getattr(self.module, which)
+            if self.params:
+                fn = functools.partial(fn, **dict(self.params))
+            if self.plugin:
+                fn = _checked(self.spec, fn, which == "sample1")
+            hit = self._samplers[which] = fn
+        return hit
+
+    def with_params(self, **params) -> Method:
+        """This method with other parameter values (validated; ``ValueError`` names them)."""
+        values = self.values
+        specs = self.param_specs
+        for key, value in params.items():
+            if key not in specs:
+                known = ", ".join(specs) or "none"
+                raise ValueError(
+                    f"method {self.name} has no parameter {_validate.shown(key)} "
+                    f"(its parameters: {known})"
+                )
+            _, lo, hi, _ = specs[key]
+            values[key] = _validate.in_range(f"method {self.name}: {key}", value, lo, hi)
+        bound = tuple((k, float(values[k])) for k in specs if values[k] != specs[k][0])
+        return _make(self.module, self.source, bound)
 
 
-def _register(module) -> Method:
+def _number(value: float) -> str:
+    """Shortest text that reads back as ``value`` (``1`` for 1.0)."""
+    return f"{value:g}" if float(f"{value:g}") == value else repr(float(value))
+
+
+def _make(module, source: str, params: tuple = ()) -> Method:
+    max_tactors = module.MAX_TACTORS
+    if callable(max_tactors):
+        defaults = {k: spec[0] for k, spec in (getattr(module, "PARAMS", None) or {}).items()}
+        max_tactors = max_tactors(**{**defaults, **dict(params)})
     return Method(
         name=module.NAME,
         title=module.TITLE,
-        bilevel=module.BILEVEL,
-        needs_shape=module.NEEDS_SHAPE,
-        max_tactors=module.MAX_TACTORS,
+        bilevel=bool(module.BILEVEL),
+        needs_shape=bool(module.NEEDS_SHAPE),
+        max_tactors=int(max_tactors),
         module=module,
+        params=params,
+        source=source,
     )
 
 
+def _checked(spec: str, fn, scalar: bool):
+    """Wrap a plug-in's sampler: its exceptions and out-of-range values become a
+    ``ValueError`` naming the method."""
+
+    def bad(detail):
+        return ValueError(f"method {spec} (a plug-in) {detail}")
+
+    def run(*args):
+        try:
+            out = fn(*args)
+        except Exception as exc:  # a plug-in's bug must not look like ours
+            raise bad(f"failed: {type(exc).__name__}: {exc}") from exc
+        try:
+            entries = list(out)
+            for entry in entries:
+                c, r, v = entry
+                if scalar:
+                    ok = _validate.is_number(v) and 0.0 <= v <= 1.0
+                    ok = ok and float(c).is_integer() and float(r).is_integer()
+                else:
+                    values = np.asarray(v, dtype=np.float64)
+                    ok = bool(np.all((values >= 0.0) & (values <= 1.0)))
+                    cells = np.asarray(c, dtype=np.float64), np.asarray(r, dtype=np.float64)
+                    ok = ok and all(np.all(np.isfinite(a) & (a == np.floor(a))) for a in cells)
+                if not ok:
+                    raise ValueError
+        except (TypeError, ValueError):
+            raise bad(
+                "returned something other than (col, row, value) entries with whole cells and "
+                f"values in [0, 1]: {_validate.shown(out)}"
+            ) from None
+        return entries if not scalar else tuple(entries)
+
+    return run
+
+
+PAPER_METHODS = ("CT", "MM", "AS", "IM")
+"""The paper's four methods, in the paper's order."""
+
+PEER_METHODS = ("EN", "PK", "RO", "GS")
+"""The methods of other haptic systems (Tactile Brush, Park et al., Syntacts, Gaussian)."""
+
 METHODS: dict[str, Method] = {
-    m.name: m for m in map(_register, (closest, midpoint, area, interpolated))
+    **{m.NAME: _make(m, "paper") for m in (closest, midpoint, area, interpolated)},
+    **{m.NAME: _make(m, "peer") for m in (energy, park, rolloff, gaussian)},
 }
-"""Registry of the methods by name, in the paper's order: CT, MM, AS, IM."""
+"""Registry of the methods by name: the paper's four, then the peers, then loaded plug-ins."""
 
-METHOD_NAMES = tuple(METHODS)
+METHOD_NAMES = PAPER_METHODS
+"""The paper's four method names (what the experiments and the paper's tables use)."""
+
+UNAVAILABLE: dict[str, str] = {}
+"""Plug-ins that could not be used: entry-point name -> the error."""
+
+_plugins_loaded = False
+_plugins_lock = threading.Lock()
 
 
-def get_method(name) -> Method:
-    """Look up a method by name (``"CT"``, ``"MM"``, ``"AS"``, ``"IM"``; case-insensitive).
+def load_plugins(entry_points=None) -> dict[str, str]:
+    """Register the methods of the ``tactile_tuner.methods`` entry points (once).
+
+    Parameters
+    ----------
+    entry_points : iterable of importlib.metadata.EntryPoint, optional
+        Load these instead of the installed ones (and again, even if loaded before).
+
+    Returns
+    -------
+    dict
+        :data:`UNAVAILABLE`: plug-ins that failed, with their errors.
+    """
+    global _plugins_loaded
+    with _plugins_lock:
+        if entry_points is None:
+            if _plugins_loaded:
+                return UNAVAILABLE
+            from importlib.metadata import entry_points as installed
+
+            try:
+                entry_points = list(installed(group=ENTRY_POINT_GROUP))
+            except Exception as exc:  # a broken distribution's metadata
+                UNAVAILABLE["(entry points)"] = f"could not be listed: {exc}"
+                entry_points = []
+        _plugins_loaded = True
+        for ep in entry_points:
+            label = ep.name
+            try:
+                module = ep.load()
+                _check_protocol(module)
+                if module.NAME in METHODS and not METHODS[module.NAME].plugin:
+                    raise ValueError(f"takes the name {module.NAME} of a built-in method")
+                dist = getattr(getattr(ep, "dist", None), "name", None) or ep.value
+                method = _make(module, f"plugin {dist}")
+            except Exception as exc:  # anything a broken plug-in does is reported, not raised
+                UNAVAILABLE[label] = f"{type(exc).__name__}: {exc}"
+                continue
+            METHODS[method.name] = method
+            UNAVAILABLE.pop(label, None)
+        return UNAVAILABLE
+
+
+def _check_protocol(module) -> None:
+    missing = [a for a in _ATTRS if not hasattr(module, a)]
+    if missing:
+        raise ValueError(f"does not follow the method protocol: no {', '.join(missing)}")
+    if not isinstance(module.NAME, str) or not _NAME.match(module.NAME):
+        raise ValueError(
+            f"NAME must be 1-16 capital letters, digits or _, starting with a letter, got "
+            f"{_validate.shown(module.NAME)}"
+        )
+    if not isinstance(module.TITLE, str) or not module.TITLE.strip():
+        raise ValueError("TITLE must be a non-empty string")
+    for flag in ("BILEVEL", "NEEDS_SHAPE"):
+        if not isinstance(getattr(module, flag), bool):
+            raise ValueError(f"{flag} must be True or False")
+    if not (callable(module.sample) and callable(module.sample1)):
+        raise ValueError("sample and sample1 must be functions")
+    params = getattr(module, "PARAMS", None) or {}
+    if not isinstance(params, dict):
+        raise ValueError("PARAMS must be a dict of name: (default, low, high, description)")
+    for key, spec in params.items():
+        ok = isinstance(key, str) and key.isidentifier() and isinstance(spec, tuple)
+        ok = ok and len(spec) == 4 and all(_validate.is_number(v) for v in spec[:3])
+        if not ok or not spec[1] <= spec[0] <= spec[2]:
+            raise ValueError(f"PARAMS[{key!r}] must be (default, low, high, description)")
+    count = _make(module, "plugin").max_tactors
+    if not 1 <= count <= 1024:
+        raise ValueError(f"MAX_TACTORS must be from 1 to 1024, got {count}")
+
+
+def method_names(include_plugins: bool = True) -> tuple[str, ...]:
+    """Names of every registered method: the paper's four, the peers, then plug-ins."""
+    if include_plugins:
+        load_plugins()
+    return tuple(METHODS)
+
+
+def parse_spec(text: str) -> tuple[str, dict]:
+    """Split a method spec ``"RO:r=1.5,..."`` into the name (upper case) and its parameters.
 
     Raises
     ------
     ValueError
-        Naming ``method`` when the name is unknown.
+        Naming ``method`` when the text is not a spec.
+    """
+    name, _, rest = text.partition(":")
+    params = {}
+    if rest.strip():
+        for part in rest.split(","):
+            key, eq, value = part.partition("=")
+            key = key.strip()
+            try:
+                if not eq or not key:
+                    raise ValueError
+                number = float(value)
+            except ValueError:
+                raise ValueError(
+                    f"method must be NAME or NAME:param=value,..., got {_validate.shown(text)}"
+                ) from None
+            if not math.isfinite(number):
+                raise ValueError(f"method {name.strip().upper()}: {key} must be finite, got "
+                                 f"{_validate.shown(value.strip())}")  # fmt: skip
+            params[key] = number
+    return name.strip().upper(), params
+
+
+def get_method(name, **params) -> Method:
+    """Look up a method by name or spec, case-insensitive: ``"AS"``, ``"ro"``, ``"RO:r=1.5"``.
+
+    Parameters
+    ----------
+    name : str or Method
+    **params : float
+        Parameter values (override those of the spec).
+
+    Raises
+    ------
+    ValueError
+        Naming ``method`` when the name is unknown, or the method and parameter when a value is
+        out of range.
     """
     if isinstance(name, Method):
-        return name
-    key = name.upper() if isinstance(name, str) else name
+        return name.with_params(**params) if params else name
+    if not isinstance(name, str):
+        raise ValueError(f"method must be a method name such as 'AS', got {_validate.shown(name)}")
+    key, spec_params = parse_spec(name)
     if key not in METHODS:
+        load_plugins()
+    if key not in METHODS:
+        why = next((f" (plug-in {k}: {v})" for k, v in UNAVAILABLE.items() if k.upper() == key),
+                   "")  # fmt: skip
         raise ValueError(
-            f"method must be one of {', '.join(METHOD_NAMES)}, got {_validate.shown(name)}"
+            f"method must be one of {', '.join(METHODS)}, got {_validate.shown(name)}{why}"
         )
-    return METHODS[key]
+    method = METHODS[key]
+    merged = {**spec_params, **params}
+    return method.with_params(**merged) if merged else method

@@ -1,0 +1,49 @@
+"""Energy method (EN): Tactile Brush's energy model on the cells of area sampling.
+
+Tactile Brush (Israr and Poupyrev, "Tactile Brush: Drawing on Skin with a Tactile Grid
+Display", CHI 2011) creates a phantom sensation between actuators with the energy model: the
+intensities ``A_i`` of the actuators sharing a virtual point satisfy ``sum A_i^2 = A_v^2``, so
+felt energy stays constant as the point moves. Here the point is shared among AS's cells (the
+unit box around it, paper section 2.4) in proportion to the area weights ``a_i``:
+``I_i = sqrt(a_i)``, hence ``sum I_i^2 = sum a_i = 1`` inside the tactor hull. At the array's
+edge the area outside is lost, as for AS. Works on any coordinate, with or without a shape.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import area
+
+NAME = "EN"
+TITLE = "energy model (Tactile Brush)"
+BILEVEL = False
+NEEDS_SHAPE = False
+MAX_TACTORS = 4
+
+
+def sample(shape, x, y, t, tol):
+    """AS's cells with the square roots of their areas.
+
+    Parameters
+    ----------
+    shape, t
+        Unused: EN depends on the point only.
+    x, y : ndarray of float64, shape (n,)
+        Points in grid units.
+    tol : float or ndarray
+        Snap tolerance of the cell lookup.
+
+    Returns
+    -------
+    list of (cols, rows, values)
+        The four cells of :func:`tactile_core.methods.area.sample`, values ``sqrt(a_i)``.
+    """
+    return [(c, r, np.sqrt(v)) for c, r, v in area.sample(shape, x, y, t, tol)]
+
+
+def sample1(shape, x, y, t, tol):
+    """Scalar :func:`sample`: ``(col, row, value)`` of the lit tactors."""
+    return tuple((c, r, math.sqrt(v)) for c, r, v in area.sample1(shape, x, y, t, tol))

@@ -1,0 +1,76 @@
+"""Gaussian method (GS): Gaussian weights by distance, for comparison with the paper's methods.
+
+VRCH-Server (the VRChat haptics bridge) and many hand-rolled array drivers spread a point over
+nearby actuators with Gaussian weights, ``exp(-d^2 / (2 sigma^2))`` for the distance ``d`` (in
+pitches) from the point to a tactor. ``sigma = 0.5`` by default; weights below 0.05 are zero, so
+the support is the disc of radius ``sigma sqrt(2 ln 20)`` (1.22 pitches at the default: a point
+on a tactor lights it at 1 and its four neighbours at ``exp(-2) = 0.135``; a point midway
+between two tactors lights six).
+Neither the intensities nor their squares sum to 1. Works on any coordinate, with or without a
+shape.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import _radial
+
+NAME = "GS"
+TITLE = "Gaussian"
+BILEVEL = False
+NEEDS_SHAPE = False
+PARAMS = {"sigma": (0.5, 0.1, 5.0, "spread in pitches (weights below 0.05 are off)")}
+CUTOFF = 0.05
+"""Weights below this are zero."""
+
+
+def radius(sigma: float) -> float:
+    """Distance at which the weight falls to :data:`CUTOFF`: ``sigma sqrt(2 ln(1 / CUTOFF))``."""
+    return sigma * math.sqrt(2.0 * math.log(1.0 / CUTOFF))
+
+
+def MAX_TACTORS(sigma=0.5):
+    """Most tactors lit at once for ``sigma`` (6 at ``sigma = 0.5``)."""
+    return _radial.max_within(radius(float(sigma)), False)
+
+
+def sample(shape, x, y, t, tol, sigma=0.5):
+    """Tactors within the cut-off radius of the points ``(x, y)`` and their Gaussian weights.
+
+    Parameters
+    ----------
+    shape, t
+        Unused: GS depends on the point only.
+    x, y : ndarray of float64, shape (n,)
+        Points in grid units.
+    tol : float or ndarray
+        Snap tolerance of the cell lookup.
+    sigma : float
+        Standard deviation of the Gaussian, in pitches.
+
+    Returns
+    -------
+    list of (cols, rows, values)
+        One entry per candidate tactor; values ``exp(-d^2 / (2 sigma^2))`` where that is at
+        least 0.05, else 0.
+    """
+    k = -0.5 / (sigma * sigma)
+    return _radial.sample(x, y, tol, radius(sigma), False, lambda d: _cut(np.exp(k * d * d)))
+
+
+def _cut(w):
+    return np.where(w >= CUTOFF, w, 0.0)
+
+
+def sample1(shape, x, y, t, tol, sigma=0.5):
+    """Scalar :func:`sample`: ``(col, row, value)`` of the lit tactors."""
+    k = -0.5 / (sigma * sigma)
+
+    def weight(d):
+        w = math.exp(k * d * d)
+        return w if w >= CUTOFF else 0.0
+
+    return _radial.sample1(x, y, tol, radius(sigma), False, weight)
