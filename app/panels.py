@@ -103,6 +103,9 @@ class ControlsPanel(QtWidgets.QWidget):
             "corrected": "After the threshold/gamma correction (paper 2.6).",
             "sent": "What went to the array: the device levels (23 on the palm array).",
             "felt": "What the motors would make of it: the profile's response curve.",
+            "predicted": "The predicted percept (energy summation, a participant matched to "
+            "mu/gamma): felt magnitude per tactor; the orange line is the felt centroid's path, "
+            "the curve the felt intensity over time.",
         }
         for i, mode in enumerate(VIEW_MODES):
             button = QtWidgets.QRadioButton(mode)

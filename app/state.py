@@ -10,7 +10,7 @@ from tactile_core.scene import Scene
 DEFAULT_SCENE = Scene(tc.Line((0.5, 1.84), (4.5, 4.16)), "AS", mu=0.33, gamma=0.7)
 """The Experiment 1 line with area sampling at the paper's mu and gamma."""
 
-VIEW_MODES = ("raw", "corrected", "sent", "felt")
+VIEW_MODES = ("raw", "corrected", "sent", "felt", "predicted")
 
 
 class TunerState(QtCore.QObject):

@@ -171,6 +171,8 @@ class HeatmapView(_PaletteMixin, pg.GraphicsLayoutWidget):
             pen=pg.mkPen("w", width=2, style=QtCore.Qt.PenStyle.DashLine)
         )
         self.plot.addItem(self.outline)
+        self.path = pg.PlotDataItem(pen=pg.mkPen("#ff9800", width=2))  # the felt centroid
+        self.plot.addItem(self.path)
         self.point = pg.ScatterPlotItem(
             size=14, brush=pg.mkBrush("#ff3030"), pen=pg.mkPen("w", width=2)
         )
@@ -290,6 +292,15 @@ class HeatmapView(_PaletteMixin, pg.GraphicsLayoutWidget):
         else:
             pts = np.asarray(points)
             self.outline.setData(pts[:, 0], pts[:, 1])
+
+    def set_path(self, points) -> None:
+        """Draw a path, ``(n, 2)`` points, NaN rows as gaps (None to hide): the predicted
+        felt centroid."""
+        if points is None:
+            self.path.setData([], [])
+        else:
+            pts = np.asarray(points, dtype=float)
+            self.path.setData(pts[:, 0], pts[:, 1], connect="finite")
 
     def set_point(self, xy) -> None:
         """Draw the moving point at ``(x, y)`` (None to hide)."""
@@ -462,6 +473,21 @@ class CurvesView(_PaletteMixin, pg.PlotWidget):
             left.setTicks(None)
             self.setLabel("left", "intensity")
         duration = float(curves.time_s[-1]) if len(curves.time_s) else 0.0
+        self.pause.setRegion((duration, max(duration, period_s)))
+        self.setXRange(0, max(period_s, 1e-3), padding=0.01)
+
+    def set_series(self, time_s, values, period_s: float, label: str) -> None:
+        """Show one curve instead of the activation curves: the predicted felt intensity."""
+        self.clear_curves()
+        pen = pg.mkPen(self.palette().color(QtGui.QPalette.ColorRole.Text), width=2)
+        line = self.plot(np.asarray(time_s), np.asarray(values), pen=pen)
+        line.setToolTip(label)
+        self._lines = [line]
+        top = float(np.nanmax(values)) if len(values) else 1.0
+        self.setYRange(0, max(1.05, 1.05 * top), padding=0)
+        self.getAxis("left").setTicks(None)
+        self.setLabel("left", label)
+        duration = float(time_s[-1]) if len(time_s) else 0.0
         self.pause.setRegion((duration, max(duration, period_s)))
         self.setXRange(0, max(period_s, 1e-3), padding=0.01)
 

@@ -15,6 +15,7 @@ from tactile_core import export
 from tactile_core.curves import activation_curves
 from tactile_core.device import ProfileError, find_profile, load_profile
 from tactile_core.methods import get_method
+from tactile_core.percept import felt_magnitude, predict
 from tactile_core.presets import (
     Preset,
     PresetError,
@@ -262,6 +263,10 @@ class MainWindow(QtWidgets.QMainWindow):
         self._views_timer.setInterval(50)
         self._views_timer.timeout.connect(lambda: self._on_state_scene_changed(self.state.scene))
         self.state.scene_changed.connect(self._on_state_scene_changed_deferred)
+        # The predicted view has its own curves and path: switching the mode redraws them.
+        self.state.view_mode_changed.connect(
+            lambda _: self._on_state_scene_changed_deferred(self.state.scene)
+        )
         self.state.show_levels_changed.connect(self.heatmap.set_show_values)
         self.state.error_raised.connect(self.show_error)
         self.device.error_raised.connect(self.show_error)
@@ -734,6 +739,10 @@ class MainWindow(QtWidgets.QMainWindow):
             self.heatmap.set_cell_frames({})
             self.heatmap.set_outline(None)
             return
+        if self.state.view_mode == "predicted":
+            self._show_predicted(scene)
+            return
+        self.heatmap.set_path(None)
         curves = activation_curves(
             scene.shape,
             scene.method,
@@ -751,6 +760,30 @@ class MainWindow(QtWidgets.QMainWindow):
         if not self.blind.active:
             self.curves.plotItem.setTitle(
                 f"{scene.method} activation, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
+            )
+
+    def _show_predicted(self, scene) -> None:
+        """The predicted view: the felt centroid's path on the heatmap, the felt intensity over
+        time in the curves view, the ripple and centroid error in its title."""
+        try:
+            percept = predict(scene.shape, scene.method, scene.mu, scene.gamma,
+                              grid=self.device.profile.grid, samples=400)  # fmt: skip
+        except ValueError as exc:
+            self.show_error(f"no prediction: {exc}")
+            return
+        times = percept.t * scene.duration_s
+        if scene.direction == "reverse":
+            times = times[::-1]
+        self._curves = None
+        self.heatmap.set_cell_frames({})
+        self.heatmap.set_outline(scene.shape.outline())
+        self.heatmap.set_path(percept.centroid)
+        self.curves.set_series(times, percept.felt, scene.duration_s + scene.pause_s,
+                               "felt intensity M")  # fmt: skip
+        if not self.blind.active:
+            self.curves.plotItem.setTitle(
+                f"{scene.method} predicted: ripple {percept.ripple:.2f}, centroid error "
+                f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f})"
             )
 
     def _on_device_connection_changed(self, description: str) -> None:
@@ -784,14 +817,16 @@ class MainWindow(QtWidgets.QMainWindow):
             mode = "corrected"  # the array is paused while scrubbing: show what it would get
         grid = self.device.profile.grid
         labels = None
-        if mode in ("raw", "corrected"):
+        if mode in ("raw", "corrected", "predicted"):
             values = np.zeros(grid.size)
             if t is not None:
                 sample1 = get_method(scene.method).sample1
                 for i, v in point_entries(scene.shape, sample1, t, grid.cols, grid.rows):
                     values[i] = v
-                if mode == "corrected":
+                if mode != "raw":
                     values = tc.correct(values, scene.mu, scene.gamma, gain=scene.gain)
+                if mode == "predicted":
+                    values = felt_magnitude(values, scene.mu, 1.0 / (2.0 * scene.gamma))
             values = values.reshape(grid.shape)
             if self.state.show_levels:
                 labels = np.char.mod("%.2f", values)

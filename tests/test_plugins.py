@@ -4,7 +4,6 @@ built-in ones, and broken ones are listed as unavailable without taking anything
 
 import os
 import subprocess
-import sys
 import textwrap
 
 import numpy as np
@@ -48,9 +47,13 @@ def site(tmp_path, monkeypatch):
     and one more that fails to import; the registry is restored afterwards."""
     root = tmp_path / "site"
     root.mkdir()
-    for name, text in [("tt_half", HALF), ("tt_loud", BAD_VALUES), ("tt_boom", RAISES),
-                       ("tt_noproto", NO_PROTOCOL),
-                       ("tt_broken", "raise ImportError('needs a library that is missing')\n")]:
+    for name, text in [
+        ("tt_half", HALF),
+        ("tt_loud", BAD_VALUES),
+        ("tt_boom", RAISES),
+        ("tt_noproto", NO_PROTOCOL),
+        ("tt_broken", "raise ImportError('needs a library that is missing')\n"),
+    ]:
         (root / f"{name}.py").write_text(textwrap.dedent(text))  # fmt: skip
     info = root / "tt_methods-0.1.dist-info"
     info.mkdir()
@@ -87,7 +90,8 @@ def test_broken_plugins_are_listed_with_their_errors_and_nothing_else_breaks(sit
     assert "needs a library that is missing" in registry.UNAVAILABLE["broken"]
     assert "does not follow the method protocol" in registry.UNAVAILABLE["noproto"]
     assert {"CT", "MM", "AS", "IM", "EN", "PK", "RO", "GS"} <= set(names)
-    with pytest.raises(ValueError, match=r"method LOUD \(a plug-in\) returned .* values in \[0, 1\]"):
+    loud = r"method LOUD \(a plug-in\) returned .* values in \[0, 1\]"
+    with pytest.raises(ValueError, match=loud):
         tc.render(tc.Circle((2.5, 3), 2), "LOUD", np.linspace(0, 1, 5))
     with pytest.raises(ValueError, match=r"method BOOM \(a plug-in\) failed: ZeroDivisionError"):
         tc.render(tc.Circle((2.5, 3), 2), "BOOM", np.linspace(0, 1, 5))
@@ -135,7 +139,7 @@ def test_a_plugin_renders_and_streams_from_the_command_line(site, tmp_path):
             capture_output=True, text=True, env=_env(site), timeout=60,
         )  # fmt: skip
         assert proc.returncode == 0, proc.stderr
-        report, log = emu.finish()
+        _, log = emu.finish()
     finally:
         emu.kill()
     levels = log[:, 2:]

@@ -51,6 +51,7 @@ import numpy as np
 from .. import _validate
 from ..correction import Dither, quantize
 from ..jsonfile import read_json, write_json_atomic
+from ..percept import felt_magnitude
 from ..shapes import Line
 from ..trace import render_frames
 from .results import Session, now
@@ -66,28 +67,6 @@ CHI2_95 = 1.920729410347062  # chi2(1 df) 95% quantile / 2: the profile-likeliho
 
 
 # --- the model ---------------------------------------------------------------------------------
-
-
-def felt_magnitude(drive, threshold: float, exponent: float) -> np.ndarray:
-    """Felt magnitude of tactors driven at ``drive`` under the power law of the model.
-
-    Parameters
-    ----------
-    drive : array_like of float
-        Drive fractions in [0, 1], any shape.
-    threshold : float
-        ``TH`` in [0, 1): drives at or below it are not felt.
-    exponent : float
-        ``K`` > 0.
-
-    Returns
-    -------
-    ndarray of float64, same shape as ``drive``
-        ``((d - TH) / (1 - TH))^K`` above ``TH``, 0 at or below; 1 at full drive.
-    """
-    d = np.asarray(drive, dtype=np.float64)
-    x = np.clip((d - threshold) / (1.0 - threshold), 0.0, None)
-    return np.where(d > threshold, x**exponent, 0.0)
 
 
 def felt_total(drive, threshold: float, exponent: float) -> float:
