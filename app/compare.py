@@ -17,7 +17,7 @@ from tactile_core.methods import METHODS, PAPER_METHODS, get_method, method_name
 from tactile_core.outfile import atomic_file, check_output
 
 from .state import TunerState
-from .views import CurvesView, HeatmapView, cell_colors
+from .views import CurvesView, ElidedLabel, HeatmapView, cell_colors
 
 RATINGS = ("quality", "smoothness", "thickness")
 
@@ -29,13 +29,14 @@ class MethodSetEdit(QtWidgets.QWidget):
 
     methods_changed = QtCore.Signal(list)
 
-    def __init__(self, methods, low: int, high: int, parent=None):
+    def __init__(self, methods, low: int, high: int, parent=None, label: str | None = "methods"):
         super().__init__(parent)
         self.low, self.high = low, high
         self.methods = list(methods)
         row = QtWidgets.QHBoxLayout(self)
         row.setContentsMargins(0, 0, 0, 0)
-        row.addWidget(QtWidgets.QLabel("methods"))
+        if label:
+            row.addWidget(QtWidgets.QLabel(label))
         self.edit = QtWidgets.QLineEdit(" ".join(self.methods))
         self.edit.setObjectName("method_set")
         self.edit.setToolTip(
@@ -51,9 +52,10 @@ class MethodSetEdit(QtWidgets.QWidget):
         self.menu.aboutToShow.connect(self._fill_menu)
         self.pick.setMenu(self.menu)
         row.addWidget(self.pick)
-        self.problem = QtWidgets.QLabel("")
+        self.problem = ElidedLabel("")  # a long refusal must not widen the window
         self.problem.setObjectName("method_set_problem")
         self.problem.setStyleSheet("color: #c62828")
+        self.problem.setVisible(False)
         row.addWidget(self.problem)
 
     def _fill_menu(self) -> None:
@@ -82,9 +84,13 @@ class MethodSetEdit(QtWidgets.QWidget):
                 raise ValueError("each method once")
         except ValueError as exc:
             self.problem.setText(str(exc))
+            self.problem.setToolTip(str(exc))
+            self.problem.setVisible(True)
+            self.problem.setMinimumWidth(120)
             self.edit.setText(" ".join(self.methods))
             return False
         self.problem.setText("")
+        self.problem.setVisible(False)
         self.edit.setText(" ".join(methods))
         if methods != self.methods:
             self.methods = methods
@@ -322,6 +328,7 @@ class BlindPanel(QtWidgets.QWidget):
             self.set_methods(methods)
         except ValueError as exc:
             self.chooser.problem.setText(str(exc))
+            self.chooser.problem.setVisible(True)
             self.chooser.methods = list(self.methods)
             self.chooser.edit.setText(" ".join(self.methods))
 

@@ -28,6 +28,7 @@ from tactile_core.experiments.analysis import analyze
 from tactile_core.experiments.results import SESSION_FILE, check_participant
 from tactile_core.experiments.runners import INTERVAL_GAP_S, INTERVAL_S
 from tactile_core.experiments.tuning import save_correction
+from tactile_core.methods import PAPER_METHODS
 from tactile_core.scene import Scene
 
 from .state import TunerState
@@ -41,7 +42,7 @@ TITLES = {
 }
 KEYS = {
     "continue": "any letter key to go on",
-    "prepare": "1-4 to switch methods, a letter key to go on",
+    "prepare": "1-{n} to switch methods, a letter key to go on",
     "rating": "type 0-100, then Enter",
     "direction": "arrow keys",
     "shape": "C for circle, S for square",
@@ -270,6 +271,14 @@ class ExperimentsPanel(QtWidgets.QWidget):
         form.addRow("results folder", folder_row)
         form.addRow("seed", self.seed_spin)
         form.addRow("corner emphasis (Exp. 3)", self.emphasis_spin)
+        from .compare import MethodSetEdit
+
+        self.methods_edit = MethodSetEdit(PAPER_METHODS, 2, 8, label=None)
+        self.methods_edit.setToolTip(
+            "The methods Experiments 1 and 3 compare: the paper's four by default (in the "
+            "paper's 12 orders); any other set of 2-8 is ordered by a balanced Latin square"
+        )
+        form.addRow("methods (Exp. 1, 3)", self.methods_edit)
         form.addRow("participant window", self.screen_combo)
         buttons = QtWidgets.QHBoxLayout()
         self.start_button = QtWidgets.QPushButton("Start / resume")
@@ -381,9 +390,8 @@ class ExperimentsPanel(QtWidgets.QWidget):
         plan = TuningPlan()
         trials = 5 * plan.threshold_trials + 2 * plan.gamma_trials + plan.corner_trials
         self.run_label.setText(
-            "Tune by feel: type the id, then Start. Part 1 (mu): which interval held a weak "
-            f"vibration. Part 2 (gamma): which felt stronger. {trials} trials, about "
-            f"{round(trials * 3.2 / 60)} minutes; Esc pauses with the array off."
+            f"Tune by feel: type the id, then Start. {trials} trials (about "
+            f"{round(trials * 3.2 / 60)} min): mu, then gamma. Esc pauses, array off."
         )
         self.participant_edit.setFocus()
 
@@ -447,9 +455,12 @@ class ExperimentsPanel(QtWidgets.QWidget):
             profile = self.profile()
             session = open_session(folder, pid, seed=self.seed_spin.value(),
                                    device_profile=profile.name)  # fmt: skip
+            methods = self.methods_edit.methods
             if kind == "exp3":
                 runner = RUNNERS[kind](session, emphasis=self.emphasis_spin.value(),
-                                       profile=profile)  # fmt: skip
+                                       methods=methods, profile=profile)  # fmt: skip
+            elif kind == "exp1":
+                runner = RUNNERS[kind](session, methods=methods, profile=profile)
             else:
                 runner = RUNNERS[kind](session, profile=profile)
         except (ValueError, OSError) as exc:
@@ -559,7 +570,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
             f"{trial.index} ({trial.kind}{': ' + info if info else ''})"
         )
         self.prompt.setText(trial.prompt)
-        self.keys_label.setText(f"keys: {KEYS[trial.kind]}")
+        self.keys_label.setText(f"keys: {KEYS[trial.kind].format(n=len(trial.options))}")
         self.rating_edit.setVisible(trial.kind == "rating")
         self.participant_window.rating_error.setText("")
         if trial.kind == "rating":
@@ -631,7 +642,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
         return True
 
     def select_key(self, key: int) -> bool:
-        """Experiment 1 preparation stage: play the method behind key 1-4."""
+        """Experiment 1 preparation stage: play the method behind key 1-N."""
         runner = self.runner
         if runner is None or runner.current is None or runner.current.kind != "prepare":
             return False
@@ -729,7 +740,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
         kind = runner.current.kind
         if kind == "rating":
             return False  # the rating box takes digits and Enter itself
-        if kind == "prepare" and k.Key_1 <= key <= k.Key_4:
+        if kind == "prepare" and k.Key_1 <= key < k.Key_1 + len(runner.current.options):
             return self.select_key(key - k.Key_1 + 1)
         if kind in ("continue", "prepare") and k.Key_A <= key <= k.Key_Z:
             return self.submit("continue")

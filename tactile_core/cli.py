@@ -260,11 +260,13 @@ def cmd_simulate(args) -> int:
     unknown = set(experiments) - set(RUNNERS)
     if unknown:
         raise ValueError(f"experiments must be among {', '.join(RUNNERS)}, got {sorted(unknown)}")
+    methods = None if args.methods is None else args.methods.split()
     for i in range(args.participants):
         session = open_session(args.results, f"sim{i + 1:02d}", index=i, seed=args.seed)
         participant = SimulatedParticipant(seed=args.seed * 1000 + i)
         for name in experiments:
-            runner = RUNNERS[name](session)
+            extra = {"methods": methods} if name in ("exp1", "exp3") else {}
+            runner = RUNNERS[name](session, **extra)
             try:
                 participant.run(runner)
             finally:
@@ -489,6 +491,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--experiments", default="exp1,exp2,exp3", help="comma-separated (and calibration)"
     )
+    p.add_argument("--methods", metavar="'M M ...'", default=None,
+                   help="the method set of Experiments 1 and 3, e.g. 'AS EN RO:r=1.5' "
+                   "(default: the paper's four)")  # fmt: skip
     p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser(

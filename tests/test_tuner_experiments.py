@@ -1,6 +1,7 @@
 """The tuner's Experiments tab, driven from the keyboard against the simulated array."""
 
 import csv
+import json
 
 import pytest
 from PySide6 import QtCore, QtGui, QtWidgets
@@ -135,6 +136,30 @@ def test_experiment1_preparation_keys_and_ratings_then_stop_and_resume(window, q
     data = rows(tmp_path / "results" / "participant-P01" / "exp1.csv")
     assert [r["answer"] for r in data[1:]] == ["85", "40", "100"]
     assert data[0]["mapping"] == " ".join(mapping) and int(data[0]["switches"]) >= 2
+
+
+def test_experiment1_on_a_chosen_method_set_from_the_console(window, qtbot, tmp_path):
+    panel = window.experiments
+    choose(panel, "exp1")
+    panel.methods_edit.edit.setText("AS EN RO:r=1.5")
+    panel.methods_edit.edit.editingFinished.emit()
+    assert panel.methods_edit.methods == ["AS", "EN", "RO:r=1.5"]
+    assert panel.start()
+    Key = QtCore.Qt.Key
+    mapping = panel.runner.mapping
+    assert sorted(mapping) == ["AS", "EN", "RO:r=1.5"]
+    assert "1-3" in panel.keys_label.text()
+    press(qtbot, window, Key.Key_3)
+    assert window.state.scene.method == mapping[2]
+    press(qtbot, window, Key.Key_4)  # no fourth method: nothing changes
+    assert window.state.scene.method == mapping[2] and panel.runner.current.kind == "prepare"
+    session = json.loads((tmp_path / "results" / "participant-P01" / "session.json").read_text())
+    assert session["parameters"]["exp1_methods"] == ["AS", "EN", "RO:r=1.5"]
+    # A bad set typed into the console is refused on the spot; the last good set stays.
+    panel.methods_edit.edit.setText("AS")
+    panel.methods_edit.edit.editingFinished.emit()
+    assert "choose 2 to 8" in panel.methods_edit.problem.text()
+    assert panel.methods_edit.methods == ["AS", "EN", "RO:r=1.5"]
 
 
 def test_experiment2_arrow_keys_and_feedback(window, qtbot):
@@ -439,7 +464,7 @@ def test_tune_by_feel_guides_plays_two_intervals_and_applies_the_result(
     window.start_tuning()
     assert window.tabs.currentWidget() is panel
     assert panel.experiment_combo.currentData() == "correction"
-    assert "Part 1" in panel.run_label.text() and "Esc pauses" in panel.run_label.text()
+    assert "mu, then gamma" in panel.run_label.text() and "Esc pauses" in panel.run_label.text()
     assert panel.start()
     Key = QtCore.Qt.Key
     press(qtbot, window, Key.Key_G)  # the instructions

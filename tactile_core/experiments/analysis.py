@@ -131,12 +131,46 @@ def _length(value):
     return number
 
 
-def exp1_scores(results_dir, problems: Problems | None = None) -> tuple[dict, list[str]]:
-    """``{property: {method: [score per participant]}}`` (line + circle rating) and the ids."""
+def session_methods(folder: Path, experiment: str) -> tuple[str, ...]:
+    """The method set ``experiment`` ran for the participant in ``folder`` (``session.json``'s
+    ``parameters``); the paper's four when none is recorded or the file cannot be read."""
+    import json
+
+    try:
+        with open(Path(folder) / "session.json", encoding="utf-8") as f:
+            recorded = json.load(f).get("parameters", {}).get(f"{experiment}_methods")
+    except (OSError, ValueError, AttributeError):
+        recorded = None
+    if isinstance(recorded, list) and all(isinstance(m, str) for m in recorded):
+        return tuple(recorded)
+    return METHODS
+
+
+def study_methods(results_dir, experiment: str) -> tuple[tuple[str, ...], list[str]]:
+    """The method set of the study's ``experiment``: the set most participants ran (the first
+    participant's on a tie; the paper's four by default), and the participants who ran another
+    set (left out of its analysis). Only participants with the experiment's CSV count."""
+    sets = {f.name.removeprefix("participant-"): session_methods(f, experiment)
+            for f in participants(results_dir) if (f / f"{experiment}.csv").exists()}  # fmt: skip
+    if not sets:
+        return METHODS, []
+    counts: dict = {}
+    for s in sets.values():
+        counts[s] = counts.get(s, 0) + 1
+    chosen = max(counts, key=lambda s: counts[s])  # dicts keep order: the first on a tie
+    return chosen, [pid for pid, s in sets.items() if s != chosen]
+
+
+def exp1_scores(results_dir, problems: Problems | None = None, methods=None):
+    """``({property: {method: [score per participant]}}, ids)``: line + circle ratings of the
+    participants who ran ``methods`` (default: :func:`study_methods`)."""
     problems = problems if problems is not None else Problems()
-    scores = {p: {m: [] for m in METHODS} for p in PROPERTIES}
+    methods = tuple(methods) if methods is not None else study_methods(results_dir, "exp1")[0]
+    scores = {p: {m: [] for m in methods} for p in PROPERTIES}
     ids = []
     for folder in participants(results_dir):
+        if session_methods(folder, "exp1") != methods:
+            continue
         path = folder / "exp1.csv"
         table = {}
         for line, r in numbered_rows(path, problems):
@@ -144,7 +178,7 @@ def exp1_scores(results_dir, problems: Problems | None = None) -> tuple[dict, li
                 continue
             got = _parse(path, line, problems, {
                 "property": (r["property"], _one_of(PROPERTIES)),
-                "method": (r["method"], _one_of(METHODS)),
+                "method": (r["method"], _one_of(methods)),
                 "answer": (r["answer"], _rating),
             })  # fmt: skip
             if got is None:
@@ -154,11 +188,11 @@ def exp1_scores(results_dir, problems: Problems | None = None) -> tuple[dict, li
                 problems.add(path, line, f"duplicate rating of {' '.join(key)} (the first kept)")
                 continue
             table[key] = got["answer"]
-        if len(table) != 2 * len(PROPERTIES) * len(METHODS):
+        if len(table) != 2 * len(PROPERTIES) * len(methods):
             continue  # incomplete
         ids.append(folder.name.removeprefix("participant-"))
         for prop in PROPERTIES:
-            for m in METHODS:
+            for m in methods:
                 scores[prop][m].append(table[("line", prop, m)] + table[("circle", prop, m)])
     return scores, ids
 
@@ -222,15 +256,19 @@ def exp2_estimates(results_dir, problems: Problems | None = None, *, fits: bool 
     return (out, ids, fitted) if fits else (out, ids)
 
 
-def exp3_answers(results_dir, problems: Problems | None = None) -> dict:
-    """``{participant: {method: [(shape, answer or None), ...]}}`` of complete sets."""
+def exp3_answers(results_dir, problems: Problems | None = None, methods=None) -> dict:
+    """``{participant: {method: [(shape, answer or None), ...]}}`` of complete sets, for the
+    participants who ran ``methods`` (default: :func:`study_methods`)."""
     problems = problems if problems is not None else Problems()
+    methods = tuple(methods) if methods is not None else study_methods(results_dir, "exp3")[0]
     out = {}
     for folder in participants(results_dir):
+        if session_methods(folder, "exp3") != methods:
+            continue
         path = folder / "exp3.csv"
-        per = {m: [] for m in METHODS}
+        per = {m: [] for m in methods}
         for line, r in numbered_rows(path, problems):
-            if r.get("stage") not in METHODS:
+            if r.get("stage") not in methods:
                 continue
             got = _parse(path, line, problems, {
                 "shape": (r["shape"], _one_of(SHAPES)),
@@ -248,12 +286,13 @@ def exp3_answers(results_dir, problems: Problems | None = None) -> dict:
     return out
 
 
-def exp3_scores(results_dir, problems: Problems | None = None) -> tuple[dict, list[str]]:
-    """``{method: [correct answers out of 10 per participant]}`` and the ids."""
-    answers = exp3_answers(results_dir, problems)
-    out = {m: [] for m in METHODS}
+def exp3_scores(results_dir, problems: Problems | None = None, methods=None):
+    """``({method: [correct answers out of 10 per participant]}, ids)``."""
+    methods = tuple(methods) if methods is not None else study_methods(results_dir, "exp3")[0]
+    answers = exp3_answers(results_dir, problems, methods)
+    out = {m: [] for m in methods}
     for per in answers.values():
-        for m in METHODS:
+        for m in methods:
             out[m].append(sum(shape == answer for shape, answer in per[m]))
     return out, list(answers)
 
@@ -263,7 +302,8 @@ def confusion(answers: dict) -> dict:
     and each participant's d' (square as the signal; a timeout counts as a miss or a
     correct rejection, i.e. not "square")."""
     out = {}
-    for m in METHODS:
+    methods = next(iter(answers.values())).keys() if answers else METHODS
+    for m in methods:
         counts: dict = {}
         dprimes = []
         for per in answers.values():
@@ -328,6 +368,18 @@ def _omnibus_and_effects(out, scores, label=""):
     return (chi2, p), pairwise_effect_sizes(scores)
 
 
+def _pairs(methods) -> int:
+    return len(methods) * (len(methods) - 1) // 2
+
+
+def _say_set(out, methods, others) -> None:
+    """Name a method set other than the paper's four, and who was left out for another."""
+    if tuple(methods) != METHODS:
+        out(f"methods: {' '.join(methods)} (orders: balanced Latin square rows)")
+    if others:
+        out(f"left out, another method set: {', '.join(others)}")
+
+
 def analyze(results_dir, out=print, *, paper_rounding: bool = False, progress=None) -> dict:
     """Print the tables, write the figures; return what was computed.
 
@@ -352,11 +404,13 @@ def analyze(results_dir, out=print, *, paper_rounding: bool = False, progress=No
         out("p-values: each rounded to three decimals before x 6, as the paper's tables")
 
     progress(0.05, "Experiment 1")
-    scores1, ids1 = exp1_scores(root, problems)
+    methods1, others1 = study_methods(root, "exp1")
+    scores1, ids1 = exp1_scores(root, problems, methods1)
     if ids1:
         out(f"\nExperiment 1 ({len(ids1)} participants with complete ratings)")
-        out("Table 1. Pairwise Wilcoxon p-values, after multiplication by 6 for Bonferroni "
-            "adjustment. Values below 0.05 are significant.")  # fmt: skip
+        _say_set(out, methods1, others1)
+        out(f"Table 1. Pairwise Wilcoxon p-values, after multiplication by {_pairs(methods1)} "
+            "for Bonferroni adjustment. Values below 0.05 are significant.")  # fmt: skip
         tables = {
             prop: pairwise_wilcoxon(scores1[prop], paper_rounding=paper_rounding)
             for prop in PROPERTIES
@@ -365,7 +419,8 @@ def analyze(results_dir, out=print, *, paper_rounding: bool = False, progress=No
         for prop in PROPERTIES:
             out(format_pvalues(tables[prop], prop.capitalize()))
         out("medians:\t" + "\t".join(
-            f"{m} " + "/".join(f"{np.median(scores1[p][m]):g}" for p in PROPERTIES) for m in METHODS
+            f"{m} " + "/".join(f"{np.median(scores1[p][m]):g}" for p in PROPERTIES)
+            for m in methods1
         ))  # fmt: skip
         out("Beyond the paper: Friedman omnibus tests and effect sizes r = Z / sqrt(N)")
         omnibus, effects = {}, {}
@@ -432,16 +487,20 @@ def analyze(results_dir, out=print, *, paper_rounding: bool = False, progress=No
                           "fits": fits, "fit_summary": fit_summary}  # fmt: skip
 
     progress(0.75, "Experiment 3")
-    answers3 = exp3_answers(root, problems)
-    scores3, ids3 = exp3_scores(root, Problems())
+    methods3, others3 = study_methods(root, "exp3")
+    answers3 = exp3_answers(root, problems, methods3)
+    scores3, ids3 = exp3_scores(root, Problems(), methods3)
     if ids3:
-        out(f"\nExperiment 3 ({len(ids3)} participants with all four sets)")
-        out("Table 2. Pairwise Wilcoxon p-values, after multiplication by 6 for Bonferroni "
-            "adjustment. Values below 0.05 are significant.")  # fmt: skip
+        n3 = "four" if len(methods3) == 4 else str(len(methods3))
+        out(f"\nExperiment 3 ({len(ids3)} participants with all {n3} sets)")
+        _say_set(out, methods3, others3)
+        out(f"Table 2. Pairwise Wilcoxon p-values, after multiplication by {_pairs(methods3)} "
+            "for Bonferroni adjustment. Values below 0.05 are significant.")  # fmt: skip
         table2 = pairwise_wilcoxon(scores3, paper_rounding=paper_rounding)
         out("\t".join(f"{a}, {b}" for a, b in table2))
         out("\t".join(f"{p:.3f}" for p in table2.values()))
-        out("mean correct of 10:\t" + "\t".join(f"{m} {np.mean(scores3[m]):.2f}" for m in METHODS))
+        out("mean correct of 10:\t" + "\t".join(f"{m} {np.mean(scores3[m]):.2f}"
+                                                for m in methods3))  # fmt: skip
         out("Beyond the paper:")
         omnibus3, effects3 = _omnibus_and_effects(out, scores3, "  ")
         out("  r\t" + "\t".join(f"{a}, {b} {r:+.2f}" for (a, b), r in effects3.items()))
@@ -450,7 +509,7 @@ def analyze(results_dir, out=print, *, paper_rounding: bool = False, progress=No
             "  confusion (rows: shown; columns: answered circle / square / no answer) and "
             "d' (square as signal; mean +- SE over participants):"
         )
-        for m in METHODS:
+        for m in methods3:
             c = conf[m]["counts"]
             dp = np.array(conf[m]["d_prime"])
             se = dp.std(ddof=1) / np.sqrt(len(dp)) if len(dp) > 1 else float("nan")

@@ -77,7 +77,8 @@ class SimulatedParticipant:
     seed : int
         Seeds the answers.
     ratings : dict
-        ``{method: (quality, smoothness, thickness)}`` mean ratings.
+        ``{method: (quality, smoothness, thickness)}`` mean ratings; a method not listed
+        (a peer method, a plug-in) gets 50 for each.
     rating_sd : float
         Spread of ratings around the means.
     exp2_lengths : dict
@@ -85,7 +86,7 @@ class SimulatedParticipant:
     exp2_slope : float
         Slope of the psychometric functions (in log length).
     exp3_accuracy : dict
-        ``{method: P(correct)}`` for circle/square.
+        ``{method: P(correct)}`` for circle/square; 0.75 for a method not listed.
     timeout_rate : float
         Chance of not answering within the time limit.
     tactor_thresholds : dict
@@ -121,7 +122,7 @@ class SimulatedParticipant:
             return "continue"
         if kind == "rating":
             prop = ("quality", "smoothness", "thickness").index(trial.info["property"])
-            mean = self.ratings[trial.info["method"]][prop]
+            mean = self.ratings.get(trial.info["method"], (50, 50, 50))[prop]
             return int(min(max(round(self.rng.gauss(mean, self.rating_sd)), 0), 100))
         if kind == "direction":
             p = self.psychometric(trial.stage).p_correct(float(trial.info["length"]))
@@ -133,7 +134,7 @@ class SimulatedParticipant:
             if self.rng.random() < self.timeout_rate:
                 return None
             right = trial.info["shape"]
-            if self.rng.random() < self.exp3_accuracy[trial.info["method"]]:
+            if self.rng.random() < self.exp3_accuracy.get(trial.info["method"], 0.75):
                 return right
             return next(s for s in trial.options if s != right)
         if kind == "detect":
@@ -149,7 +150,8 @@ class SimulatedParticipant:
         feedback = []
         while not runner.finished:
             if runner.current.kind == "prepare":
-                for key in (1, 2, 3, 4, 2, 3):
+                n = len(runner.current.options)
+                for key in (*range(1, n + 1), 2, min(3, n)):  # every key, then back
                     runner.select(key)
             feedback.append(runner.answer(self.respond(runner.current), rt_s=rt_s))
         return feedback

@@ -26,7 +26,7 @@ from .. import _validate
 from .._version import __version__
 from ..jsonfile import read_json, write_json_atomic
 from ..scene import PAPER_PIPELINE, Pipeline
-from .stats import order_for
+from .stats import order_for, order_for_set
 
 SESSION_FILE = "session.json"
 _ID = re.compile(r"^[A-Za-z0-9_.-]{1,64}$")
@@ -98,10 +98,18 @@ class Session:
         """The ``session.json`` file."""
         return Path(self.folder) / SESSION_FILE
 
-    def order(self, experiment: str) -> str:
-        """This participant's order of conditions (letters A-D) for ``experiment``."""
+    def order(self, experiment: str, n: int = 4, paper: bool = True) -> str:
+        """This participant's order of conditions (letters A onwards) for ``experiment``.
+
+        ``paper``: one of the paper's 12 orders of four conditions (:data:`ORDERS`); otherwise
+        a row of a balanced Latin square of ``n`` (:func:`order_for_set`). Either is dealt by
+        recruitment index with the session's seed, and kept in ``session.json``."""
         if experiment not in self.orders:
-            self.orders[experiment] = order_for(self.index, seed=self.seed + _SALT[experiment])
+            seed = self.seed + _SALT[experiment]
+            self.orders[experiment] = (
+                order_for(self.index, seed=seed) if paper
+                else order_for_set(self.index, n, seed=seed)
+            )  # fmt: skip
             self.save()
         return self.orders[experiment]
 
@@ -174,9 +182,11 @@ def session_from_dict(data, path) -> Session:
     if kwargs["index"] < 0 or kwargs["seed"] < 0:
         raise SessionError(f"{path}: fields 'index' and 'seed' must be >= 0")
     for name, order in kwargs["orders"].items():
-        if name not in _SALT or not isinstance(order, str) or sorted(order) != list("ABCD"):
+        letters = [chr(ord("A") + i) for i in range(len(order))] if isinstance(order, str) else []
+        if name not in _SALT or not 2 <= len(letters) <= 8 or sorted(order) != letters:
             raise SessionError(
-                f"{path}: field 'orders' must map experiments to orders of A-D, got "
+                f"{path}: field 'orders' must map experiments to orders of A-D (A-H for a "
+                f"method set), got "
                 f"{_short({name: order})}"
             )
     if "pipeline" in kwargs:

@@ -330,6 +330,68 @@ class Runner:
         self.close()
 
 
+MAX_SET = 8
+"""Most methods an experiment compares (number keys 1-8 in Experiment 1's preparation)."""
+
+
+def method_set(session: Session, experiment: str, methods=None) -> list[str]:
+    """The methods ``experiment`` compares for this session: ``methods`` (specs, validated and
+    made canonical), else the set the session recorded, else the paper's four.
+
+    The set is kept in ``session.json`` (``parameters[experiment + "_methods"]``) so that a
+    resumed run compares the same methods; another set is refused.
+
+    Raises
+    ------
+    ValueError
+        Naming the method or the set when a method is unknown, the set has fewer than 2 or
+        more than 8 methods or one twice, or differs from the session's.
+    """
+    from ..methods import get_method
+
+    key = f"{experiment}_methods"
+    recorded = session.parameters.get(key)
+    if recorded is not None and (
+        not isinstance(recorded, list) or not all(isinstance(m, str) for m in recorded)
+    ):
+        raise ValueError(f"session parameter {key} must be a list of method names, got "
+                         f"{_validate.shown(recorded)}")  # fmt: skip
+    chosen = list(METHODS) if methods is None and recorded is None else (
+        recorded if methods is None else methods
+    )  # fmt: skip
+    if isinstance(chosen, str) or not hasattr(chosen, "__iter__"):
+        raise ValueError(f"methods must be a list of method names, got {_validate.shown(chosen)}")
+    chosen = [get_method(m).spec for m in chosen]
+    if not 2 <= len(chosen) <= MAX_SET or len(set(chosen)) != len(chosen):
+        raise ValueError(
+            f"methods must be 2 to {MAX_SET} different methods, got {' '.join(chosen) or 'none'}"
+        )
+    if recorded is not None and [get_method(m).spec for m in recorded] != chosen:
+        raise ValueError(
+            f"methods {' '.join(chosen)} differ from the session's {' '.join(recorded)} for "
+            f"{experiment}: resume with the same set, or use another participant id"
+        )
+    if recorded is None:
+        session.parameters[key] = chosen
+        session.save()
+    return chosen
+
+
+def _ordered(session: Session, experiment: str, methods: list) -> list:
+    """``methods`` in the participant's counterbalanced order: one of the paper's 12 orders
+    for the paper's four (in the paper's order), a balanced Latin square row for any other
+    set."""
+    paper = list(methods) == list(METHODS)
+    order = session.order(experiment, len(methods), paper=paper)
+    try:
+        return apply_order(order, methods)
+    except ValueError:
+        raise ValueError(
+            f"{session.path}: the order {order!r} of {experiment} does not fit its "
+            f"{len(methods)} methods"
+        ) from None
+
+
 def _continue(experiment, stage, index, prompt) -> Trial:
     return Trial(experiment, stage, index, "continue", prompt)
 
@@ -348,12 +410,16 @@ class Experiment1(Runner):
     fields = ("participant", "stage", "trial", "property", "method", "mapping", "switches",
               "answer", "rt_s", "time", *HEALTH_FIELDS)  # fmt: skip
     conditions: ClassVar[dict] = {method: {"mu": MU, "gamma": GAMMA} for method in METHODS}
+    """The paper's four; a run with another method set has its own (see ``methods``)."""
     LINE = Line((0.5, 1.84), (4.5, 4.16))
     CIRCLE = Circle((2.5, 3.0), 2.0)
     PROPERTIES = ("quality", "smoothness", "thickness")
     total = 1 + 2 * 3 * 4
 
-    def __init__(self, session, **kwargs):
+    def __init__(self, session, methods=None, **kwargs):
+        self.methods = method_set(session, self.experiment, methods)
+        self.conditions = {m: {"mu": MU, "gamma": GAMMA} for m in self.methods}
+        self.total = 1 + 2 * 3 * len(self.methods)
         self.mapping: list[str] = []
         self.key = 1
         self.switches = 0
@@ -364,25 +430,30 @@ class Experiment1(Runner):
         return self.make_scene(shape, method, MU, GAMMA, duration_s=2.0, pause_s=0.5)
 
     def select(self, key: int) -> Scene:
-        """Preparation stage: the scene of the method behind number key ``key`` (1-4)."""
-        key = _validate.integer("key", key, 1, 4)
+        """Preparation stage: the scene of the method behind number key ``key`` (1-N)."""
+        n = len(self.methods)
+        key = _validate.integer("key", key, 1, n)
         if self.current is None or self.current.kind != "prepare":
-            raise ValueError("select: keys 1-4 switch methods only in the preparation stage")
+            raise ValueError(f"select: keys 1-{n} switch methods only in the preparation stage")
         if key != self.key:
             self.switches += 1
         self.key = key
         return self.scene(self.LINE, self.mapping[key - 1])
 
     def _trials(self):
-        order = apply_order(self.session.order(self.experiment), METHODS)
-        self.mapping = list(METHODS)
+        order = _ordered(self.session, self.experiment, self.methods)
+        self.mapping = list(self.methods)
         self.rng.shuffle(self.mapping)
+        n = len(self.methods)
+        keys = tuple(str(k + 1) for k in range(n))
         yield Trial(
             "exp1", "prepare", 0, "prepare",
-            "Press 1, 2, 3 and 4 as often as you like to feel four renderings of a line. "
-            "Press a letter key when you are ready to rate them.",
+            ("Press 1, 2, 3 and 4 as often as you like to feel four renderings of a line. "
+             if n == 4 else
+             f"Press the keys 1 to {n} as often as you like to feel {n} renderings of a line. ")
+            + "Press a letter key when you are ready to rate them.",
             scene=self.scene(self.LINE, self.mapping[0]),
-            options=("1", "2", "3", "4"),
+            options=keys,
             info={"mapping": "".join(m[0] for m in self.mapping)},
         )  # fmt: skip
         for stage, shape, noun in (("line", self.LINE, "line"), ("circle", self.CIRCLE, "circle")):
@@ -528,7 +599,10 @@ class Experiment3(Runner):
     TIME_LIMIT_S = 20.0
     total = 4 * (QUESTIONS + 1)
 
-    def __init__(self, session, emphasis: float | None = None, **kwargs):
+    def __init__(self, session, emphasis: float | None = None, methods=None, **kwargs):
+        self.methods = method_set(session, self.experiment, methods)
+        self.conditions = {m: {"mu": MU, "gamma": GAMMA} for m in self.methods}
+        self.total = len(self.methods) * (self.QUESTIONS + 1)
         if emphasis is None:
             emphasis = float(session.parameters.get("exp3_emphasis", 0.0))
         self.emphasis = _validate.in_range("emphasis", emphasis, 0.0, 0.9)
@@ -542,7 +616,7 @@ class Experiment3(Runner):
         super().__init__(session, **kwargs)
 
     def _trials(self):
-        order = apply_order(self.session.order(self.experiment), METHODS)
+        order = _ordered(self.session, self.experiment, self.methods)
         for s, method in enumerate(order):
             yield _continue(
                 "exp3", f"rest-{method}", 0,

@@ -44,6 +44,43 @@ def order_for(index: int, seed: int = 0) -> str:
     return orders[index % len(orders)]
 
 
+def williams_orders(n: int) -> tuple[str, ...]:
+    """A balanced Latin square of ``n`` conditions (Williams 1949), as orders of letters.
+
+    Every condition appears once in every position, and follows every other condition equally
+    often: ``n`` orders for even ``n``, ``2n`` for odd ``n`` (the square and its mirror image).
+    Row ``i`` is ``(first + i) mod n`` with ``first = 0, 1, n-1, 2, n-2, ...``.
+
+    Parameters
+    ----------
+    n : int
+        2 to 26 conditions (letters A onwards).
+    """
+    if not isinstance(n, int) or not 2 <= n <= 26:
+        raise ValueError(f"a balanced Latin square needs 2 to 26 conditions, got {n!r}")
+    first, lo, hi = [0], 1, n - 1
+    while len(first) < n:
+        first.append(lo)
+        lo += 1
+        if len(first) < n:
+            first.append(hi)
+            hi -= 1
+    rows = [[(c + i) % n for c in first] for i in range(n)]
+    if n % 2:
+        rows += [row[::-1] for row in rows]
+    return tuple("".join(chr(ord("A") + c) for c in row) for row in rows)
+
+
+def order_for_set(index: int, n: int, seed: int = 0) -> str:
+    """The order of the ``index``-th participant (0-based) for a set of ``n`` conditions other
+    than the paper's four: the rows of :func:`williams_orders`, shuffled once with ``seed`` and
+    dealt out in recruitment order (a multiple of ``n`` participants, ``2n`` for odd ``n``,
+    completes the square)."""
+    orders = list(williams_orders(n))
+    random.Random(seed).shuffle(orders)
+    return orders[index % len(orders)]
+
+
 def apply_order(order: str, conditions) -> list:
     """Conditions in the order given by letters A-D (A = the first condition)."""
     conditions = list(conditions)
