@@ -199,6 +199,7 @@ def test_specs_are_canonical_and_validated():
         ("AS:r=1", "method AS has no parameter 'r'"),
         ("RO:r", "NAME:param=value"),
         ("RO:r=nan", "method RO: r must be finite"),
+        ("RO:r=1,r=2", "method RO: r is given twice"),
         ("ZZ", "got 'ZZ'"),
     ]:
         with pytest.raises(ValueError, match=message):

@@ -337,6 +337,9 @@ def parse_spec(text: str) -> tuple[str, dict]:
             if not math.isfinite(number):
                 raise ValueError(f"method {name.strip().upper()}: {key} must be finite, got "
                                  f"{_validate.shown(value.strip())}")  # fmt: skip
+            if key in params:
+                raise ValueError(f"method {name.strip().upper()}: {key} is given twice in "
+                                 f"{_validate.shown(text)}")  # fmt: skip
             params[key] = number
     return name.strip().upper(), params
 
