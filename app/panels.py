@@ -153,6 +153,7 @@ class ControlsPanel(QtWidgets.QWidget):
             QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon
         )
         self.other_combo.setMinimumContentsLength(14)
+        self.other_combo.setPlaceholderText("peer methods, plug-ins")
         self.param_label = QtWidgets.QLabel("")
         self.param_spin = _spin(0.1, 10.0, 0.05, 2)
         self.param_spin.setObjectName("method_param")
@@ -311,7 +312,7 @@ class ControlsPanel(QtWidgets.QWidget):
         if index < len(PAPER_METHODS):
             self._set(method=PAPER_METHODS[index])
         else:
-            self._on_other_chosen(self.other_combo.currentIndex())
+            self._on_other_chosen(max(self.other_combo.currentIndex(), 0))
 
     def fill_other_methods(self) -> None:
         """List the peer methods and the plug-ins (an unavailable plug-in is listed, greyed
@@ -442,6 +443,7 @@ class ControlsPanel(QtWidgets.QWidget):
     def _show_method(self, method) -> None:
         if method.name in PAPER_METHODS:
             index = PAPER_METHODS.index(method.name)
+            self.other_combo.setCurrentIndex(-1)  # the placeholder: no other method is on
         else:
             index = len(PAPER_METHODS)
             found = self.other_combo.findData(method.name)

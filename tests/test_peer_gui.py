@@ -27,7 +27,10 @@ def test_other_methods_and_their_parameter_drive_the_array(window, qtbot):  # no
     wait_for_levels(qtbot, window, lambda levels: (levels > 0).sum() > 4)
     qtbot.keyClick(window, QtCore.Qt.Key.Key_3)  # key 3: back to the paper's AS
     assert window.state.scene.method == "AS" and not controls.param_spin.isVisible()
+    assert controls.other_combo.currentIndex() == -1  # the list shows no method as on
     wait_for_levels(qtbot, window, lambda levels: 0 < (levels > 0).sum() <= 4)
+    controls.other_button.click()  # "other" with nothing chosen: the first of the list
+    assert window.state.scene.method == "EN" and controls.other_combo.currentData() == "EN"
 
 
 def test_blind_ab_hides_the_other_method_and_its_parameter(window):  # noqa: F811
