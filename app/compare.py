@@ -129,6 +129,8 @@ class CompareView(QtWidgets.QWidget):
             while old.count():
                 widget = old.takeAt(0).widget()
                 if widget is not None:
+                    widget.hide()  # gone now, not at the next turn of the event loop
+                    widget.setParent(None)
                     widget.deleteLater()
             QtWidgets.QWidget().setLayout(old)  # reparent the old layout away to drop it
         grid = QtWidgets.QGridLayout(self._holder)
