@@ -302,6 +302,8 @@ class ControlsPanel(QtWidgets.QWidget):
 
         state.scene_changed.connect(self.refresh)
         state.view_mode_changed.connect(self.refresh)
+        state.plugins_changed.connect(self.fill_other_methods)
+        state.plugins_changed.connect(self.refresh)
         self.refresh()
 
     def _set(self, **changes) -> None:

@@ -13,6 +13,29 @@ DEFAULT_SCENE = Scene(tc.Line((0.5, 1.84), (4.5, 4.16)), "AS", mu=0.33, gamma=0.
 VIEW_MODES = ("raw", "corrected", "sent", "felt", "predicted")
 
 
+def plugin_problem(scene: Scene) -> str:
+    """Try a plug-in method on the scene's whole trace (257 points, batch and live) before it
+    plays: its error, with the plug-in taken out of the registry, or "" when it renders (or
+    is built in)."""
+    import numpy as np
+
+    from tactile_core.methods import get_method, mark_unavailable
+    from tactile_core.render import render_point
+
+    try:
+        method = get_method(scene.method)
+        if not method.plugin:
+            return ""
+        t = np.linspace(0.0, 1.0, 257)
+        tc.render(scene.shape, scene.method, t)
+        for x in t[::16]:
+            render_point(scene.shape, scene.method, float(x))
+    except ValueError as exc:
+        mark_unavailable(scene.method, str(exc))
+        return f"{exc}; the plug-in is listed as unavailable"
+    return ""
+
+
 class TunerState(QtCore.QObject):
     """The one source of truth the widgets write to and the views listen to.
 
@@ -31,6 +54,8 @@ class TunerState(QtCore.QObject):
     view_mode_changed = QtCore.Signal(str)
     show_levels_changed = QtCore.Signal(bool)
     error_raised = QtCore.Signal(str)
+    plugins_changed = QtCore.Signal()
+    """A plug-in method was found broken and taken out of the list."""
 
     _TIMING = ("duration_s", "pause_s", "direction", "repeat")
     _SAMPLING = ("rate_hz", "filter", "subsamples", "dither")
@@ -60,9 +85,16 @@ class TunerState(QtCore.QObject):
         if not isinstance(scene, Scene):
             self.error_raised.emit(f"scene must be a Scene, got {scene!r}")
             return False
-        old, self._scene = self._scene, scene
+        old = self._scene
         if scene == old:
             return True
+        if scene.shape is not None and (scene.method, scene.shape) != (old.method, old.shape):
+            problem = plugin_problem(scene)
+            if problem:
+                self.error_raised.emit(problem)
+                self.plugins_changed.emit()
+                return False
+        self._scene = scene
         if scene.method != old.method:
             self.method_changed.emit(scene.method)
         if (scene.mu, scene.gamma) != (old.mu, old.gamma):

@@ -821,7 +821,12 @@ class MainWindow(QtWidgets.QMainWindow):
             values = np.zeros(grid.size)
             if t is not None:
                 sample1 = get_method(scene.method).sample1
-                for i, v in point_entries(scene.shape, sample1, t, grid.cols, grid.rows):
+                try:
+                    entries = point_entries(scene.shape, sample1, t, grid.cols, grid.rows)
+                except ValueError as exc:  # only a plug-in raises here (it is checked first)
+                    self._plugin_failed(scene, exc)
+                    return
+                for i, v in entries:
                     values[i] = v
                 if mode != "raw":
                     values = tc.correct(values, scene.mu, scene.gamma, gain=scene.gain)
@@ -848,6 +853,16 @@ class MainWindow(QtWidgets.QMainWindow):
             self.curves.set_cursor(phase)
             if self.tabs.currentWidget() is self.compare:
                 self.compare.tick(scene, t, phase)
+
+    def _plugin_failed(self, scene, exc) -> None:
+        """A plug-in method failed while playing: say so, list it as unavailable, and go back
+        to AS with the array paused (all off)."""
+        from tactile_core.methods import mark_unavailable
+
+        mark_unavailable(scene.method, str(exc))
+        self.show_error(f"{exc}; the plug-in is listed as unavailable, back to AS (paused)")
+        self.state.update(method="AS", playing=False)
+        self.state.plugins_changed.emit()
 
     def display_rate(self) -> tuple[float, float]:
         """Achieved display refresh rate (Hz) and p99 interval (ms) over the last second."""

@@ -156,18 +156,26 @@ def test_a_plugin_renders_and_streams_from_the_command_line(site, tmp_path):
     assert "Traceback" not in proc.stderr
 
 
-def test_a_plugin_appears_in_the_tuner_and_compares(site, qtbot):
+def test_a_plugin_appears_in_the_tuner_streams_and_compares(site, qtbot, monkeypatch):
     from tactile_tuner.window import MainWindow
 
+    monkeypatch.setenv("PYTHONPATH", _env(site)["PYTHONPATH"])  # the stream's own process
     win = MainWindow(restore=False)
     qtbot.addWidget(win)
+    win.show()
     combo = win.controls.other_combo
     win.controls.fill_other_methods()
     assert combo.findData("HALF") >= 0
     broken = [combo.itemText(i) for i in range(combo.count()) if combo.itemData(i) is None]
     assert any("broken" in text for text in broken)
-    win.state.update(method="HALF")
+    win.state.update(method="HALF", mu=0.0, gamma=1.0, dither=False)
     assert win.controls.other_button.isChecked()
+
+    def half_lit():
+        levels = win.device.sent_levels()
+        return (levels > 0).sum() == 1 and levels.max() == 11  # 0.5 x 22
+
+    qtbot.waitUntil(half_lit, timeout=5000)
     win.compare.set_methods(["AS", "HALF", "RO:r=1.5"])
     assert list(win.compare.heatmaps) == ["AS", "HALF", "RO:r=1.5"]
     win.compare._refresh()
@@ -175,4 +183,33 @@ def test_a_plugin_appears_in_the_tuner_and_compares(site, qtbot):
     win.blind.set_methods(["AS", "HALF"])
     win.blind.start(seed=1)
     assert sorted(win.blind.mapping) == ["AS", "HALF"]
+    win.close()
+
+
+def test_a_plugin_that_breaks_in_the_tuner_is_listed_and_nothing_else_breaks(
+    site, qtbot, monkeypatch
+):
+    from tactile_tuner.window import MainWindow
+
+    monkeypatch.setenv("PYTHONPATH", _env(site)["PYTHONPATH"])
+    win = MainWindow(restore=False)
+    qtbot.addWidget(win)
+    win.show()
+    errors = []
+    win.state.error_raised.connect(errors.append)
+    registry.method_names()
+    assert not win.state.update(method="BOOM")  # tried before it plays: refused
+    assert "method BOOM (a plug-in) failed" in errors[-1] and "unavailable" in errors[-1]
+    assert "BOOM" not in registry.METHODS and "ZeroDivisionError" in registry.UNAVAILABLE["boom"]
+    assert win.state.scene.method == "AS"
+    combo = win.controls.other_combo
+    assert combo.findData("BOOM") < 0
+    assert any("boom" in combo.itemText(i) for i in range(combo.count()))
+    # One that fails only while playing: back to AS, paused, listed.
+    win.state.update(method="HALF")
+    failing = registry._checked("HALF", lambda *a: 1 / 0, True)  # as the registry wraps it
+    registry.METHODS["HALF"]._samplers["sample1"] = failing
+    win.state.update(playing=True)
+    qtbot.waitUntil(lambda: win.state.scene.method == "AS", timeout=3000)
+    assert not win.state.scene.playing and "HALF" not in registry.METHODS
     win.close()

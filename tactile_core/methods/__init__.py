@@ -276,6 +276,16 @@ def load_plugins(entry_points=None) -> dict[str, str]:
         return UNAVAILABLE
 
 
+def mark_unavailable(name: str, error: str) -> None:
+    """Take a plug-in method that failed while rendering out of :data:`METHODS` and list it in
+    :data:`UNAVAILABLE` with ``error`` (built-in methods are never taken out)."""
+    key = name.partition(":")[0].upper()
+    method = METHODS.get(key)
+    if method is not None and method.plugin:
+        del METHODS[key]
+        UNAVAILABLE[key.lower()] = error
+
+
 def _check_protocol(module) -> None:
     missing = [a for a in _ATTRS if not hasattr(module, a)]
     if missing:
