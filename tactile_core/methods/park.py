@@ -1,8 +1,9 @@
 """Park method (PK): inverse-distance weights over the three nearest tactors.
 
-Park, Kim, Choi and Kim ("Tactile information transmission by 2D stationary phantom sensations",
-CHI 2016) render a 2D phantom point on a palm-sized array with the three actuators nearest to
-it, weighted by inverse distance under the energy model. With ``d_i`` the distance in pitches
+Park, Kim, Oh and Tan ("Rendering Moving Tactile Stroke on the Palm Using a Sparse 2D Array",
+EuroHaptics 2016, LNCS 9774) render a moving stroke on the palm with 3-actuator phantom
+sensations: the three actuators nearest to the point, weighted by inverse distance under the
+energy model. With ``d_i`` the distance in pitches
 from the point to tactor ``i`` of the three, ``I_i = sqrt((1 / d_i) / sum_j (1 / d_j))``, so
 ``sum I_i^2 = 1``; a point on a tactor's centre lights that tactor alone at 1.
 
