@@ -23,6 +23,7 @@ from tactile_core.cli import main as cli
 from tactile_core.device import ProfileError, load_profile
 from tactile_core.experiments import RUNNERS, open_session
 from tactile_core.experiments.results import SessionError
+from tactile_core.methods import PEER_METHODS
 from tactile_core.presets import PresetError, load_preset
 from tactile_core.wire import encode_frame
 
@@ -176,10 +177,43 @@ def test_fuzz_shape_strings(text, ts):
         assert len(str(exc)) < 300
         return
     t = np.array(ts)
-    for method in tc.METHOD_NAMES:
+    for method in (*tc.METHOD_NAMES, *PEER_METHODS):
         check_frames(tc.render(shape, method, t))
         for value in ts[:3]:
             assert all(0 <= v <= 1 for _, v in tc.render_point(shape, method, value))
+
+
+spec_text = st.one_of(
+    st.text(max_size=30),
+    st.builds(
+        lambda name, key, value, more: f"{name}:{key}={value}{more}",
+        st.sampled_from(["RO", "GS", "ro", "gs", "AS", "EN", "PK", "X"]),
+        st.sampled_from(["r", "sigma", "R", "", "r ", "level"]),
+        st.one_of(
+            st.floats(allow_nan=True, allow_infinity=True).map(repr),
+            st.sampled_from(["1e308", "-1", "0", "1_0", "abc", "", "0.1", "10", "5"]),
+        ),
+        st.sampled_from(["", ",r=1", ",", ":", ",sigma=2"]),
+    ),
+)
+
+
+@FUZZ
+@given(spec_text, st.sampled_from([tc.Circle((2.5, 3), 2), tc.Line((-2, -1), (8, 9))]))
+def test_fuzz_method_specs(text, shape):
+    """A method spec is a method with valid parameters, or a ValueError naming the method."""
+    from tactile_core.methods import get_method
+
+    try:
+        method = get_method(text)
+    except ValueError as exc:
+        assert "method" in str(exc) and len(str(exc)) < 300
+        return
+    assert get_method(method.spec) == method  # the canonical spec reads back as itself
+    t = np.linspace(0, 1, 33)
+    frames = tc.render(shape, method.spec, t)
+    check_frames(frames)
+    assert (frames > 0).sum(axis=(1, 2)).max() <= method.max_tactors
 
 
 numbers_text = st.one_of(
@@ -191,7 +225,7 @@ numbers_text = st.one_of(
 @FUZZ
 @given(
     shape_text,
-    st.sampled_from(["CT", "MM", "AS", "IM", "xx", ""]),
+    st.sampled_from(["CT", "MM", "AS", "IM", "EN", "PK", "RO:r=2", "GS:sigma=nan", "xx", ""]),
     numbers_text,
     numbers_text,
     numbers_text,
