@@ -200,6 +200,10 @@ class ControlsPanel(QtWidgets.QWidget):
         self.mu_spin.valueChanged.connect(lambda v: self._set(mu=v))
         self.gamma_slider.valueChanged.connect(lambda v: self._set(gamma=slider_to_gamma(v)))
         self.gamma_spin.valueChanged.connect(lambda v: self._set(gamma=v))
+        self.felt_domain_check = QtWidgets.QCheckBox("on felt amplitude (motor response)")
+        self.felt_domain_check.setObjectName("felt_domain")
+        self.felt_domain_check.toggled.connect(lambda on: self._set(felt_domain=on))
+        form.addWidget(self.felt_domain_check, 2, 0, 1, 3)
         layout.addWidget(box)
 
         # Shape -------------------------------------------------------------------------------
@@ -411,6 +415,14 @@ class ControlsPanel(QtWidgets.QWidget):
         ))  # fmt: skip
         if not available and self.state.view_mode == "felt":
             self.state.set_view_mode("sent")
+        self.felt_domain_check.setEnabled(available)
+        self.felt_domain_check.setToolTip(tip(
+            "mu and gamma act on felt amplitude: the corrected value is the motor output "
+            "wanted, and the array gets the least drive that gives it (the inverse of the "
+            "profile's response curve). Off: on drive, as the paper."
+            if available
+            else "Not available: the device profile has no motor response curve ('response')."
+        ))  # fmt: skip
 
     def set_draw_mode(self, on: bool) -> None:
         """Reflect draw mode: MM and IM are unavailable on free points."""
@@ -474,6 +486,7 @@ class ControlsPanel(QtWidgets.QWidget):
                 self.param_spin.setRange(lo, hi)
                 self.param_spin.setValue(method.values[key])
                 self.param_spin.setToolTip(tip(f"{method.name}'s {key}: {doc}"))
+            self.felt_domain_check.setChecked(scene.felt_domain)
             self.mu_slider.setValue(round(scene.mu * 100))
             self.mu_spin.setValue(scene.mu)
             self.gamma_slider.setValue(gamma_to_slider(scene.gamma))

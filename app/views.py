@@ -564,15 +564,19 @@ class CorrectionView(_PaletteMixin, pg.PlotWidget):
         )
         self._x = np.linspace(0.0, 1.0, 501)
         self._has_felt = False
+        self._felt_domain = False
         self._title()
         self.apply_palette()
         self._ready = True
 
     def _title(self) -> None:
         c = self.COLORS
+        wanted = " (felt)" if getattr(self, "_felt_domain", False) else ""
+        levels = "drive levels sent" if wanted else "device levels"
         parts = [
-            f"<span style='color:{c['curve']}'>&#9473; (1-&mu;) I<sup>&gamma;</sup> + &mu;</span>",
-            f"<span style='color:{c['levels']}'>&#9473; device levels</span>",
+            f"<span style='color:{c['curve']}'>&#9473; (1-&mu;) I<sup>&gamma;</sup> + &mu;"
+            f"{wanted}</span>",
+            f"<span style='color:{c['levels']}'>&#9473; {levels}</span>",
         ]
         if self._has_felt:
             parts.append(f"<span style='color:{c['felt']}'>&#9476; felt (motor response)</span>")
@@ -585,11 +589,18 @@ class CorrectionView(_PaletteMixin, pg.PlotWidget):
         _style_plot(self.plotItem, colors)
         self._title()
 
-    def set_params(self, mu: float, gamma: float, levels: int = 23, response=None) -> None:
-        """Redraw for ``mu``, ``gamma``, the device's ``levels`` and motor ``response``."""
+    def set_params(self, mu: float, gamma: float, levels: int = 23, response=None,
+                   drive_for=None) -> None:  # fmt: skip
+        """Redraw for ``mu``, ``gamma``, the device's ``levels`` and motor ``response``.
+
+        ``drive_for`` (the response's inverse) switches to the felt-amplitude domain: the
+        corrected curve is then the motor output wanted, the steps the drive levels sent for it,
+        and the dashed curve what the motors make of those levels (on the corrected curve but
+        for the level steps)."""
         y = correct(self._x, mu, gamma)
         self.curve.setData(self._x, y)
-        q = quantize(y, levels) / (levels - 1)
+        drive = y if drive_for is None else drive_for(y)
+        q = quantize(drive, levels) / (levels - 1)
         change = np.flatnonzero(np.diff(q)) + 1
         xs = np.concatenate([[0.0], self._x[change], [1.0]])
         ys = np.concatenate([[q[0]], q[change]])
@@ -598,6 +609,9 @@ class CorrectionView(_PaletteMixin, pg.PlotWidget):
             self.felt.setData([], [])
         else:
             self.felt.setData(self._x, np.interp(q, *response))
-        if (response is not None) != self._has_felt:
+        felt_domain = drive_for is not None and response is not None
+        self.setLabel("left", "felt amplitude / drive" if felt_domain else "drive")
+        if (response is not None) != self._has_felt or felt_domain != self._felt_domain:
             self._has_felt = response is not None
+            self._felt_domain = felt_domain
             self._title()

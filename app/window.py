@@ -730,7 +730,8 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def _on_state_scene_changed(self, scene) -> None:
         profile = self.device.profile
-        self.correction.set_params(scene.mu, scene.gamma, profile.levels, profile.response)
+        self.correction.set_params(scene.mu, scene.gamma, profile.levels, profile.response,
+                                   profile.drive_for if scene.felt_domain else None)  # fmt: skip
         if scene.shape is None:
             return
         if self.heatmap.drawing or self._pulse is not None:

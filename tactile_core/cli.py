@@ -152,7 +152,11 @@ def cmd_stream(args) -> int:
         filter=args.filter,
         subsamples=args.subsamples,
         dither=args.dither,
+        felt_domain=args.felt_amplitude,
     )
+    if args.felt_amplitude and profile.response is None:
+        raise UsageError(f"--felt-amplitude needs a motor response curve: profile "
+                         f"{profile.name} has none ('response')")  # fmt: skip
     args.seconds = _seconds(args.seconds)
     if args.record:
         check_output(args.record, (".csv", ".npz"), "--record")
@@ -452,6 +456,9 @@ def build_parser() -> argparse.ArgumentParser:
     dither.add_argument(
         "--no-dither", action="store_true", help="plain rounding to device levels (the default)"
     )
+    p.add_argument("--felt-amplitude", action="store_true",
+                   help="mu and gamma act on felt amplitude: send the drive that the profile's "
+                   "motor response curve turns into the corrected value")  # fmt: skip
     p.add_argument("--record", default=None, help="record the frames sent to .csv or .npz")
     p.add_argument("--reconnect", action="store_true", help="keep retrying after the link fails")
     p.add_argument(

@@ -34,6 +34,7 @@ same on tactors whose thresholds and sensitivities differ (paper section 4.2).
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import hashlib
 import json
@@ -134,6 +135,46 @@ class DeviceProfile:
         if self.response is None:
             return drive
         return np.interp(drive, *self.response)
+
+    def drive_for(self, felt) -> np.ndarray:
+        """The inverse of the motor response: the least drive whose output reaches ``felt``.
+
+        Parameters
+        ----------
+        felt : array_like of float, any shape
+            Wanted motor output in [0, 1] (0 stays 0: off).
+
+        Returns
+        -------
+        ndarray of float64, same shape
+            Drive fractions in [0, 1]; ``felt`` itself without a response curve. Where the
+            curve is flat (a motor that starts only above some drive) the drive jumps to the
+            end of the flat part; above the curve's largest output, full drive.
+        """
+        felt = np.asarray(felt, dtype=np.float64)
+        if self.response is None:
+            return felt
+        drive, output = (np.asarray(v) for v in self.response)
+        i = np.clip(np.searchsorted(output, felt, side="left"), 1, len(output) - 1)
+        lo, hi = output[i - 1], output[i]
+        span = np.where(hi > lo, hi - lo, 1.0)
+        d = drive[i - 1] + (felt - lo) / span * (drive[i] - drive[i - 1])
+        d = np.where(felt > output[-1], 1.0, np.clip(d, 0.0, 1.0))
+        return np.where(felt > 0.0, d, 0.0)
+
+    def drive_for1(self, felt: float) -> float:
+        """Scalar :meth:`drive_for` with plain Python numbers (the streamer's live path)."""
+        if self.response is None or felt <= 0.0:
+            return felt if self.response is None else 0.0
+        drive, output = self.response
+        if felt > output[-1]:
+            return 1.0
+        i = min(max(bisect.bisect_left(output, felt), 1), len(output) - 1)
+        lo, hi = output[i - 1], output[i]
+        if hi <= lo:
+            return min(max(drive[i], 0.0), 1.0)
+        d = drive[i - 1] + (felt - lo) / (hi - lo) * (drive[i] - drive[i - 1])
+        return min(max(d, 0.0), 1.0)
 
     def calibrate(self, flat_frame) -> np.ndarray:
         """Apply per-tactor calibration to a frame in flat cell order, ``(..., size)``."""

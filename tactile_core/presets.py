@@ -32,7 +32,8 @@ from .shapes import shape_from_dict
 FORMAT = "tactile-preset"
 VERSION = 1
 
-_SCENE_KEYS = ("method", "mu", "gamma", "rate_hz", "filter", "subsamples", "dither", "gain")
+_SCENE_KEYS = ("method", "mu", "gamma", "rate_hz", "filter", "subsamples", "dither", "gain",
+               "felt_domain")  # fmt: skip
 _TRACE_KEYS = ("duration_s", "pause_s", "direction", "repeat", "emphasis")
 
 
@@ -74,6 +75,7 @@ class Preset:
             "subsamples": s.subsamples,
             "dither": s.dither,
             "gain": s.gain,
+            "felt_domain": s.felt_domain,
         }
 
 
@@ -125,7 +127,7 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
         if key in trace:
             kwargs[key] = trace[key]
     for key, value in kwargs.items():
-        if key in ("dither", "repeat"):
+        if key in ("dither", "repeat", "felt_domain"):
             if not isinstance(value, bool):
                 raise PresetError(
                     f"{source}: field '{key}' must be true or false, got {_validate.shown(value)}"

@@ -60,6 +60,12 @@ class Scene:
         drive).
     emphasis : float
         Corner emphasis of the trace in [0, 0.9] (see :class:`~tactile_core.trace.Trace`).
+    felt_domain : bool
+        Correct in felt amplitude: with a motor response curve in the device profile, the
+        corrected intensity is the motor output wanted and the array gets the least drive that
+        gives it (:meth:`~tactile_core.device.DeviceProfile.drive_for`), so mu and gamma act on
+        felt amplitude rather than drive. Off (the paper's: on drive) by default; without a
+        response curve it changes nothing.
     epoch : int
         Changing it restarts the trace from its beginning.
     """
@@ -79,6 +85,7 @@ class Scene:
     playing: bool = True
     gain: float = 1.0
     emphasis: float = 0.0
+    felt_domain: bool = False
     epoch: int = 0
 
     def __post_init__(self):
@@ -101,7 +108,7 @@ class Scene:
         object.__setattr__(
             self, "subsamples", _validate.integer("subsamples", self.subsamples, 1, 1024)
         )
-        for name in ("repeat", "dither", "playing"):
+        for name in ("repeat", "dither", "playing", "felt_domain"):
             object.__setattr__(self, name, _validate.boolean(name, getattr(self, name)))
         object.__setattr__(self, "gain", _validate.in_range("gain", self.gain, 0.0, 1.0))
         object.__setattr__(

@@ -172,6 +172,9 @@ class _Plan:
             self.rate = idle_rate_hz
             self.capped = False
             self.live = None
+        # Felt-amplitude correction: the drive is the motor response's inverse of the value.
+        self.inverse = (profile.drive_for1 if self.active and scene.felt_domain
+                        and profile.response is not None else None)  # fmt: skip
         self.period = 1.0 / self.rate
         # At any rate a frame goes out at least every KEEPALIVE_S (repeating the last one), so
         # the array's 250 ms watchdog never trips while the host is alive.
@@ -434,7 +437,10 @@ class Streamer:
         top = self.profile.levels - 1
         offset, gain = self._offset, self._gain
         channel_of_cell = self._channel_of_cell
+        inverse = plan.inverse
         for cell, value in plan.live.entries(k):
+            if inverse is not None:
+                value = inverse(value)
             if offset is not None:
                 value = min(max(offset[cell] + gain[cell] * value, 0.0), 1.0)
             ch = channel_of_cell[cell]

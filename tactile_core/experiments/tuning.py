@@ -101,7 +101,10 @@ def interval_drive(scene, profile) -> np.ndarray:
         scene.trace(), scene.method, sampling=scene.sampling(), mu=scene.mu, gamma=scene.gamma,
         grid=grid, n_frames=n, gain=scene.gain,
     )  # fmt: skip
-    flat = profile.calibrate(frames.reshape(n, grid.size))
+    flat = frames.reshape(n, grid.size)
+    if scene.felt_domain:
+        flat = profile.drive_for(flat)
+    flat = profile.calibrate(flat)
     if scene.dither:
         levels = Dither(grid.size, profile.levels).frames(flat)
     else:
