@@ -456,6 +456,14 @@ class ExperimentsPanel(QtWidgets.QWidget):
             session = open_session(folder, pid, seed=self.seed_spin.value(),
                                    device_profile=profile.name)  # fmt: skip
             methods = self.methods_edit.methods
+            recorded = session.parameters.get(f"{kind}_methods")
+            if kind in ("exp1", "exp3") and recorded and list(methods) == list(PAPER_METHODS):
+                # Resuming a participant who ran another set, with the console at its default:
+                # resume their set (another set typed in is refused, naming both).
+                methods = None
+                self.methods_edit.apply(recorded)
+                self.log_event(f"resuming {kind} on the participant's methods: "
+                               f"{' '.join(recorded)}")  # fmt: skip
             if kind == "exp3":
                 runner = RUNNERS[kind](session, emphasis=self.emphasis_spin.value(),
                                        methods=methods, profile=profile)  # fmt: skip

@@ -155,6 +155,14 @@ def test_experiment1_on_a_chosen_method_set_from_the_console(window, qtbot, tmp_
     assert window.state.scene.method == mapping[2] and panel.runner.current.kind == "prepare"
     session = json.loads((tmp_path / "results" / "participant-P01" / "session.json").read_text())
     assert session["parameters"]["exp1_methods"] == ["AS", "EN", "RO:r=1.5"]
+    # Stopped and resumed with the console back at the paper's four: the participant's own set
+    # comes back (a console at its default never overrides what a session recorded).
+    panel.stop()
+    panel.methods_edit.apply(["CT", "MM", "AS", "IM"])
+    assert panel.start()
+    assert panel.runner.methods == ["AS", "EN", "RO:r=1.5"]
+    assert panel.methods_edit.methods == ["AS", "EN", "RO:r=1.5"]
+    panel.stop()
     # A bad set typed into the console is refused on the spot; the last good set stays.
     panel.methods_edit.edit.setText("AS")
     panel.methods_edit.edit.editingFinished.emit()
