@@ -783,8 +783,8 @@ class MainWindow(QtWidgets.QMainWindow):
                                "felt intensity M")  # fmt: skip
         if not self.blind.active:
             self.curves.plotItem.setTitle(
-                f"{scene.method} predicted: ripple {percept.ripple:.2f}, centroid error "
-                f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f})"
+                f"{scene.method}: ripple {percept.ripple:.2f}, off {percept.mean_error_mm:.1f} "
+                f"mm (max {percept.max_error_mm:.1f})"
             )
 
     def _on_device_connection_changed(self, description: str) -> None:

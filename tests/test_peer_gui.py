@@ -48,7 +48,7 @@ def test_the_predicted_view_shows_the_centroid_path_and_felt_intensity(window, q
     scene = window.state.scene
     window.state.update(method="EN")
     window.state.set_view_mode("predicted")
-    qtbot.waitUntil(lambda: "predicted" in window.curves.plotItem.titleLabel.text, timeout=3000)
+    qtbot.waitUntil(lambda: "ripple" in window.curves.plotItem.titleLabel.text, timeout=3000)
     expected = predict(scene.shape, "EN", scene.mu, scene.gamma, samples=400)
     assert f"ripple {expected.ripple:.2f}" in window.curves.plotItem.titleLabel.text
     x, y = window.heatmap.path.getData()
