@@ -74,6 +74,17 @@ class MethodSetEdit(QtWidgets.QWidget):
     def _on_edited(self) -> None:
         self.apply(self.edit.text().split())
 
+    def refuse(self, message: str, keep=None) -> None:
+        """Show why a set was refused and show the set in use again (``keep``, by default
+        the last good one)."""
+        if keep is not None:
+            self.methods = list(keep)
+        self.problem.setText(message)
+        self.problem.setToolTip(message)
+        self.problem.setVisible(True)
+        self.problem.setMinimumWidth(120)
+        self.edit.setText(" ".join(self.methods))
+
     def apply(self, specs) -> bool:
         """Use ``specs`` if they are a valid set; otherwise show why and keep the last one."""
         try:
@@ -83,11 +94,7 @@ class MethodSetEdit(QtWidgets.QWidget):
             if len(set(methods)) != len(methods):
                 raise ValueError("each method once")
         except ValueError as exc:
-            self.problem.setText(str(exc))
-            self.problem.setToolTip(str(exc))
-            self.problem.setVisible(True)
-            self.problem.setMinimumWidth(120)
-            self.edit.setText(" ".join(self.methods))
+            self.refuse(str(exc))
             return False
         self.problem.setText("")
         self.problem.setVisible(False)
@@ -111,8 +118,7 @@ class CompareView(QtWidgets.QWidget):
         self.chooser = MethodSetEdit(methods, 2, 6)
         self.chooser.methods_changed.connect(self.set_methods)
         outer.addWidget(self.chooser)
-        self._holder = QtWidgets.QWidget()
-        outer.addWidget(self._holder, 1)
+        self._holder = None
         self.methods: list[str] = []
         self.heatmaps: dict = {}
         self.curves: dict = {}
@@ -124,16 +130,17 @@ class CompareView(QtWidgets.QWidget):
         methods = [get_method(m).spec for m in methods]
         if not 2 <= len(methods) <= 6 or len(set(methods)) != len(methods):
             raise ValueError(f"compare needs 2 to 6 distinct methods, got {methods}")
-        old = self._holder.layout()
-        if old is not None:
-            while old.count():
-                widget = old.takeAt(0).widget()
-                if widget is not None:
-                    widget.hide()  # gone now, not at the next turn of the event loop
-                    widget.setParent(None)
-                    widget.deleteLater()
-            QtWidgets.QWidget().setLayout(old)  # reparent the old layout away to drop it
-        grid = QtWidgets.QGridLayout(self._holder)
+        # A fresh holder replaces the old one, views and all; the old is hidden at once (its
+        # deletion waits for the event loop).
+        holder = QtWidgets.QWidget()
+        if self._holder is not None:
+            self.layout().replaceWidget(self._holder, holder)
+            self._holder.hide()
+            self._holder.deleteLater()
+        else:
+            self.layout().addWidget(holder, 1)
+        self._holder = holder
+        grid = QtWidgets.QGridLayout(holder)
         self.methods = methods
         self.heatmaps, self.curves = {}, {}
         for i, spec in enumerate(methods):
@@ -329,10 +336,7 @@ class BlindPanel(QtWidgets.QWidget):
         try:
             self.set_methods(methods)
         except ValueError as exc:
-            self.chooser.problem.setText(str(exc))
-            self.chooser.problem.setVisible(True)
-            self.chooser.methods = list(self.methods)
-            self.chooser.edit.setText(" ".join(self.methods))
+            self.chooser.refuse(str(exc), keep=self.methods)
 
     @property
     def active(self) -> bool:

@@ -134,6 +134,7 @@ class ControlsPanel(QtWidgets.QWidget):
         box = QtWidgets.QGroupBox("Method (keys 1-4)")
         grid = QtWidgets.QGridLayout(box)
         self.method_buttons = QtWidgets.QButtonGroup(self)
+        self._method_hidden = False
         for i, name in enumerate(PAPER_METHODS):
             method = METHODS[name]
             button = QtWidgets.QRadioButton(f"{i + 1}  {name}  {method.title}")
@@ -474,7 +475,7 @@ class ControlsPanel(QtWidgets.QWidget):
         self._updating = True
         try:
             method = get_method(scene.method)
-            hidden = getattr(self, "_method_hidden", False)
+            hidden = self._method_hidden
             if not hidden:
                 self._show_method(method)
             specs = {} if hidden else method.param_specs

@@ -672,37 +672,26 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
     """Run the benchmark tables of ``part`` ("core", "methods", "device", "experiments",
     "tuning", "gui" or "all"), printed as Markdown."""
     tables = []
+
+    def show(table: Table) -> None:
+        out(table.markdown())
+        out("")
+        tables.append(table)
+
     if part in ("core", "all"):
         sizes = (2000, 20_000) if quick else (2000, 100_000)
-        for make in (
-            lambda: batch_table(sizes),
-            live_table,
-            lambda: accuracy_table(quick=quick),
-        ):
-            table = make()
-            out(table.markdown())
-            out("")
-            tables.append(table)
+        show(batch_table(sizes))
+        show(live_table())
+        show(accuracy_table(quick=quick))
     if part in ("methods", "all"):
-        table = methods_table(samples=501 if quick else 2001)
-        out(table.markdown())
-        out("")
-        tables.append(table)
+        show(methods_table(samples=501 if quick else 2001))
     if part in ("device", "all"):
         for table in device_tables(seconds=3.0 if quick else 10.0):
-            out(table.markdown())
-            out("")
-            tables.append(table)
+            show(table)
     if part in ("experiments", "all"):
-        table = staircase_table(tracks=300 if quick else 2000)
-        out(table.markdown())
-        out("")
-        tables.append(table)
+        show(staircase_table(tracks=300 if quick else 2000))
     if part in ("tuning", "all"):
-        table = tuning_table(runs=20 if quick else 200)
-        out(table.markdown())
-        out("")
-        tables.append(table)
+        show(tuning_table(runs=20 if quick else 200))
     if part in ("gui", "all"):
         # The GUI's benchmark lives with the GUI (tactile_tuner), registered under the entry
         # point group "tactile.bench": the core never imports Qt or the GUI package.

@@ -128,8 +128,6 @@ def predict(shape, method, mu: float, gamma: float, *, threshold: float | None =
     if exponent is None:
         exponent = 1.0 / (2.0 * _validate.positive("gamma", gamma))
     exponent = _validate.in_range("exponent", exponent, 0.01, 100.0)
-    if threshold >= 1.0:
-        raise ValueError(f"threshold must be below 1, got {threshold!r}")
     t = np.linspace(0.0, 1.0, samples)
     drive = correct(render(shape, method, t, grid=grid), mu, gamma)
     m = felt_magnitude(drive, threshold, exponent)

@@ -356,9 +356,7 @@ def method_set(session: Session, experiment: str, methods=None) -> list[str]:
     ):
         raise ValueError(f"session parameter {key} must be a list of method names, got "
                          f"{_validate.shown(recorded)}")  # fmt: skip
-    chosen = list(METHODS) if methods is None and recorded is None else (
-        recorded if methods is None else methods
-    )  # fmt: skip
+    chosen = methods if methods is not None else recorded if recorded is not None else METHODS
     if isinstance(chosen, str) or not hasattr(chosen, "__iter__"):
         raise ValueError(f"methods must be a list of method names, got {_validate.shown(chosen)}")
     chosen = [get_method(m).spec for m in chosen]

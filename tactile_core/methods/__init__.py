@@ -229,6 +229,10 @@ METHOD_NAMES = PAPER_METHODS
 UNAVAILABLE: dict[str, str] = {}
 """Plug-ins that could not be used: entry-point name -> the error."""
 
+_BOUND: dict[tuple, Method] = {}
+"""Methods with parameters, by ``(name, params)``: one instance per spec, so its bound
+samplers are built once (scenes and the display look specs up all the time)."""
+
 _plugins_loaded = False
 _plugins_lock = threading.Lock()
 
@@ -259,6 +263,7 @@ def load_plugins(entry_points=None) -> dict[str, str]:
                 UNAVAILABLE["(entry points)"] = f"could not be listed: {exc}"
                 entry_points = []
         _plugins_loaded = True
+        _BOUND.clear()
         for ep in entry_points:
             label = ep.name
             try:
@@ -284,6 +289,7 @@ def mark_unavailable(name: str, error: str) -> None:
     if method is not None and method.plugin:
         del METHODS[key]
         UNAVAILABLE[key.lower()] = error
+        _BOUND.clear()
 
 
 def _check_protocol(module) -> None:
@@ -384,4 +390,14 @@ def get_method(name, **params) -> Method:
         )
     method = METHODS[key]
     merged = {**spec_params, **params}
-    return method.with_params(**merged) if merged else method
+    if not merged:
+        return method
+    bound_key = hit = None
+    if all(_validate.is_number(v) for v in merged.values()):  # (True == 1: not a key)
+        bound_key = (key, tuple(sorted((k, float(v)) for k, v in merged.items())))
+        hit = _BOUND.get(bound_key)
+    if hit is None or hit.module is not method.module:
+        hit = method.with_params(**merged)
+        if bound_key is not None and len(_BOUND) < 1024:
+            _BOUND[bound_key] = hit
+    return hit
