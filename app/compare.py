@@ -12,9 +12,9 @@ import numpy as np
 from PySide6 import QtCore, QtWidgets
 
 import tactile_core as tc
-from tactile_core.curves import activation_curves
-from tactile_core.methods import METHODS, PAPER_METHODS, get_method, method_names
-from tactile_core.outfile import atomic_file, check_output
+from tactile_core._shared.outfile import atomic_file, check_output
+from tactile_core.rendering.curves import activation_curves
+from tactile_core.rendering.methods import METHODS, PAPER_METHODS, get_method, method_names
 
 from .state import TunerState
 from .views import CurvesView, ElidedLabel, HeatmapView, cell_colors

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore
 
-from tactile_core.device import DeviceProfile, default_profile
-from tactile_core.link import SIMULATED_URLS, LinkError
-from tactile_core.process import open_stream
-from tactile_core.streamer import StreamStats
+from tactile_core.device.link import SIMULATED_URLS, LinkError
+from tactile_core.device.process import open_stream
+from tactile_core.device.profile import DeviceProfile, default_profile
+from tactile_core.device.streamer import StreamStats
 
 from .state import TunerState
 
@@ -16,7 +16,7 @@ from .state import TunerState
 class DeviceController(QtCore.QObject):
     """Owns the stream; follows the state's scene.
 
-    The stream runs in its own process (:class:`tactile_core.process.StreamerProcess`): the
+    The stream runs in its own process (:class:`tactile_core.device.process.StreamerProcess`): the
     GUI's painting holds Python's interpreter lock for milliseconds at a time, and a stream
     thread in this process would wait that long for every frame. The simulated array is used
     whenever no device is connected, so the views always have "sent" and "felt" levels to show.

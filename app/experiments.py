@@ -22,14 +22,14 @@ from pathlib import Path
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from tactile_core.device import default_profile
+from tactile_core.device.profile import default_profile
 from tactile_core.experiments import RUNNERS, open_session
 from tactile_core.experiments.analysis import analyze
 from tactile_core.experiments.results import SESSION_FILE, check_participant
 from tactile_core.experiments.runners import INTERVAL_GAP_S, INTERVAL_S
 from tactile_core.experiments.tuning import save_correction
-from tactile_core.methods import PAPER_METHODS
-from tactile_core.scene import Scene
+from tactile_core.rendering.methods import PAPER_METHODS
+from tactile_core.rendering.scene import Scene
 
 from .state import TunerState
 
@@ -183,7 +183,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
     profile : callable
         The device profile the run plays on (recorded in the session).
     stats : callable, optional
-        The stream's :class:`~tactile_core.streamer.StreamStats` now.
+        The stream's :class:`~tactile_core.device.streamer.StreamStats` now.
     device : callable, optional
         A one-line description of the link ("simulated array", a port).
     """

@@ -77,8 +77,8 @@ def main(argv=None) -> int:
         print(f"tactile-tuner: {problem}", file=sys.stderr)
         return 1
 
-    from tactile_core.device import ProfileError, load_profile
-    from tactile_core.presets import PresetError, load_preset
+    from tactile_core.device.profile import ProfileError, load_profile
+    from tactile_core.files.presets import PresetError, load_preset
 
     try:
         profile = load_profile(args.profile)

@@ -8,7 +8,13 @@ from PySide6 import QtCore, QtWidgets
 from serial.tools import list_ports
 
 import tactile_core as tc
-from tactile_core.methods import METHODS, PAPER_METHODS, UNAVAILABLE, get_method, method_names
+from tactile_core.rendering.methods import (
+    METHODS,
+    PAPER_METHODS,
+    UNAVAILABLE,
+    get_method,
+    method_names,
+)
 
 from .device import DeviceController
 from .state import VIEW_MODES, TunerState

@@ -5,7 +5,7 @@ from __future__ import annotations
 from PySide6 import QtCore
 
 import tactile_core as tc
-from tactile_core.scene import Scene
+from tactile_core.rendering.scene import Scene
 
 DEFAULT_SCENE = Scene(tc.Line((0.5, 1.84), (4.5, 4.16)), "AS", mu=0.33, gamma=0.7)
 """The Experiment 1 line with area sampling at the paper's mu and gamma."""
@@ -19,8 +19,8 @@ def plugin_problem(scene: Scene) -> str:
     is built in)."""
     import numpy as np
 
-    from tactile_core.methods import get_method, mark_unavailable
-    from tactile_core.render import render_point
+    from tactile_core.rendering.methods import get_method, mark_unavailable
+    from tactile_core.rendering.rasterize import render_point
 
     try:
         method = get_method(scene.method)

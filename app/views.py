@@ -15,7 +15,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from tactile_core.correction import correct, quantize
+from tactile_core.rendering.correction import correct, quantize
 
 from .theme import TACTOR_COLORS, plot_colors
 
@@ -403,7 +403,7 @@ class CurvesView(_PaletteMixin, pg.PlotWidget):
                 self._build(self.curves, self.colors, self._period, self._raw)
 
     def set_curves(self, curves, colors: dict, period_s: float, raw: bool = True) -> None:
-        """Show ``curves`` (:class:`tactile_core.curves.ActivationCurves`).
+        """Show ``curves`` (:class:`tactile_core.rendering.curves.ActivationCurves`).
 
         When the same tactors are active as before (a change of mu or gamma), the existing
         plot items get new data in place; otherwise they are rebuilt.

@@ -11,12 +11,9 @@ import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
 import tactile_core as tc
-from tactile_core import export
-from tactile_core.curves import activation_curves
-from tactile_core.device import ProfileError, find_profile, load_profile
-from tactile_core.methods import get_method
-from tactile_core.percept import felt_magnitude, predict
-from tactile_core.presets import (
+from tactile_core.device.profile import ProfileError, find_profile, load_profile
+from tactile_core.files import export
+from tactile_core.files.presets import (
     Preset,
     PresetError,
     builtin_presets,
@@ -24,7 +21,10 @@ from tactile_core.presets import (
     preset_from_dict,
     save_preset,
 )
-from tactile_core.render import point_entries
+from tactile_core.rendering.curves import activation_curves
+from tactile_core.rendering.methods import get_method
+from tactile_core.rendering.percept import felt_magnitude, predict
+from tactile_core.rendering.rasterize import point_entries
 
 from . import dialogs
 from .compare import BlindPanel, CompareView
@@ -858,7 +858,7 @@ class MainWindow(QtWidgets.QMainWindow):
     def _plugin_failed(self, scene, exc) -> None:
         """A plug-in method failed while playing: say so, list it as unavailable, and go back
         to AS with the array paused (all off)."""
-        from tactile_core.methods import mark_unavailable
+        from tactile_core.rendering.methods import mark_unavailable
 
         mark_unavailable(scene.method, str(exc))
         self.show_error(f"{exc}; the plug-in is listed as unavailable, back to AS (paused)")

@@ -5,6 +5,17 @@ Low-Resolution 2D Vibrotactile Array" (closest tactor, midpoint, area sampling, 
 midpoint), the threshold/gamma correction, quantisation to device levels, the trace clock, and
 the data of the activation curves. numpy only: no Qt is imported here.
 
+The package is layered; each layer imports only those above it in this list::
+
+    _shared      argument checks, atomic files, bounded JSON, bundled assets
+    rendering    geometry, shapes, methods, correction, trace, scene, curves, percept
+    device       profiles, wire format, links, streamer, emulator, recorder
+    files        presets, exports
+    experiments  the paper's three experiments, analysis, tuning the correction by feel
+    bench, cli   the ``tactile`` command and its benchmarks
+
+``docs/architecture.md`` draws the layers and the one-way flow of a frame.
+
 >>> import numpy as np
 >>> import tactile_core as tc
 >>> frames = tc.render(tc.Line((0.5, 1.84), (4.5, 4.16)), "AS", np.linspace(0, 1, 5))
@@ -12,14 +23,15 @@ the data of the activation curves. numpy only: no Qt is imported here.
 (5, 6, 5)
 """
 
+from . import _compat
 from ._version import __version__
-from .correction import correct, quantize
 from .experiments import ORDERS, Staircase, pairwise_wilcoxon
-from .geometry import PALM_ARRAY, ArraySpec, Grid
-from .methods import METHOD_NAMES, METHODS, get_method
-from .render import render, render_point, render_xy
-from .shapes import Circle, Line, Polyline, Shape, Square, parse_shape, shape_from_dict
-from .trace import LiveFrames, Sampling, Trace, render_frames
+from .rendering.correction import correct, quantize
+from .rendering.geometry import PALM_ARRAY, ArraySpec, Grid
+from .rendering.methods import METHOD_NAMES, METHODS, get_method
+from .rendering.rasterize import render, render_point, render_xy
+from .rendering.shapes import Circle, Line, Polyline, Shape, Square, parse_shape, shape_from_dict
+from .rendering.trace import LiveFrames, Sampling, Trace, render_frames
 
 __all__ = [
     "METHODS",
@@ -49,3 +61,13 @@ __all__ = [
     "render_xy",
     "shape_from_dict",
 ]
+
+_compat.install()
+
+
+def __getattr__(name: str):
+    # ``tactile_core.scene`` and the other paths of 0.1, as attributes (see _compat).
+    module = _compat.moved_attribute(name)
+    if module is None:
+        raise AttributeError(f"module 'tactile_core' has no attribute {name!r}")
+    return module

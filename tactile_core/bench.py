@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .correction import Dither, quantize
-from .geometry import Grid
-from .methods import METHOD_NAMES
-from .shapes import Circle, Line, Square
-from .trace import LiveFrames, Sampling, Trace, render_frames
+from .rendering.correction import Dither, quantize
+from .rendering.geometry import Grid
+from .rendering.methods import METHOD_NAMES
+from .rendering.shapes import Circle, Line, Square
+from .rendering.trace import LiveFrames, Sampling, Trace, render_frames
 
 SCENES = {
     "line": Line((0.5, 1.84), (4.5, 4.16)),  # Experiment 1 line, slope 0.58
@@ -117,7 +117,7 @@ class Table:
 
 def batch_table(sizes=(2000, 100_000), grid: Grid | None = None) -> Table:
     """Table 1a: batch cost per frame of ``render`` for every method and shape."""
-    from .render import render
+    from .rendering.rasterize import render
 
     grid = grid or Grid()
     rows = []
@@ -145,7 +145,7 @@ def batch_table(sizes=(2000, 100_000), grid: Grid | None = None) -> Table:
 
 def live_table(rate_hz: float = 300.0) -> Table:
     """Table 1b: cost of one live frame (render, correct, filter) per method and filter."""
-    from .render import render
+    from .rendering.rasterize import render
 
     shape = SCENES["circle"]
     trace = Trace(shape)
@@ -391,9 +391,9 @@ def device_tables(rates=(100, 200, 300), seconds: float = 10.0, changes: int = 3
     import contextlib
     import tempfile
 
-    from .link import SerialLink
-    from .scene import Scene
-    from .streamer import Streamer
+    from .device.link import SerialLink
+    from .device.streamer import Streamer
+    from .rendering.scene import Scene
 
     rows = []
     latency_rows = []
@@ -592,11 +592,12 @@ def _tuning_run(job):
 
 def methods_table(samples: int = 2001) -> Table:
     """The methods side by side: predicted felt ripple and centroid error on the Experiment 1
-    line and circle (:mod:`tactile_core.percept`), next to each method's batch and live cost."""
+    line and circle (:mod:`~tactile_core.rendering.percept`), next to each method's batch and
+    live cost."""
     from .experiments.runners import Experiment1
-    from .methods import method_names
-    from .percept import predict
-    from .render import render
+    from .rendering.methods import method_names
+    from .rendering.percept import predict
+    from .rendering.rasterize import render
 
     grid = Grid()
     rows = []

@@ -14,15 +14,15 @@ import time
 
 import numpy as np
 
-from . import _validate
+from ._shared import validate as _validate
+from ._shared.outfile import atomic_file, check_folder, check_output
 from ._version import __version__
-from .correction import check_correction, correct
-from .geometry import Grid
-from .methods import METHOD_NAMES, PEER_METHODS, get_method
-from .outfile import atomic_file, check_folder, check_output
-from .render import render
-from .shapes import parse_shape
-from .trace import DIRECTIONS
+from .rendering.correction import check_correction, correct
+from .rendering.geometry import Grid
+from .rendering.methods import METHOD_NAMES, PEER_METHODS, get_method
+from .rendering.rasterize import render
+from .rendering.shapes import parse_shape
+from .rendering.trace import DIRECTIONS
 
 
 class UsageError(Exception):
@@ -129,11 +129,11 @@ def _install_stop_handlers(stop: threading.Event) -> None:
 
 def cmd_stream(args) -> int:
     """Stream a scene to a device without the GUI; print statistics at the end."""
-    from .device import ProfileError, load_profile
-    from .link import LinkError, open_link
-    from .recorder import Recorder
-    from .scene import Scene
-    from .streamer import Streamer
+    from .device.link import LinkError, open_link
+    from .device.profile import ProfileError, load_profile
+    from .device.recorder import Recorder
+    from .device.streamer import Streamer
+    from .rendering.scene import Scene
 
     shape, method, mu, gamma, _ = _scene(args)
     try:
@@ -208,8 +208,8 @@ def cmd_stream(args) -> int:
 
 def cmd_emulate(args) -> int:
     """Run the device emulator on a pseudo-terminal until stopped."""
-    from .device import ProfileError, load_profile
-    from .emulator import Emulator
+    from .device.emulator import Emulator
+    from .device.profile import ProfileError, load_profile
 
     try:
         profile = load_profile(args.profile)
@@ -327,12 +327,12 @@ def cmd_tune_correction(args) -> int:
 
 def _tune_at_array(args, plan, seed) -> int:
     """The procedure at a real array: trials played by the streamer, answers typed."""
-    from .device import ProfileError, load_profile
+    from .device.link import LinkError, open_link
+    from .device.profile import ProfileError, load_profile
+    from .device.streamer import Streamer
     from .experiments.results import check_participant, open_session
     from .experiments.runners import INTERVAL_GAP_S, INTERVAL_S
     from .experiments.tuning import CorrectionTuning, save_correction
-    from .link import LinkError, open_link
-    from .streamer import Streamer
 
     pid = check_participant(args.participant)
     check_folder(args.results, "--results")

@@ -22,7 +22,7 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "default"))
 @pytest.fixture
 def emulator_thread():
     """A device emulator on a pseudo-terminal, receiving in a thread: ``(emulator, path)``."""
-    from tactile_core.emulator import Emulator
+    from tactile_core.device.emulator import Emulator
 
     emulator = Emulator()
     path = emulator.open()

@@ -120,7 +120,7 @@ def test_core_never_imports_qt():
         "[importlib.import_module(m.name) for m in"
         " pkgutil.walk_packages(tactile_core.__path__, 'tactile_core.')"
         " if not m.name.startswith('tactile_core._assets')];"
-        "import tactile_core.export as e;"
+        "import tactile_core.files.export as e;"
         "e.correction_lut(0.33, 0.7);"
         "qt = ('PySide6', 'pyqtgraph', 'PyQt5', 'PyQt6');"
         "bad = sorted(m for m in sys.modules if m.split('.')[0] in qt);"

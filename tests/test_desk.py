@@ -11,7 +11,7 @@ import pytest
 from PySide6 import QtCore, QtGui, QtWidgets
 
 import tactile_core as tc
-from tactile_core.streamer import StreamStats
+from tactile_core.device.streamer import StreamStats
 
 pytestmark = pytest.mark.usefixtures("qt_settings")
 Key = QtCore.Qt.Key
@@ -357,7 +357,7 @@ def test_the_plots_follow_a_dark_palette(window, qtbot):
 
 
 def test_the_title_follows_the_tuning(window, qtbot, tmp_path):
-    from tactile_core.presets import builtin_presets
+    from tactile_core.files.presets import builtin_presets
 
     assert window.load_preset_file(builtin_presets()["exp3-circle"])
     title = window.windowTitle()
@@ -367,7 +367,7 @@ def test_the_title_follows_the_tuning(window, qtbot, tmp_path):
 
 
 def test_dialog_names_and_extensions():
-    from tactile_core.scene import Scene
+    from tactile_core.rendering.scene import Scene
     from tactile_tuner import dialogs
 
     assert dialogs.with_filter_extension("/tmp/curves", "PNG (*.png)").name == "curves.png"

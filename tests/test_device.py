@@ -8,7 +8,12 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tactile_core.device import ProfileError, default_profile, load_profile, profile_from_dict
+from tactile_core.device.profile import (
+    ProfileError,
+    default_profile,
+    load_profile,
+    profile_from_dict,
+)
 
 
 def palm_dict():
@@ -185,7 +190,7 @@ def test_arbitrary_bytes_on_disk_never_crash_the_loader(tmp_path_factory, blob):
 
 
 def test_bundled_file_is_valid_json_with_a_version():
-    from tactile_core.assets import asset_path
+    from tactile_core._shared.assets import asset_path
 
     data = json.loads(asset_path("devices", "palm-5x6.json").read_text())
     assert data["version"] == 1 and data["format"] == "tactile-device-profile"

@@ -439,7 +439,7 @@ def test_calibration_finds_each_tactors_threshold(tmp_path):
         th = runner.thresholds[grid.cell(i)]
         assert offset[i] + gain[i] * t_ref == pytest.approx(th)  # threshold to threshold
         assert offset[i] + gain[i] * 1.0 == pytest.approx(1.0)  # full stays full
-    from tactile_core.device import default_profile
+    from tactile_core.device.profile import default_profile
 
     calibrated = default_profile().with_calibration(offset, gain, thresholds)
     assert calibrated.calibrated
@@ -560,7 +560,7 @@ def test_experiments_run_the_papers_pipeline_by_default(tmp_path):
 
 def test_bilevel_methods_stay_bilevel_on_the_papers_pipeline():
     # Point sampling: every frame is one instant of the trace, so CT and MM send only 0 and 22.
-    from tactile_core.scene import PAPER_PIPELINE, Scene
+    from tactile_core.rendering.scene import PAPER_PIPELINE, Scene
 
     for method in ("CT", "MM"):
         scene = PAPER_PIPELINE.apply(Scene(tc.Circle((2.5, 3.0), 2.0), method, 0.33, 0.7))
@@ -573,7 +573,7 @@ def test_session_records_the_whole_pipeline(tmp_path):
     import hashlib
     import json
 
-    from tactile_core.assets import asset_path
+    from tactile_core._shared.assets import asset_path
 
     session = open_session(tmp_path, "pp02", seed=3)
     Experiment2(session).close()
@@ -592,9 +592,9 @@ def test_session_records_the_whole_pipeline(tmp_path):
 
 
 def test_resuming_under_another_profile_or_pipeline_is_refused(tmp_path):
-    from tactile_core.device import default_profile
+    from tactile_core.device.profile import default_profile
     from tactile_core.experiments.results import SessionError
-    from tactile_core.scene import Pipeline
+    from tactile_core.rendering.scene import Pipeline
 
     session = open_session(tmp_path, "pp03", seed=3)
     runner = Experiment3(session)
@@ -611,7 +611,7 @@ def test_resuming_under_another_profile_or_pipeline_is_refused(tmp_path):
 def test_filter_and_dithering_are_explicit_recorded_choices(tmp_path):
     import json
 
-    from tactile_core.scene import Pipeline
+    from tactile_core.rendering.scene import Pipeline
 
     session = open_session(tmp_path, "pp04", pipeline=Pipeline(200.0, "box", 4, True))
     runner = Experiment1(session)

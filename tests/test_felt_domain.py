@@ -7,8 +7,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import tactile_core as tc
-from tactile_core.device import default_profile, profile_from_dict
-from tactile_core.scene import Scene
+from tactile_core.device.profile import default_profile, profile_from_dict
+from tactile_core.rendering.scene import Scene
 
 from .helpers import align
 from .test_streamer import CIRCLE, run
@@ -68,7 +68,7 @@ def test_the_streamer_sends_the_drive_for_the_felt_amplitude():
 
 
 def test_a_preset_keeps_the_domain(tmp_path):
-    from tactile_core.presets import Preset, load_preset, save_preset
+    from tactile_core.files.presets import Preset, load_preset, save_preset
 
     scene = Scene(CIRCLE, "IM", felt_domain=True)
     path = save_preset(Preset(scene), tmp_path / "felt.json")

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tactile_core.wire import crc16
+from tactile_core.device.wire import crc16
 
 from . import wire_vectors as wv
 from .firmware_support import build, require

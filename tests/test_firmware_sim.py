@@ -12,9 +12,9 @@ import time
 import numpy as np
 import pytest
 
-from tactile_core.device import default_profile
-from tactile_core.link import SerialLink, identify
-from tactile_core.wire import MessageReader, Status, encode_frame, encode_query
+from tactile_core.device.link import SerialLink, identify
+from tactile_core.device.profile import default_profile
+from tactile_core.device.wire import MessageReader, Status, encode_frame, encode_query
 
 from .firmware_support import FIRMWARE, build, require
 

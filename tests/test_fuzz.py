@@ -17,15 +17,15 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import tactile_core as tc
-from tactile_core.array import ArrayModel
-from tactile_core.assets import asset_path
+from tactile_core._shared.assets import asset_path
 from tactile_core.cli import main as cli
-from tactile_core.device import ProfileError, load_profile
+from tactile_core.device.array import ArrayModel
+from tactile_core.device.profile import ProfileError, load_profile
+from tactile_core.device.wire import encode_frame
 from tactile_core.experiments import RUNNERS, open_session
 from tactile_core.experiments.results import SessionError
-from tactile_core.methods import PEER_METHODS
-from tactile_core.presets import PresetError, load_preset
-from tactile_core.wire import encode_frame
+from tactile_core.files.presets import PresetError, load_preset
+from tactile_core.rendering.methods import PEER_METHODS
 
 FUZZ = settings(
     max_examples=int(os.environ.get("FUZZ_EXAMPLES", "120")),
@@ -202,7 +202,7 @@ spec_text = st.one_of(
 @given(spec_text, st.sampled_from([tc.Circle((2.5, 3), 2), tc.Line((-2, -1), (8, 9))]))
 def test_fuzz_method_specs(text, shape):
     """A method spec is a method with valid parameters, or a ValueError naming the method."""
-    from tactile_core.methods import get_method
+    from tactile_core.rendering.methods import get_method
 
     try:
         method = get_method(text)

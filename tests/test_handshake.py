@@ -10,11 +10,11 @@ import time
 import pytest
 
 import tactile_core as tc
-from tactile_core.device import default_profile, profile_from_dict
-from tactile_core.emulator import Emulator
-from tactile_core.link import SerialLink, SimulatedArray, identify
-from tactile_core.scene import Scene
-from tactile_core.streamer import Streamer
+from tactile_core.device.emulator import Emulator
+from tactile_core.device.link import SerialLink, SimulatedArray, identify
+from tactile_core.device.profile import default_profile, profile_from_dict
+from tactile_core.device.streamer import Streamer
+from tactile_core.rendering.scene import Scene
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
 

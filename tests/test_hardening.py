@@ -12,12 +12,12 @@ import time
 import pytest
 
 import tactile_core as tc
-from tactile_core.assets import asset_path
+from tactile_core._shared.assets import asset_path
 from tactile_core.cli import main as cli
-from tactile_core.device import ProfileError, find_profile, load_profile, profile_from_dict
+from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_from_dict
 from tactile_core.experiments.results import check_participant
-from tactile_core.export import write_lut_csv
-from tactile_core.presets import PresetError, load_preset
+from tactile_core.files.export import write_lut_csv
+from tactile_core.files.presets import PresetError, load_preset
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
 PRESET = json.loads(asset_path("presets", "exp3-square.json").read_text())
@@ -262,9 +262,9 @@ def test_stream_sighup_ends_quietly_all_off(tmp_path):
 
 
 def test_an_internal_error_in_the_output_thread_is_told_and_ends_all_off(monkeypatch):
-    from tactile_core.link import SimulatedArray
-    from tactile_core.scene import Scene
-    from tactile_core.streamer import Streamer
+    from tactile_core.device.link import SimulatedArray
+    from tactile_core.device.streamer import Streamer
+    from tactile_core.rendering.scene import Scene
 
     array = SimulatedArray()
     streamer = Streamer(array, scene=Scene(tc.Circle((2.5, 3), 2)))
@@ -282,8 +282,8 @@ def test_an_internal_error_in_the_output_thread_is_told_and_ends_all_off(monkeyp
 
 
 def test_ctrl_c_reaches_the_stream_child_without_a_traceback(capfd):
-    from tactile_core.process import StreamerProcess
-    from tactile_core.scene import Scene
+    from tactile_core.device.process import StreamerProcess
+    from tactile_core.rendering.scene import Scene
 
     stream = StreamerProcess(None, scene=Scene(tc.Circle((2.5, 3), 2))).start()
     try:

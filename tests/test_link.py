@@ -8,8 +8,14 @@ import tty
 import pytest
 import serial
 
-from tactile_core.link import LinkError, SerialLink, SimulatedArray, _explain, open_link
-from tactile_core.wire import FrameReader, encode_frame
+from tactile_core.device.link import (
+    LinkError,
+    SerialLink,
+    SimulatedArray,
+    _explain,
+    open_link,
+)
+from tactile_core.device.wire import FrameReader, encode_frame
 
 
 def test_loop_url_carries_frames_unchanged():

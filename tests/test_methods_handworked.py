@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import tactile_core as tc
-from tactile_core.curves import activation_curves
+from tactile_core.rendering.curves import activation_curves
 
 from .helpers import lit, on_fraction, sequence
 

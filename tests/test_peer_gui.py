@@ -6,7 +6,7 @@ import pytest
 from PySide6 import QtCore
 
 import tactile_core as tc
-from tactile_core.percept import predict
+from tactile_core.rendering.percept import predict
 
 from .test_tuner import lit_levels, wait_for_levels, window  # noqa: F401 - the fixture
 

@@ -9,7 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import tactile_core as tc
-from tactile_core.methods import PEER_METHODS, get_method
+from tactile_core.rendering.methods import PEER_METHODS, gaussian, get_method
 
 GRID = tc.Grid()  # 5 x 6
 
@@ -97,7 +97,7 @@ def brute_max(radius, strict):
 def test_max_tactors_is_what_the_method_can_light():
     expected = {"EN": 4, "PK": 3, "RO": 4, "GS": 6,
                 "RO:r=2": brute_max(2.0, True),
-                "GS:sigma=0.25": brute_max(tc.methods.gaussian.radius(0.25), False)}  # fmt: skip
+                "GS:sigma=0.25": brute_max(gaussian.radius(0.25), False)}  # fmt: skip
     assert expected["GS:sigma=0.25"] == 2  # radius 0.61: a cell corner is 0.707 from all four
     for spec, count in expected.items():
         assert get_method(spec).max_tactors == count, spec
@@ -135,7 +135,7 @@ def test_pk_on_a_centre_lights_that_tactor_alone(col, row):
 @given(p=st.tuples(coord(1.5, 3.5), coord(1.5, 4.5)), q=st.tuples(coord(-1, 1), coord(-1, 1)))
 def test_ro_and_gs_depend_on_distance_only_and_stay_within_their_radius(spec, p, q):
     method = get_method(spec)
-    radius = method.values.get("r") or tc.methods.gaussian.radius(method.values["sigma"])
+    radius = method.values.get("r") or gaussian.radius(method.values["sigma"])
     frame = tc.render_xy(spec, *p, grid=tc.Grid(12, 12))
     for (col, row), value in np.ndenumerate(frame.T):
         d = math.hypot(col + 0.5 - p[0], row + 0.5 - p[1])
@@ -207,8 +207,8 @@ def test_specs_are_canonical_and_validated():
 
 
 def test_a_scene_and_a_preset_keep_the_parameters(tmp_path):
-    from tactile_core.presets import Preset, load_preset, save_preset
-    from tactile_core.scene import Scene
+    from tactile_core.files.presets import Preset, load_preset, save_preset
+    from tactile_core.rendering.scene import Scene
 
     scene = Scene(tc.Circle((2.5, 3), 2), "ro:r=1.50")
     assert scene.method == "RO:r=1.5"

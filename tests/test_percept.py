@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import tactile_core as tc
-from tactile_core.percept import PITCH_MM, predict
+from tactile_core.rendering.percept import PITCH_MM, predict
 
 
 def still(x, y):

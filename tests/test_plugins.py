@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import tactile_core as tc
-from tactile_core import methods as registry
+from tactile_core.rendering import methods as registry
 
 from .test_stream_e2e import CLI, Emulator
 

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import tactile_core as tc
-from tactile_core.link import LinkError
-from tactile_core.process import StreamerProcess, open_stream
-from tactile_core.scene import Scene
+from tactile_core.device.link import LinkError
+from tactile_core.device.process import StreamerProcess, open_stream
+from tactile_core.rendering.scene import Scene
 
 CIRCLE = tc.Circle((2.5, 3.0), 2.0)
 
@@ -57,8 +57,8 @@ def test_killing_the_parent_turns_the_array_off_without_the_watchdog(emulator_th
     emu, path = emulator_thread
     script = (
         "import time, tactile_core as tc\n"
-        "from tactile_core.process import open_stream\n"
-        "from tactile_core.scene import Scene\n"
+        "from tactile_core.device.process import open_stream\n"
+        "from tactile_core.rendering.scene import Scene\n"
         f"s = open_stream({path!r}, scene=Scene(tc.Circle((2.5, 3), 2), mu=1.0, pause_s=0.0))\n"
         "print('streaming', flush=True)\n"
         "time.sleep(60)\n"

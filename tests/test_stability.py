@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import tactile_core as tc
-from tactile_core.scene import Scene
+from tactile_core.rendering.scene import Scene
 
 from .helpers import lit
 

@@ -133,7 +133,7 @@ def test_sigkilled_streamer_is_turned_off_by_the_watchdog(emulator):
 
 
 def test_garbage_and_truncated_frames_are_counted_not_fatal(emulator):
-    from tactile_core.wire import crc16, encode_frame
+    from tactile_core.device.wire import crc16, encode_frame
 
     emu = emulator()
     fd = os.open(emu.path, os.O_RDWR | os.O_NOCTTY)
@@ -188,9 +188,9 @@ def test_normal_interpreter_exit_sends_all_off(emulator):
     emu = emulator()
     script = (
         "import time, tactile_core as tc\n"
-        "from tactile_core.link import SerialLink\n"
-        "from tactile_core.scene import Scene\n"
-        "from tactile_core.streamer import Streamer\n"
+        "from tactile_core.device.link import SerialLink\n"
+        "from tactile_core.rendering.scene import Scene\n"
+        "from tactile_core.device.streamer import Streamer\n"
         f"link = SerialLink({emu.path!r})\n"
         "scene = Scene(tc.Circle((2.5, 3), 2), mu=1.0, pause_s=0.0)\n"
         "s = Streamer(link, scene=scene)\n"

@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 import tactile_core as tc
-from tactile_core.device import default_profile
-from tactile_core.link import SerialLink, SimulatedArray
-from tactile_core.recorder import Recorder
-from tactile_core.scene import Scene
-from tactile_core.streamer import Streamer
-from tactile_core.wire import FrameReader
+from tactile_core.device.link import SerialLink, SimulatedArray
+from tactile_core.device.profile import default_profile
+from tactile_core.device.recorder import Recorder
+from tactile_core.device.streamer import Streamer
+from tactile_core.device.wire import FrameReader
+from tactile_core.rendering.scene import Scene
 
 from .helpers import align
 

@@ -8,8 +8,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import tactile_core as tc
-from tactile_core.curves import activation_curves
-from tactile_core.trace import LiveFrames, frames_per_cycle
+from tactile_core.rendering.curves import activation_curves
+from tactile_core.rendering.trace import LiveFrames, frames_per_cycle
 
 LINE = tc.Line((0.5, 1.84), (4.5, 4.16))
 CIRCLE = tc.Circle((2.5, 3.0), 2.0)

@@ -12,8 +12,8 @@ import pytest
 from PySide6 import QtCore, QtWidgets
 
 import tactile_core as tc
-from tactile_core.presets import Preset, builtin_presets
-from tactile_core.scene import Scene
+from tactile_core.files.presets import Preset, builtin_presets
+from tactile_core.rendering.scene import Scene
 
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
@@ -445,7 +445,7 @@ def test_app_has_no_stray_top_level_message_boxes_after_errors(window):
 
 
 def test_felt_view_needs_a_response_curve(qtbot, tmp_path):
-    from tactile_core.device import default_profile, profile_from_dict
+    from tactile_core.device.profile import default_profile, profile_from_dict
     from tactile_tuner.window import MainWindow
 
     data = default_profile().to_dict()

@@ -234,7 +234,7 @@ def test_saving_a_calibrated_profile_puts_it_to_use(window, tmp_path):
     assert window.save_calibrated_profile(path)
     assert window.device.profile.calibrated
     assert window.device.profile.offset[0] == pytest.approx(0.05)
-    from tactile_core.device import load_profile
+    from tactile_core.device.profile import load_profile
 
     assert load_profile(path).gain[29] == pytest.approx(0.9)
     assert load_profile(path).threshold[3] == pytest.approx(0.3)
@@ -340,7 +340,7 @@ def test_resuming_an_existing_participant_asks_first(window, qtbot):
 
 
 def test_a_run_refuses_to_start_while_the_array_is_disconnected(window):
-    from tactile_core.streamer import StreamStats
+    from tactile_core.device.streamer import StreamStats
 
     panel = window.experiments
     panel.stats = lambda: StreamStats(state="disconnected", status="device disconnected: /dev/x")
@@ -349,7 +349,7 @@ def test_a_run_refuses_to_start_while_the_array_is_disconnected(window):
 
 
 def test_a_lost_link_pauses_the_run_and_the_trial_is_presented_again(window, qtbot, tmp_path):
-    from tactile_core.streamer import StreamStats
+    from tactile_core.device.streamer import StreamStats
 
     panel = window.experiments
     choose(panel, "exp3")

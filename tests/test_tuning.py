@@ -16,7 +16,7 @@ from scipy.special import ndtr
 
 import tactile_core as tc
 from tactile_core.cli import main
-from tactile_core.device import default_profile
+from tactile_core.device.profile import default_profile
 from tactile_core.experiments import open_session
 from tactile_core.experiments.results import Session, read_rows
 from tactile_core.experiments.runners import Experiment1, calibration_from_thresholds
@@ -33,9 +33,9 @@ from tactile_core.experiments.tuning import (
     save_correction,
     simulate_tuning,
 )
-from tactile_core.geometry import Grid
-from tactile_core.presets import load_preset
-from tactile_core.scene import Scene
+from tactile_core.files.presets import load_preset
+from tactile_core.rendering.geometry import Grid
+from tactile_core.rendering.scene import Scene
 
 EXP1_LINE = tc.Line((0.5, 1.84), (4.5, 4.16))
 EXP1_CIRCLE = tc.Circle((2.5, 3.0), 2.0)

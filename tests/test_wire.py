@@ -6,8 +6,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tactile_core.array import ArrayModel
-from tactile_core.wire import (
+from tactile_core.device.array import ArrayModel
+from tactile_core.device.wire import (
     REASONS,
     Frame,
     FrameReader,

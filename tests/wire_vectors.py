@@ -5,9 +5,9 @@ Each vector is a fresh palm array (5 x 6, 23 levels, watchdog 250 ms) receiving 
 ``applied`` (seq, levels) in order, holds ``levels``, has answered ``replies`` (the concatenated
 wire bytes) and counts ``frames_applied``, ``dropped`` (by reason in ``dropped_by``) and
 ``watchdog_trips``. The same vectors run against the Python receiver
-(:class:`tactile_core.array.ArrayModel`) and the firmware's C parser compiled for the host.
+(:class:`tactile_core.device.array.ArrayModel`) and the firmware's C parser compiled for the host.
 
-The CRC is computed bit by bit here and COBS by hand, independently of ``tactile_core.wire``.
+The CRC is computed bit by bit here and COBS by hand, independently of ``tactile_core.device.wire``.
 """
 
 PALM = {"cols": 5, "rows": 6, "levels": 23, "watchdog_ms": 250, "pwm_hz": 303, "name": "palm-5x6"}

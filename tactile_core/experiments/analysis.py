@@ -33,13 +33,7 @@ import numpy as np
 
 from .runners import CONDITIONS_EXP2, METHODS, SHAPES
 from .staircase import Staircase
-from .stats import (
-    d_prime,
-    fit_psychometric,
-    friedman,
-    pairwise_effect_sizes,
-    pairwise_wilcoxon,
-)
+from .stats import d_prime, fit_psychometric, friedman, pairwise_effect_sizes, pairwise_wilcoxon
 
 PROPERTIES = ("quality", "smoothness", "thickness")
 
@@ -354,7 +348,7 @@ def _figure(width=7.0, height=3.4, ncols=1):
 
 
 def _save(fig, path: Path, result: dict) -> None:
-    from ..outfile import atomic_file
+    from .._shared.outfile import atomic_file
 
     with atomic_file(path, binary=True) as f:
         fig.savefig(f, format="png")

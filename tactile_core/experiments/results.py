@@ -22,10 +22,10 @@ import socket
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from .. import _validate
+from .._shared import validate as _validate
+from .._shared.jsonfile import read_json, write_json_atomic
 from .._version import __version__
-from ..jsonfile import read_json, write_json_atomic
-from ..scene import PAPER_PIPELINE, Pipeline
+from ..rendering.scene import PAPER_PIPELINE, Pipeline
 from .stats import order_for, order_for_set
 
 SESSION_FILE = "session.json"
@@ -71,7 +71,7 @@ class Session:
         Session parameters (e.g. ``exp3_emphasis``).
     notes : str
     pipeline : dict
-        The session's :class:`~tactile_core.scene.Pipeline` (rate, filter and sub-samples,
+        The session's :class:`~tactile_core.rendering.scene.Pipeline` (rate, filter and sub-samples,
         dithering); the paper's by default.
     runs : dict
         ``{experiment: record}``: what each experiment ran (pipeline, levels, mu and gamma of

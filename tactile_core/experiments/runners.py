@@ -16,10 +16,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
 
-from .. import _validate
+from .._shared import validate as _validate
 from .._version import __version__
-from ..scene import Scene
-from ..shapes import Circle, Line, Square
+from ..rendering.scene import Scene
+from ..rendering.shapes import Circle, Line, Square
 from .results import ParticipantLock, ResultsFile, Session, SessionError, now
 from .staircase import Staircase
 from .stats import apply_order
@@ -101,7 +101,7 @@ class Runner:
     fields: tuple = ()
 
     def __init__(self, session: Session, *, write: bool = True, profile=None):
-        from ..device import default_profile
+        from ..device.profile import default_profile
 
         self.session = session
         self.pipeline = session.get_pipeline()
@@ -347,7 +347,7 @@ def method_set(session: Session, experiment: str, methods=None) -> list[str]:
         Naming the method or the set when a method is unknown, the set has fewer than 2 or
         more than 8 methods or one twice, or differs from the session's.
     """
-    from ..methods import get_method
+    from ..rendering.methods import get_method
 
     key = f"{experiment}_methods"
     recorded = session.parameters.get(key)
@@ -668,7 +668,7 @@ class Calibration(Runner):
     REVERSALS = 8
 
     def __init__(self, session, grid=None, **kwargs):
-        from ..geometry import Grid
+        from ..rendering.geometry import Grid
 
         self.grid = grid or Grid()
         self.total = self.grid.size * self.MAX_TRIALS

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _validate
+from .._shared import validate as _validate
 
 
 class Staircase:

@@ -48,12 +48,12 @@ from typing import ClassVar
 
 import numpy as np
 
-from .. import _validate
-from ..correction import Dither, quantize
-from ..jsonfile import read_json, write_json_atomic
-from ..percept import felt_magnitude
-from ..shapes import Line
-from ..trace import render_frames
+from .._shared import validate as _validate
+from .._shared.jsonfile import read_json, write_json_atomic
+from ..rendering.correction import Dither, quantize
+from ..rendering.percept import felt_magnitude
+from ..rendering.shapes import Line
+from ..rendering.trace import render_frames
 from .results import Session, now
 from .runners import HEALTH_FIELDS, INTERVAL_S, Runner, Trial
 
@@ -149,7 +149,7 @@ class SimulatedObserver:
     _cache: dict = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
-        from ..device import default_profile
+        from ..device.profile import default_profile
 
         self.threshold = _validate.in_range("threshold", self.threshold, 0.0, MU_MAX)
         self.exponent = _validate.in_range("exponent", self.exponent, 0.1, 10.0)
@@ -644,7 +644,7 @@ class CorrectionTuning(Runner):
     conditions: ClassVar[dict] = {}
 
     def __init__(self, session: Session, plan: TuningPlan | None = None, **kwargs):
-        from ..device import default_profile
+        from ..device.profile import default_profile
 
         self.plan = plan or TuningPlan()
         profile = kwargs.get("profile") or default_profile()
@@ -933,8 +933,8 @@ def save_correction(runner: CorrectionTuning, result: TuningResult | None = None
     ValueError
         If the result is not a correction (``ok`` false): nothing is written.
     """
-    from ..presets import Preset, save_preset
-    from ..scene import Scene
+    from ..files.presets import Preset, save_preset
+    from ..rendering.scene import Scene
     from .runners import Experiment1
 
     result = result or runner.result()

@@ -6,10 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _validate
+from .._shared import validate as _validate
 from .correction import check_correction, correct
 from .geometry import Grid
-from .render import check_grid, render
+from .rasterize import check_grid, render
 from .trace import DIRECTIONS
 
 _DEFAULT_GRID = Grid()

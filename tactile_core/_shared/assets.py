@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-_HERE = Path(__file__).resolve().parent
-_ROOTS = (_HERE / "_assets", _HERE.parent / "assets")
+_PACKAGE = Path(__file__).resolve().parents[1]  # tactile_core/
+_ROOTS = (_PACKAGE / "_assets", _PACKAGE.parent / "assets")
 
 
 def assets_dir() -> Path:

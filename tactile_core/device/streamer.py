@@ -1,7 +1,7 @@
 """The real-time streamer: one output thread sending frames to a link on deadlines.
 
-Per frame the thread takes the current :class:`~tactile_core.scene.Scene` snapshot, computes
-the lit tactors' corrected intensities (:class:`~tactile_core.trace.LiveFrames`), applies the
+Per frame the thread takes the current :class:`~tactile_core.Scene` snapshot, computes
+the lit tactors' corrected intensities (:class:`~tactile_core.LiveFrames`), applies the
 device's per-tactor calibration, quantises (optionally with temporal dithering), orders the
 levels by channel, encodes the frame and writes it. Deadlines come from a monotonic clock
 (``k / rate`` after the start, never ``sleep(period)``, which drifts); the thread sleeps until
@@ -30,10 +30,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .correction import Dither, quantize1
-from .device import DeviceProfile, default_profile
+from ..rendering.correction import Dither, quantize1
+from ..rendering.scene import Scene, check_scene
 from .link import LinkError, identify
-from .scene import Scene, check_scene
+from .profile import DeviceProfile, default_profile
 from .wire import KEEPALIVE_S, Info, MessageReader, Status, encode_frame, encode_query
 
 _RUNNING: weakref.WeakSet = weakref.WeakSet()
@@ -222,8 +222,8 @@ class Streamer:
 
     Examples
     --------
-    >>> from tactile_core.link import SimulatedArray
-    >>> from tactile_core.scene import Scene
+    >>> from tactile_core.device.link import SimulatedArray
+    >>> from tactile_core.rendering.scene import Scene
     >>> import tactile_core as tc
     >>> with Streamer(SimulatedArray(), scene=Scene(tc.Circle((2.5, 3), 2))) as s:
     ...     time.sleep(0.1)

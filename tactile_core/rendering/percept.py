@@ -22,10 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _validate
+from .._shared import validate as _validate
 from .correction import correct
 from .geometry import Grid
-from .render import render
+from .rasterize import render
 
 PITCH_MM = 18.0
 """The palm array's tactor pitch."""

@@ -16,7 +16,7 @@ import numpy as np
 import serial
 
 from .array import ArrayModel
-from .device import DeviceProfile, default_profile
+from .profile import DeviceProfile, default_profile
 from .wire import HELLO_TIMEOUT_S, Info, MessageReader, encode_hello
 
 
@@ -139,7 +139,7 @@ class SerialLink:
 
 class SimulatedArray:
     """The built-in array: the bytes that would go on the wire, received by
-    :class:`~tactile_core.array.ArrayModel` (what the reference firmware does).
+    :class:`~tactile_core.device.array.ArrayModel` (what the reference firmware does).
 
     It keeps the last valid levels, answers hello and query, enforces the 250 ms watchdog,
     counts dropped messages, and, when the profile has a motor response curve, reports what the

@@ -30,11 +30,11 @@ from functools import cached_property
 
 import numpy as np
 
-from . import _validate
+from .._shared import validate as _validate
 from .correction import check_correction, correct, correct1
 from .geometry import Grid
 from .methods import get_method
-from .render import check_grid, check_shape, point_entries, render
+from .rasterize import check_grid, check_shape, point_entries, render
 from .shapes import Shape
 
 DIRECTIONS = ("forward", "reverse")
@@ -273,7 +273,7 @@ def render_frames(
         Filter corrected intensities (True, what is streamed) or raw ones (False).
     gain : float, keyword-only
         Master intensity in [0, 1], part of the correction (see
-        :func:`~tactile_core.correction.correct`).
+        :func:`~tactile_core.rendering.correction.correct`).
     phase_s : float, keyword-only
         Where the frame clock stands when the trace starts: frame ``k`` starts at
         ``k / rate_hz + phase_s`` seconds of the trace's clock (0: aligned to a frame).

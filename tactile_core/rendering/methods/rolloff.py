@@ -51,7 +51,7 @@ def sample(shape, x, y, t, tol, r=1.0):
     Returns
     -------
     list of (cols, rows, values)
-        One entry per candidate tactor (see :mod:`tactile_core.methods._radial`), values
+        One entry per candidate tactor (see :mod:`tactile_core.rendering.methods._radial`), values
         ``s(1 - d / r)`` in [0, 1], 0 at ``d >= r``.
     """
     inv = 1.0 / r

@@ -1,7 +1,7 @@
 """A device emulator on a pseudo-terminal: what an array would receive, measured.
 
 ``tactile emulate`` opens a pseudo-terminal, prints the path of its device end on the first
-line, and then behaves as the reference firmware does (:class:`~tactile_core.array.ArrayModel`):
+line, and then behaves as the reference firmware does (:class:`~.array.ArrayModel`):
 it applies valid frames, answers hello with its info and query with its counters, turns
 everything off when no valid frame has arrived for 250 ms (the watchdog, counted when it turns
 something off), and counts dropped messages by reason; it also counts gaps in the sequence
@@ -19,10 +19,10 @@ import tty
 
 import numpy as np
 
+from .._shared.jsonfile import write_json_atomic
+from .._shared.outfile import atomic_file, check_output
 from .array import ArrayModel
-from .device import DeviceProfile, default_profile
-from .jsonfile import write_json_atomic
-from .outfile import atomic_file, check_output
+from .profile import DeviceProfile, default_profile
 
 
 class Emulator:

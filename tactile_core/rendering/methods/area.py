@@ -24,7 +24,7 @@ MAX_TACTORS = 4
 
 
 def sample(shape, x, y, t, tol):
-    """Tactors lit at points ``(x, y)``: see :func:`tactile_core.methods.closest.sample`.
+    """Tactors lit at points ``(x, y)``: see :func:`tactile_core.rendering.methods.closest.sample`.
 
     Returns
     -------

@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from . import _validate
+from .._shared import validate as _validate
 from .correction import check_correction
 from .geometry import Grid
 from .methods import get_method
@@ -59,7 +59,7 @@ class Scene:
         procedure, at ``mu = 0`` and ``gamma = 1``, uses it to present one tactor at a chosen
         drive).
     emphasis : float
-        Corner emphasis of the trace in [0, 0.9] (see :class:`~tactile_core.trace.Trace`).
+        Corner emphasis of the trace in [0, 0.9] (see :class:`~tactile_core.rendering.trace.Trace`).
     felt_domain : bool
         Correct in felt amplitude: with a motor response curve in the device profile, the
         corrected intensity is the motor output wanted and the array gets the least drive that

@@ -1,13 +1,13 @@
 """The streamer in its own process, for programs whose main thread is busy (the GUI).
 
-A :class:`~tactile_core.streamer.Streamer` thread shares Python's global interpreter lock with
+A :class:`~.streamer.Streamer` thread shares Python's global interpreter lock with
 every other thread of its process. A GUI repainting plots holds that lock for milliseconds at a
 time inside C++ drawing calls, and each frame waits that long: with the tuner's display running,
 an in-process stream at 300 Hz showed p99 interval errors of 10-12 ms. :class:`StreamerProcess`
-runs the same streamer in a child process (``python -m tactile_core.process``) with the link
+runs the same streamer in a child process (``python -m tactile_core.device.process``) with the link
 opened there, so nothing in the parent can delay a frame.
 
-- Scenes go to the child through a pipe (a pickled :class:`~tactile_core.scene.Scene`, ~0.1 ms).
+- Scenes go to the child through a pipe (a pickled :class:`~tactile_core.Scene`, ~0.1 ms).
 - The child reports back, about 100 times a second, the levels and trace time of the last
   frame sent (for display), and its statistics every 0.1 s.
 - If the parent dies, the child sees the pipe close and stops: all off. If the child dies, the
@@ -31,9 +31,9 @@ from multiprocessing.connection import Connection
 
 import numpy as np
 
-from .device import DeviceProfile, default_profile, profile_from_dict
+from ..rendering.scene import Scene, check_scene
 from .link import LinkError
-from .scene import Scene, check_scene
+from .profile import DeviceProfile, default_profile, profile_from_dict
 from .streamer import StreamStats
 
 _CHILDREN: weakref.WeakSet = weakref.WeakSet()
@@ -125,7 +125,7 @@ def _serve(cmd: Connection, events: Connection) -> None:
 
 
 def main(argv=None) -> int:
-    """Entry point of the child: ``python -m tactile_core.process CMD_FD EVENTS_FD``.
+    """Entry point of the child: ``python -m tactile_core.device.process CMD_FD EVENTS_FD``.
 
     Ctrl-C and SIGHUP from the terminal reach the whole process group; the child ignores them
     and lets the parent stop it (or notices the parent is gone when its pipe closes), so a
@@ -149,12 +149,12 @@ def main(argv=None) -> int:
 
 class StreamerProcess:
     """A streamer running in a child process; the parent-side API mirrors
-    :class:`~tactile_core.streamer.Streamer`.
+    :class:`~.streamer.Streamer`.
 
     Parameters
     ----------
     url : str or None
-        Device URL for :func:`tactile_core.link.open_link`; None for the simulated array.
+        Device URL for :func:`tactile_core.device.link.open_link`; None for the simulated array.
     profile : DeviceProfile, optional
     scene : Scene, optional
     on_status : callable, optional
@@ -203,7 +203,13 @@ class StreamerProcess:
         events_read, events_write = os.pipe()
         try:
             self._proc = subprocess.Popen(
-                [sys.executable, "-m", "tactile_core.process", str(cmd_read), str(events_write)],
+                [
+                    sys.executable,
+                    "-m",
+                    "tactile_core.device.process",
+                    str(cmd_read),
+                    str(events_write),
+                ],
                 pass_fds=(cmd_read, events_write),
                 stdin=subprocess.DEVNULL,
             )

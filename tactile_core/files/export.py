@@ -11,10 +11,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ._version import __version__
-from .correction import check_correction, correct, quantize
-from .curves import ActivationCurves
-from .outfile import atomic_file, check_output
+from .._shared.outfile import atomic_file, check_output
+from .._version import __version__
+from ..rendering.correction import check_correction, correct, quantize
+from ..rendering.curves import ActivationCurves
 
 
 def correction_lut(mu: float, gamma: float, levels: int = 23, size: int = 256) -> np.ndarray:

@@ -31,7 +31,7 @@ from functools import cached_property
 
 import numpy as np
 
-from . import _validate
+from .._shared import validate as _validate
 from .geometry import cell_floor, clamp, snap_tolerance
 
 TWO_PI = 2.0 * math.pi
@@ -346,7 +346,7 @@ class Shape:
 
     @cached_property
     def snap_tol(self) -> float:
-        """Snap tolerance for this shape's points (see ``tactile_core.geometry.SNAP_ULPS``)."""
+        """Snap tolerance for this shape's points (see ``geometry.SNAP_ULPS``)."""
         return snap_tolerance(self.scale)
 
     @property

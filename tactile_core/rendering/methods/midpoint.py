@@ -35,7 +35,7 @@ def on_stroke(strokes, x, y, t):
     Returns
     -------
     params : ndarray, shape (9, n), or tuple
-        The strokes' parameters per point (:meth:`~tactile_core.shapes.Strokes.gather`).
+        The strokes' parameters per point (:meth:`~tactile_core.rendering.shapes.Strokes.gather`).
     xmajor : ndarray of bool or bool
         Whether each point's stroke is x-major.
     u : ndarray of float64, shape (n,)

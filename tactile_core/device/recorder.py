@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .geometry import ArraySpec
-from .outfile import atomic_file, check_output
+from .._shared.outfile import atomic_file, check_output
+from ..rendering.geometry import ArraySpec
 
 
 class Recorder:

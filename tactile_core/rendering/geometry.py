@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _validate
+from .._shared import validate as _validate
 
 MAX_GRID = 1024
 """Most columns or rows of a grid."""

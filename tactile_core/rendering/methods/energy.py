@@ -39,7 +39,7 @@ def sample(shape, x, y, t, tol):
     Returns
     -------
     list of (cols, rows, values)
-        The four cells of :func:`tactile_core.methods.area.sample`, values ``sqrt(a_i)``.
+        The four cells of :func:`tactile_core.rendering.methods.area.sample`, values ``sqrt(a_i)``.
     """
     return [(c, r, np.sqrt(v)) for c, r, v in area.sample(shape, x, y, t, tol)]
 

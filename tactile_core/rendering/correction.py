@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _validate
+from .._shared import validate as _validate
 
 
 def check_correction(mu, gamma) -> tuple[float, float]:

@@ -22,12 +22,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import _validate
-from .assets import assets_dir
-from .device import NAME as PROFILE_NAME
-from .jsonfile import read_json, write_json_atomic
-from .scene import Scene
-from .shapes import shape_from_dict
+from .._shared import validate as _validate
+from .._shared.assets import assets_dir
+from .._shared.jsonfile import read_json, write_json_atomic
+from ..device.profile import NAME as PROFILE_NAME
+from ..rendering.scene import Scene
+from ..rendering.shapes import shape_from_dict
 
 FORMAT = "tactile-preset"
 VERSION = 1

@@ -27,7 +27,7 @@ name      method                      from                 tactors lit at one in
   live path, equal to ``sample`` at one point;
 - ``PARAMS`` (optional): ``{name: (default, low, high, description)}`` of float parameters.
 
-``tol`` is the snap tolerance of the cell lookup (:data:`tactile_core.geometry.SNAP_ULPS`).
+``tol`` is the snap tolerance of the cell lookup (:data:`~..geometry.SNAP_ULPS`).
 
 **Parameters** travel with the method's name as a *spec*, ``"RO:r=1.5"`` or
 ``"GS:sigma=0.7"`` (defaults left out, so ``"RO"`` is ``"RO:r=1"``): the same string works in
@@ -53,7 +53,7 @@ from types import ModuleType
 
 import numpy as np
 
-from .. import _validate
+from ..._shared import validate as _validate
 from . import area, closest, energy, gaussian, interpolated, midpoint, park, rolloff
 
 ENTRY_POINT_GROUP = "tactile_tuner.methods"

@@ -88,7 +88,7 @@ def read_json_digest(path, error=ValueError, *, max_bytes: int = MAX_JSON_BYTES)
 
 
 def write_text_atomic(path, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically (see :func:`tactile_core.outfile.atomic_file`)."""
+    """Write ``text`` to ``path`` atomically (see :func:`~.outfile.atomic_file`)."""
     with atomic_file(path) as f:
         f.write(text)
     return Path(path)

@@ -6,7 +6,7 @@ import functools
 
 import numpy as np
 
-from . import _validate
+from .._shared import validate as _validate
 from .geometry import SNAP_REL, Grid, clamp
 from .methods import METHODS, get_method
 from .shapes import Shape
@@ -92,13 +92,13 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     Parameters
     ----------
     shape : Shape
-        :class:`~tactile_core.shapes.Line`, :class:`~tactile_core.shapes.Circle`,
-        :class:`~tactile_core.shapes.Square` or :class:`~tactile_core.shapes.Polyline`.
+        :class:`~tactile_core.Line`, :class:`~tactile_core.Circle`,
+        :class:`~tactile_core.Square` or :class:`~tactile_core.Polyline`.
     method : str
         Closest tactor, midpoint, area sampling or interpolated midpoint (``"CT"``, ``"MM"``,
         ``"AS"``, ``"IM"``, paper 2.2-2.5), a peer method (``"EN"``, ``"PK"``, ``"RO"``,
         ``"GS"``), a plug-in, or a spec with parameters such as ``"RO:r=1.5"`` (see
-        :mod:`tactile_core.methods`).
+        :mod:`tactile_core.rendering.methods`).
     t : float or array_like
         Trace parameter(s), finite and within [0, 1].
     grid : Grid, keyword-only

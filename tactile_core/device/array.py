@@ -4,13 +4,13 @@
 ATmega2560: it applies valid frames, answers a hello with its info and a query with its counters,
 drops (and counts) every malformed message without changing its levels, and turns every tactor
 off when no valid frame has arrived for 250 ms (a watchdog trip, counted when something was on).
-The simulated array (:class:`tactile_core.link.SimulatedArray`) and ``tactile emulate`` are built
+The simulated array (:class:`~.link.SimulatedArray`) and ``tactile emulate`` are built
 on it; the same test vectors run against it and against the firmware's C parser.
 """
 
 from __future__ import annotations
 
-from .device import DeviceProfile, default_profile
+from .profile import DeviceProfile, default_profile
 from .wire import (
     PROTOCOL_VERSION,
     WATCHDOG_S,

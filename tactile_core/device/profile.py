@@ -45,10 +45,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _validate
-from .assets import asset_path, assets_dir
-from .geometry import ArraySpec, Grid
-from .jsonfile import read_json_digest, write_json_atomic
+from .._shared import validate as _validate
+from .._shared.assets import asset_path, assets_dir
+from .._shared.jsonfile import read_json_digest, write_json_atomic
+from ..rendering.geometry import ArraySpec, Grid
 from .wire import frame_length
 
 FORMAT = "tactile-device-profile"
