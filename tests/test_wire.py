@@ -248,7 +248,7 @@ def test_a_corrupted_frame_never_changes_the_levels(noise, seq):
 def test_readme_lists_the_test_vectors():
     from pathlib import Path
 
-    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    readme = (Path(__file__).resolve().parent.parent / "docs" / "device.md").read_text()
     for data in (
         wv.hello(0),
         wv.query(5),
