@@ -93,13 +93,13 @@ class FileActions(QtCore.QObject):
         self.message_posted.emit(f"saved preset to {path}", 5000)
         return True
 
-    def open_preset(self) -> None:
+    def ask_open_preset(self) -> None:
         """Ask for a preset and load it."""
         path = dialogs.open_path(self.parent(), "presets", "Open preset", ["Presets (*.json)"])
         if path:
             self.load_preset_file(path)
 
-    def save_preset(self) -> None:
+    def ask_save_preset(self) -> None:
         """Ask where to save the scene as a preset, and save it."""
         name = f"{dialogs.tuning_tag(self.state.scene)}-{dialogs.today()}.json"
         path = dialogs.save_path(self.parent(), "presets", "Save preset", name,
@@ -172,7 +172,7 @@ class FileActions(QtCore.QObject):
 
     # --- device profiles -------------------------------------------------------------------------
 
-    def open_profile(self) -> None:
+    def ask_open_profile(self) -> None:
         """Ask for a device profile and use it."""
         path = dialogs.open_path(self.parent(), "profiles", "Device profile",
                                  ["Profiles (*.json)"])  # fmt: skip

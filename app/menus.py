@@ -24,8 +24,8 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     """
     bar = window.menuBar()
     menu = bar.addMenu("&File")
-    menu.addAction("Open preset...", files.open_preset, QtGui.QKeySequence.StandardKey.Open)
-    menu.addAction("Save preset as...", files.save_preset, QtGui.QKeySequence.StandardKey.Save)
+    menu.addAction("Open preset...", files.ask_open_preset, QtGui.QKeySequence.StandardKey.Open)
+    menu.addAction("Save preset as...", files.ask_save_preset, QtGui.QKeySequence.StandardKey.Save)
     builtins = menu.addMenu("Built-in presets")
     for stem, path in builtin_presets().items():
         builtins.addAction(stem, lambda p=path: files.load_preset_file(p))

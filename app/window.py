@@ -155,7 +155,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self._key_filter = KeyFilter(
             self,
             windows=lambda: (self, self.experiments.participant_window),
-            on_escape=self._on_escape,
+            on_escape=self._on_escape_pressed,
             run_active=lambda: self.experiments.running,
             on_run_key=self.experiments.handle_key,
             on_space=self.toggle_play,
@@ -203,7 +203,7 @@ class MainWindow(QtWidgets.QMainWindow):
         gestures.message_posted.connect(status)
         self.controls.all_off_requested.connect(self.all_off)
         self.controls.draw_mode_toggled.connect(gestures.set_draw_mode)
-        self.device_panel.profile_requested.connect(self.files.open_profile)
+        self.device_panel.profile_requested.connect(self.files.ask_open_profile)
         self.files.curves = lambda: tune.shown_curves
         self.files.before_load = lambda: gestures.set_draw_mode(False)
         self.files.error_raised.connect(self.show_error)
@@ -215,7 +215,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.experiments.correction_measured.connect(self.guided.show_result)
         self.experiments.profile_save_requested.connect(self.save_calibrated_profile)
         self.guided.message_posted.connect(status)
-        self.guided.save_preset_requested.connect(self.files.save_preset)
+        self.guided.save_preset_requested.connect(self.files.ask_save_preset)
 
     # --- commands that span the parts ------------------------------------------------------------
 
@@ -225,7 +225,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.device.all_off()
         self.statusBar().showMessage("all off (Space plays again)")
 
-    def _on_escape(self) -> None:
+    def _on_escape_pressed(self) -> None:
         self.all_off()
         if self.experiments.running:
             self.experiments.pause()

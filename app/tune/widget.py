@@ -77,8 +77,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self._views_timer.setInterval(50)
         self._views_timer.timeout.connect(self.refresh)
         state.scene_changed.connect(self._on_state_scene_changed)
-        # The predicted view has its own curves and path: switching the mode redraws them.
-        state.view_mode_changed.connect(self._on_state_scene_changed)
+        state.view_mode_changed.connect(self._on_state_view_mode_changed)
         state.show_levels_changed.connect(self.heatmap.set_show_values)
         self.heatmap.cell_hovered.connect(self.curves.highlight)
         self.curves.curve_hovered.connect(self.heatmap.highlight)
@@ -134,7 +133,12 @@ class TuneWidget(QtWidgets.QStackedWidget):
 
     # --- the scene's plots -----------------------------------------------------------------------
 
-    def _on_state_scene_changed(self, _=None) -> None:
+    def _on_state_scene_changed(self, _scene) -> None:
+        if not self._views_timer.isActive():
+            self._views_timer.start()
+
+    def _on_state_view_mode_changed(self, _mode) -> None:
+        # The predicted view has its own curves and path: switching the mode redraws them.
         if not self._views_timer.isActive():
             self._views_timer.start()
 
