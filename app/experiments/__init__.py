@@ -13,7 +13,7 @@ presents the interrupted trial again (its row records how often it was presented
 scene is saved when a run starts and restored, paused, when it ends; a run never writes the
 tuner's settings.
 
-The modules, one subject each: ``console`` (the tab), ``setup`` (the session's set-up),
+The modules, one subject each: ``console`` (the tab), ``session`` (the session's set-up),
 ``trials`` (presenting a run's trials, their keys and timing: ``GAP_S``; the two-interval
 timing ``INTERVAL_S`` and ``INTERVAL_GAP_S`` comes from the core), ``participant`` (the
 participant's window), ``analysis`` (``tactile analyze`` in the background) and ``guided``
@@ -24,7 +24,7 @@ from .analysis import AnalysisWidget
 from .console import ExperimentsPanel
 from .guided import GuidedTuning, TuningResultDialog
 from .participant import ParticipantWindow
-from .setup import TITLES, SessionWidget
+from .session import TITLES, SessionWidget
 from .trials import KEYS, LINK_DOWN, TrialPresenter
 
 __all__ = [

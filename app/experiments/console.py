@@ -18,7 +18,7 @@ from ..state import TunerState
 from .analysis import AnalysisWidget
 from .guided import keep_correction, tuning_intro
 from .participant import ParticipantWindow
-from .setup import TITLES, SessionWidget
+from .session import TITLES, SessionWidget
 from .trials import LINK_DOWN, TrialPresenter
 
 
