@@ -5,6 +5,7 @@ from __future__ import annotations
 import datetime as dt
 import json
 import os
+import secrets
 import socket
 from pathlib import Path
 
@@ -33,6 +34,18 @@ def _alive(pid: int) -> bool:
     return True
 
 
+def _write_new(path: Path, data: bytes) -> None:
+    """Create ``path`` (``FileExistsError`` if it exists) holding ``data``, synced to disk."""
+    fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+    try:
+        view = memoryview(data)
+        while view:
+            view = view[os.write(fd, view) :]
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
 class ParticipantLock:
     """An exclusive lock on a participant's folder while a runner writes to it.
 
@@ -58,33 +71,55 @@ class ParticipantLock:
         }
 
     def acquire(self) -> None:
+        data = json.dumps(self._record()).encode("utf-8")
         for _ in range(3):
-            try:
-                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
-                holder = self._holder()
-                if holder is not None and not self._stale(holder):
-                    raise SessionError(
-                        f"{self.path.parent}: this participant is being recorded by PID "
-                        f"{holder.get('pid')} on {holder.get('host')} since "
-                        f"{holder.get('since')}; a second copy may not write to it. If that "
-                        f"program is gone, remove {self.path}"
-                    ) from None
-                self.path.unlink(missing_ok=True)  # stale or unreadable: take it over
-                continue
-            with os.fdopen(fd, "w", encoding="utf-8") as f:
-                json.dump(self._record(), f)
-                f.flush()
-                os.fsync(f.fileno())
-            self.held = True
-            return
+            if self._publish(data):
+                self.held = True
+                return
+            holder = self._holder()
+            if holder is not None and not self._stale(holder):
+                raise SessionError(
+                    f"{self.path.parent}: this participant is being recorded by PID "
+                    f"{holder.get('pid')} on {holder.get('host')} since "
+                    f"{holder.get('since')}; a second copy may not write to it. If that "
+                    f"program is gone, remove {self.path}"
+                ) from None
+            self.path.unlink(missing_ok=True)  # stale or unreadable: take it over
         raise SessionError(f"{self.path}: could not take the participant's lock")
+
+    def _publish(self, data: bytes) -> bool:
+        """Create the lock holding ``data``, whole or not at all; False if a lock is there.
+
+        The record is written to a temporary file and hard-linked into place, so that no other
+        process ever reads a lock still being written: it would take the empty file for one left
+        half-written by a crash, and take it over while its owner writes. Where the file system
+        has no hard links (FAT, some network shares) the lock is created in place.
+        """
+        tmp = self.path.with_name(f"{LOCK_FILE}-{os.getpid()}-{secrets.token_hex(4)}.tmp")
+        try:
+            _write_new(tmp, data)
+            try:
+                os.link(tmp, self.path)
+            except FileExistsError:
+                return False
+            except OSError:
+                pass  # no hard links here
+            else:
+                return True
+        finally:
+            tmp.unlink(missing_ok=True)
+        try:
+            _write_new(self.path, data)
+        except FileExistsError:
+            return False
+        return True
 
     def _holder(self) -> dict | None:
         try:
             data = json.loads(self.path.read_text(encoding="utf-8"))
         except (OSError, ValueError):
-            return None  # half-written by a process killed while creating it: stale
+            return None  # half-written (by a version that wrote it in place, or where there
+            # are no hard links) by a process killed while creating it: stale
         return data if isinstance(data, dict) else None
 
     def _stale(self, holder: dict) -> bool:
