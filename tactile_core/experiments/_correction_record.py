@@ -22,7 +22,19 @@ GAMMA_MIN, GAMMA_MAX = 0.1, 10.0
 
 
 def load_correction(folder) -> dict | None:
-    """The participant's ``correction.json`` in ``folder`` as a dict, or None if there is none.
+    """The participant's measured correction.
+
+    Parameters
+    ----------
+    folder : path
+        The participant's folder.
+
+    Returns
+    -------
+    dict or None
+        ``correction.json`` as written by
+        :func:`~tactile_core.experiments.tuning.save_correction` (``mu`` and ``gamma`` checked
+        against :data:`MU_MAX`, :data:`GAMMA_MIN` and :data:`GAMMA_MAX`); None if there is none.
 
     Raises
     ------

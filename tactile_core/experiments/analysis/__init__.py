@@ -21,26 +21,23 @@ with its reversals). Only participants with complete data for an experiment ente
 A row that cannot be read (a bad number, an unknown method, a duplicate) is reported as
 ``file:row: problem`` and left out; the rest is analysed, and the output says what was left out.
 
-The modules: ``_reading`` (the results folder read into scores, tracks and answers), ``_report``
-(:func:`analyze`: the tables and statistics) and ``_figures`` (the figures).
+The modules: ``_reading`` (participant folders and their rows, checked), ``_scores`` (each
+experiment's scores, tracks and answers), ``_report`` (:func:`analyze`: the tables and
+statistics) and ``_figures`` (the figures).
 """
 
-from ._reading import (
+from ._reading import Problems, numbered_rows, participants, session_methods, study_methods
+from ._report import analyze, format_pvalues
+from ._scores import (
     PROPERTIES,
-    Problems,
     confusion,
     exp1_scores,
     exp2_estimates,
     exp2_tracks,
     exp3_answers,
     exp3_scores,
-    numbered_rows,
-    participants,
-    session_methods,
-    study_methods,
     track_estimate,
 )
-from ._report import analyze, format_pvalues
 
 # isort: split
 # What ``tactile_core.experiments.analysis`` held when it was one module stays importable from

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..runners import CONDITIONS_EXP2
-from ._reading import PROPERTIES, track_estimate
+from ._scores import PROPERTIES, track_estimate
 
 
 def _boxplot(ax, data: dict, ylabel: str):

@@ -1,6 +1,6 @@
 """What the analysis reads: the participant folders of a results folder, their CSV rows (a row
-that cannot be read is reported as ``file:row: problem`` and left out), and from them each
-experiment's scores, staircase tracks and answers."""
+that cannot be read is reported as ``file:row: problem`` and left out), the checks each value
+passes, and the method set each participant ran."""
 
 from __future__ import annotations
 
@@ -11,11 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..runners import CONDITIONS_EXP2, METHODS, SHAPES
-from ..staircase import Staircase
-from ..stats import d_prime, fit_psychometric
-
-PROPERTIES = ("quality", "smoothness", "thickness")
+from ..runners import METHODS
 
 
 @dataclass
@@ -32,7 +28,23 @@ class Problems:
 
 
 def participants(results_dir) -> list[Path]:
-    """Participant folders, sorted by name."""
+    """The participant folders of a results folder.
+
+    Parameters
+    ----------
+    results_dir : path
+        Folder holding one ``participant-<id>`` folder per participant.
+
+    Returns
+    -------
+    list of Path
+        The ``participant-*`` folders, sorted by name.
+
+    Raises
+    ------
+    ValueError
+        If ``results_dir`` is not a folder.
+    """
     root = Path(results_dir)
     if not root.is_dir():
         raise ValueError(f"results folder {str(root)!r} does not exist")
@@ -40,8 +52,21 @@ def participants(results_dir) -> list[Path]:
 
 
 def numbered_rows(path, problems: Problems) -> list[tuple[int, dict]]:
-    """``(line, row)`` of each complete row of a results CSV (a torn last line is reported and
-    left out)."""
+    """Each complete row of a results CSV, with its line number.
+
+    Parameters
+    ----------
+    path : path
+        The CSV (a missing file has no rows).
+    problems : Problems
+        Where a file that cannot be read, a torn last line (no line end) or a row with the
+        wrong number of fields is reported; such rows are left out.
+
+    Returns
+    -------
+    list of (int, dict)
+        ``(line, row)``, the line counted from 1 with the header as line 1.
+    """
     path = Path(path)
     if not path.exists():
         return []
@@ -106,8 +131,20 @@ def _length(value):
 
 
 def session_methods(folder: Path, experiment: str) -> tuple[str, ...]:
-    """The method set ``experiment`` ran for the participant in ``folder`` (``session.json``'s
-    ``parameters``); the paper's four when none is recorded or the file cannot be read."""
+    """The method set ``experiment`` ran for one participant.
+
+    Parameters
+    ----------
+    folder : path
+        The participant's folder; its ``session.json`` records the set in ``parameters``.
+    experiment : str
+        ``"exp1"`` or ``"exp3"``.
+
+    Returns
+    -------
+    tuple of str
+        The method specs; the paper's four when none is recorded or the file cannot be read.
+    """
     import json
 
     try:
@@ -121,9 +158,24 @@ def session_methods(folder: Path, experiment: str) -> tuple[str, ...]:
 
 
 def study_methods(results_dir, experiment: str) -> tuple[tuple[str, ...], list[str]]:
-    """The method set of the study's ``experiment``: the set most participants ran (the first
-    participant's on a tie; the paper's four by default), and the participants who ran another
-    set (left out of its analysis). Only participants with the experiment's CSV count."""
+    """The method set of the study's ``experiment``, and who ran another.
+
+    Only participants with the experiment's CSV count.
+
+    Parameters
+    ----------
+    results_dir : path
+    experiment : str
+        ``"exp1"`` or ``"exp3"``.
+
+    Returns
+    -------
+    methods : tuple of str
+        The set most participants ran (the first participant's on a tie; the paper's four when
+        nobody ran the experiment).
+    others : list of str
+        Participant ids who ran another set (left out of its analysis).
+    """
     sets = {f.name.removeprefix("participant-"): session_methods(f, experiment)
             for f in participants(results_dir) if (f / f"{experiment}.csv").exists()}  # fmt: skip
     if not sets:
@@ -133,160 +185,3 @@ def study_methods(results_dir, experiment: str) -> tuple[tuple[str, ...], list[s
         counts[s] = counts.get(s, 0) + 1
     chosen = max(counts, key=lambda s: counts[s])  # dicts keep order: the first on a tie
     return chosen, [pid for pid, s in sets.items() if s != chosen]
-
-
-def exp1_scores(results_dir, problems: Problems | None = None, methods=None):
-    """``({property: {method: [score per participant]}}, ids)``: line + circle ratings of the
-    participants who ran ``methods`` (default: :func:`study_methods`)."""
-    problems = problems if problems is not None else Problems()
-    methods = tuple(methods) if methods is not None else study_methods(results_dir, "exp1")[0]
-    scores = {p: {m: [] for m in methods} for p in PROPERTIES}
-    ids = []
-    for folder in participants(results_dir):
-        if session_methods(folder, "exp1") != methods:
-            continue
-        path = folder / "exp1.csv"
-        table = {}
-        for line, r in numbered_rows(path, problems):
-            if r.get("stage") not in ("line", "circle"):
-                continue
-            got = _parse(path, line, problems, {
-                "property": (r["property"], _one_of(PROPERTIES)),
-                "method": (r["method"], _one_of(methods)),
-                "answer": (r["answer"], _rating),
-            })  # fmt: skip
-            if got is None:
-                continue
-            key = (r["stage"], got["property"], got["method"])
-            if key in table:
-                problems.add(path, line, f"duplicate rating of {' '.join(key)} (the first kept)")
-                continue
-            table[key] = got["answer"]
-        if len(table) != 2 * len(PROPERTIES) * len(methods):
-            continue  # incomplete
-        ids.append(folder.name.removeprefix("participant-"))
-        for prop in PROPERTIES:
-            for m in methods:
-                scores[prop][m].append(table[("line", prop, m)] + table[("circle", prop, m)])
-    return scores, ids
-
-
-def exp2_tracks(results_dir, problems: Problems | None = None) -> dict:
-    """``{participant: {condition: (lengths, answers)}}`` of complete Experiment 2 stages."""
-    problems = problems if problems is not None else Problems()
-    tracks = {}
-    for folder in participants(results_dir):
-        path = folder / "exp2.csv"
-        per: dict = {}
-        for line, r in numbered_rows(path, problems):
-            if r.get("stage") not in CONDITIONS_EXP2:
-                continue
-            got = _parse(path, line, problems, {
-                "trial": (r["trial"], int),
-                "length": (r["length"], _length),
-                "correct": (r["correct"], _flag),
-            })  # fmt: skip
-            if got is None:
-                continue
-            lengths, answers = per.setdefault(r["stage"], ([], []))
-            if got["trial"] != len(lengths):
-                problems.add(path, line, f"trial {got['trial']} out of order in {r['stage']}")
-                continue
-            lengths.append(got["length"])
-            answers.append(got["correct"])
-        complete = {c: v for c, v in per.items() if len(v[0]) >= 30}
-        if complete:
-            tracks[folder.name.removeprefix("participant-")] = complete
-    return tracks
-
-
-def track_estimate(lengths, answers, n: int = 4) -> tuple[float, Staircase]:
-    """Replay a recorded track through the paper's staircase; its estimate (NaN if too few
-    reversals) and the staircase."""
-    sc = Staircase(lengths[0], 0.685, 1.46, 2, 1, min_level=0.01, max_level=4.0)
-    for answer in answers:
-        sc.update(answer)
-    try:
-        return sc.estimate(n), sc
-    except ValueError:
-        return float("nan"), sc
-
-
-def exp2_estimates(results_dir, problems: Problems | None = None, *, fits: bool = False):
-    """``({condition: [estimate per participant]}, ids)`` for participants with all four
-    stages; with ``fits`` also ``{condition: [fit dict per participant]}``."""
-    tracks = exp2_tracks(results_dir, problems)
-    out = {c: [] for c in CONDITIONS_EXP2}
-    fitted = {c: [] for c in CONDITIONS_EXP2}
-    ids = []
-    for pid, per in tracks.items():
-        if set(per) != set(CONDITIONS_EXP2):
-            continue
-        ids.append(pid)
-        for c in CONDITIONS_EXP2:
-            out[c].append(track_estimate(*per[c])[0])
-            if fits:
-                fitted[c].append(fit_psychometric(*per[c]))
-    return (out, ids, fitted) if fits else (out, ids)
-
-
-def exp3_answers(results_dir, problems: Problems | None = None, methods=None) -> dict:
-    """``{participant: {method: [(shape, answer or None), ...]}}`` of complete sets, for the
-    participants who ran ``methods`` (default: :func:`study_methods`)."""
-    problems = problems if problems is not None else Problems()
-    methods = tuple(methods) if methods is not None else study_methods(results_dir, "exp3")[0]
-    out = {}
-    for folder in participants(results_dir):
-        if session_methods(folder, "exp3") != methods:
-            continue
-        path = folder / "exp3.csv"
-        per = {m: [] for m in methods}
-        for line, r in numbered_rows(path, problems):
-            if r.get("stage") not in methods:
-                continue
-            got = _parse(path, line, problems, {
-                "shape": (r["shape"], _one_of(SHAPES)),
-                "answer": (r["answer"], _one_of((*SHAPES, ""))),
-            })  # fmt: skip
-            if got is None:
-                continue
-            per[r["stage"]].append((got["shape"], got["answer"] or None))
-        if all(len(v) == 10 for v in per.values()):
-            out[folder.name.removeprefix("participant-")] = per
-        else:
-            for m, v in per.items():
-                if len(v) > 10:
-                    problems.add(path, 0, f"{len(v)} answers for {m}, a set has 10")
-    return out
-
-
-def exp3_scores(results_dir, problems: Problems | None = None, methods=None):
-    """``({method: [correct answers out of 10 per participant]}, ids)``."""
-    methods = tuple(methods) if methods is not None else study_methods(results_dir, "exp3")[0]
-    answers = exp3_answers(results_dir, problems, methods)
-    out = {m: [] for m in methods}
-    for per in answers.values():
-        for m in methods:
-            out[m].append(sum(shape == answer for shape, answer in per[m]))
-    return out, list(answers)
-
-
-def confusion(answers: dict) -> dict:
-    """Per method, the pooled counts ``{(shape, answer): n}`` (answer ``None``: timed out)
-    and each participant's d' (square as the signal; a timeout counts as a miss or a
-    correct rejection, i.e. not "square")."""
-    out = {}
-    methods = next(iter(answers.values())).keys() if answers else METHODS
-    for m in methods:
-        counts: dict = {}
-        dprimes = []
-        for per in answers.values():
-            trials = per[m]
-            for shape, answer in trials:
-                counts[(shape, answer)] = counts.get((shape, answer), 0) + 1
-            squares = [a for s, a in trials if s == "square"]
-            circles = [a for s, a in trials if s == "circle"]
-            dprimes.append(d_prime(squares.count("square"), len(squares),
-                                   circles.count("square"), len(circles)))  # fmt: skip
-        out[m] = {"counts": counts, "d_prime": dprimes}
-    return out

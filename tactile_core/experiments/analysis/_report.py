@@ -10,22 +10,33 @@ import numpy as np
 from ..runners import CONDITIONS_EXP2, METHODS, SHAPES
 from ..stats import friedman, pairwise_effect_sizes, pairwise_wilcoxon
 from ._figures import _exp1_figure, _exp2_figure, _exp3_figure, _staircase_figure
-from ._reading import (
+from ._reading import Problems, participants, study_methods
+from ._scores import (
     PROPERTIES,
-    Problems,
     confusion,
     exp1_scores,
     exp2_estimates,
     exp2_tracks,
     exp3_answers,
     exp3_scores,
-    participants,
-    study_methods,
 )
 
 
 def format_pvalues(table: dict, label: str = "") -> str:
-    """One row of the paper's tables: the pairs' p-values to three decimals."""
+    """One row of the paper's tables: the pairs' p-values to three decimals.
+
+    Parameters
+    ----------
+    table : dict
+        ``{(a, b): p}`` (:func:`~tactile_core.experiments.stats.pairwise_wilcoxon`).
+    label : str
+        The row's first cell.
+
+    Returns
+    -------
+    str
+        Tab-separated cells.
+    """
     return label + "\t" + "\t".join(f"{p:.3f}" for p in table.values())
 
 
@@ -51,9 +62,26 @@ def _say_set(out, methods, others) -> None:
 def analyze(results_dir, out=print, *, paper_rounding: bool = False, progress=None) -> dict:
     """Print the tables, write the figures; return what was computed.
 
-    ``paper_rounding`` rounds each uncorrected p to three decimals before the Bonferroni
-    multiplication, as the paper's tables did (see :func:`pairwise_wilcoxon`). ``progress`` is
-    called with a fraction (0..1) and a word as the analysis goes (for a progress bar).
+    Parameters
+    ----------
+    results_dir : path
+        Folder of ``participant-*`` folders; the figures are written into it.
+    out : callable
+        Called with each line of text (``print`` by default).
+    paper_rounding : bool
+        Round each uncorrected p to three decimals before the Bonferroni multiplication, as the
+        paper's tables did (see :func:`~tactile_core.experiments.stats.pairwise_wilcoxon`).
+    progress : callable, optional
+        Called with a fraction (0..1) and a word as the analysis goes (for a progress bar).
+
+    Returns
+    -------
+    dict
+        ``participants`` (folder names), ``figures`` (paths written), ``problems`` (rows left
+        out, ``file:row: problem``) and, per experiment with complete participants, ``exp1``
+        (scores, tables, friedman, effect_sizes), ``exp2`` (estimates, summary, fits,
+        fit_summary; lengths in grid units) and ``exp3`` (scores, table, friedman,
+        effect_sizes, confusion), each with its ``participants``.
 
     Raises
     ------

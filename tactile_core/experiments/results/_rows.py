@@ -144,10 +144,19 @@ def _csv_line(values) -> str:
 
 
 def read_rows(path) -> list[dict]:
-    """Rows of a results CSV as dictionaries (an empty list if it does not exist).
+    """Rows of a results CSV as dictionaries.
 
     Lines are read as the runner writes them: a last line without its line end (a torn row) is
     left out.
+
+    Parameters
+    ----------
+    path : path
+
+    Returns
+    -------
+    list of dict
+        ``{column: value}`` per row, values as strings; empty if the file does not exist.
     """
     path = Path(path)
     if not path.exists():
@@ -160,5 +169,11 @@ def read_rows(path) -> list[dict]:
 
 
 def now() -> str:
-    """Timestamp for a results row."""
+    """Timestamp for a results row: local time, ISO 8601 to the millisecond.
+
+    Returns
+    -------
+    str
+        E.g. ``"2025-03-01T14:02:03.456"``.
+    """
     return dt.datetime.now().isoformat(timespec="milliseconds")

@@ -28,7 +28,22 @@ class SessionError(ValueError):
 
 
 def check_participant(participant) -> str:
-    """A participant id usable as a folder name: letters, digits, ``_.-``, up to 64."""
+    """A participant id usable as a folder name: letters, digits, ``_.-``, up to 64.
+
+    Parameters
+    ----------
+    participant : str
+
+    Returns
+    -------
+    str
+        ``participant``, unchanged.
+
+    Raises
+    ------
+    ValueError
+        If it is not such a string (it names a folder: no paths).
+    """
     if not isinstance(participant, str) or not _ID.fullmatch(participant):
         shown = (
             repr(participant) if len(repr(participant)) <= 80 else repr(participant)[:77] + "..."
@@ -150,7 +165,25 @@ _FIELDS = {
 
 
 def session_from_dict(data, path) -> Session:
-    """Validate the JSON of ``session.json``; :class:`SessionError` names the field."""
+    """Validate the JSON of ``session.json``.
+
+    Parameters
+    ----------
+    data : object
+        The parsed JSON.
+    path : path
+        The file, for messages.
+
+    Returns
+    -------
+    Session
+        Without its ``folder`` (the caller sets it).
+
+    Raises
+    ------
+    SessionError
+        Naming the file and the field that is missing or wrong.
+    """
     if not isinstance(data, dict):
         raise SessionError(f"{path}: a session must be a JSON object, got {type(data).__name__}")
     kwargs = {}

@@ -19,6 +19,14 @@ class Calibration(Runner):
     last 6 reversals (after at most 24 trials). :meth:`calibration` turns the thresholds into
     the device profile's per-tactor offset and gain, so that the median tactor is left as it is
     and every other tactor's drive is mapped to feel like it.
+
+    Parameters
+    ----------
+    session : Session
+    grid : Grid, optional
+        The array's tactors (the 5 x 6 palm array by default).
+    write, profile
+        As for every :class:`Runner`.
     """
 
     experiment = "calibration"

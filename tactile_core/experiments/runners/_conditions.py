@@ -25,6 +25,19 @@ def method_set(session: Session, experiment: str, methods=None) -> list[str]:
     The set is kept in ``session.json`` (``parameters[experiment + "_methods"]``) so that a
     resumed run compares the same methods; another set is refused.
 
+    Parameters
+    ----------
+    session : Session
+    experiment : str
+        ``"exp1"`` or ``"exp3"``.
+    methods : sequence of str, optional
+        Method specs (names, or names with parameters).
+
+    Returns
+    -------
+    list of str
+        The canonical specs, 2 to :data:`MAX_SET` of them.
+
     Raises
     ------
     ValueError

@@ -19,6 +19,14 @@ class Experiment1(Runner):
     0-100 ratings of quality, then smoothness, then thickness for each method in the
     participant's counterbalanced order, on the line and then on the circle (radius 2,
     centred, counter-clockwise), traced repeatedly with a 0.5 s pause; mu = 0.33, gamma = 0.7.
+
+    Parameters
+    ----------
+    session : Session
+    methods : sequence of str, optional
+        The methods rated (2 to 8; :func:`method_set`); the paper's four by default.
+    write, profile
+        As for every :class:`Runner`.
     """
 
     experiment = "exp1"

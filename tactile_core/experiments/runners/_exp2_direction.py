@@ -21,7 +21,21 @@ tactor; these are next to the array's centre (the tactor is Experiment 3's centr
 
 
 def direction_line(midpoint, length: float, direction: str) -> Line:
-    """A line of ``length`` through ``midpoint`` traced in ``direction`` (up/down/left/right)."""
+    """A line of ``length`` through ``midpoint`` traced in ``direction``.
+
+    Parameters
+    ----------
+    midpoint : (float, float)
+        ``(x, y)`` in grid units (tactor pitches; y up).
+    length : float
+        Grid units.
+    direction : {"up", "down", "left", "right"}
+
+    Returns
+    -------
+    Line
+        From its start to its end in ``direction``.
+    """
     x, y = midpoint
     h = length / 2.0
     ends = {
@@ -43,6 +57,12 @@ class Experiment2(Runner):
     row, x 1.46 after each wrong one (capped at 4 units, the longest line the array can hold
     around these midpoints). The estimate per stage is the mean of the last two peaks and two
     valleys.
+
+    Parameters
+    ----------
+    session : Session
+    write, profile
+        As for every :class:`Runner`.
     """
 
     experiment = "exp2"

@@ -18,6 +18,16 @@ class Experiment3(Runner):
     centred on the centre column and the fourth row (2.5, 3.5), retraced continuously
     counter-clockwise at 2 s per trace, mu = 0.33, gamma = 0.7; 20 s to answer (C or S);
     feedback. ``emphasis`` (beyond the paper) slows the point near corners.
+
+    Parameters
+    ----------
+    session : Session
+    emphasis : float, optional
+        In [0, 0.9]; recorded in the session (default: the session's, else 0).
+    methods : sequence of str, optional
+        The methods compared (2 to 8; :func:`method_set`); the paper's four by default.
+    write, profile
+        As for every :class:`Runner`.
     """
 
     experiment = "exp3"

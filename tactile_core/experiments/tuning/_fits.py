@@ -182,6 +182,13 @@ def fit_thresholds(tracks) -> list[CumulativeFit]:
     Parameters
     ----------
     tracks : sequence of (drives, correct)
+        Per tactor: the drive of each trial (fraction of full drive, shape (n,)) and whether
+        the interval was picked right (shape (n,)).
+
+    Returns
+    -------
+    list of CumulativeFit
+        One per track; ``location`` is the threshold, a drive fraction.
     """
     return fit_shared_scale(tracks, guess=0.5, locations=THRESHOLD_LOCATIONS,
                             scales=THRESHOLD_SCALES)  # fmt: skip
@@ -195,6 +202,18 @@ def fit_gamma(gammas, test_stronger) -> CumulativeFit:
     ln M_tactor = ln(n) / 2 - K gamma ln(n)`` for ``n`` tactors at ``1 / n``), so the
     psychometric function is symmetric in gamma, not in ``ln gamma``; a fit in ``ln gamma``
     lands ~5% low on such data. The track still steps in log units.
+
+    Parameters
+    ----------
+    gammas : array_like of float, shape (n,)
+        The candidate gamma of each trial.
+    test_stronger : array_like of bool, shape (n,)
+        Whether the point between tactors felt stronger than the point on one.
+
+    Returns
+    -------
+    CumulativeFit
+        ``location`` is the gamma of subjective equality.
     """
     return fit_cumulative(gammas, test_stronger, guess=0.0, locations=GAMMA_LOCATIONS,
                           scales=GAMMA_SCALES, decreasing=True, relative=True)  # fmt: skip
@@ -207,6 +226,20 @@ def median_interval(fits, seed: int = 0, draws: int = 4000) -> tuple[float, floa
     profile interval's width / 3.92 (an open end counts as the grid's end), the median taken, and
     the 2.5th and 97.5th percentiles of the medians reported. It carries the measurement error
     of each tactor's threshold into mu.
+
+    Parameters
+    ----------
+    fits : sequence of CumulativeFit
+        One per tactor (thresholds, drive fractions).
+    seed : int
+        Seeds the draws.
+    draws : int
+        Bootstrap samples.
+
+    Returns
+    -------
+    (float, float)
+        The interval's ends, drive fractions.
     """
     rng = np.random.default_rng(seed)
     loc = np.array([f.location for f in fits])

@@ -24,7 +24,23 @@ from ._procedure import CorrectionTuning
 
 
 def felt_total(drive, threshold: float, exponent: float) -> float:
-    """Felt magnitude of a whole frame: the tactors added by energy, ``sqrt(sum m_i^2)``."""
+    """Felt magnitude of a whole frame: the tactors added by energy, ``sqrt(sum m_i^2)``.
+
+    Parameters
+    ----------
+    drive : array_like of float, any shape (e.g. (rows, cols))
+        Each tactor's drive, a fraction of full drive in [0, 1].
+    threshold : float
+        ``TH``, drive fraction.
+    exponent : float
+        ``K``.
+
+    Returns
+    -------
+    float
+        ``sqrt(sum m_i^2)`` with each ``m_i`` from
+        :func:`~tactile_core.rendering.percept.felt_magnitude` (1: one tactor at full drive).
+    """
     m = felt_magnitude(drive, threshold, exponent)
     return float(np.sqrt(np.sum(m * m)))
 
