@@ -77,6 +77,18 @@ def open_path(parent, kind: str, title: str, filters: list[str]) -> Path | None:
     return path
 
 
+def confirm(parent, title: str, text: str) -> bool:
+    """Ask yes or no (No is the default: Enter never discards anything by accident)."""
+    box = QtWidgets.QMessageBox(parent)
+    box.setIcon(QtWidgets.QMessageBox.Icon.Question)
+    box.setWindowTitle(title)
+    box.setText(text)
+    buttons = QtWidgets.QMessageBox.StandardButton
+    box.setStandardButtons(buttons.Yes | buttons.No)
+    box.setDefaultButton(buttons.No)
+    return box.exec() == buttons.Yes
+
+
 def folder_path(parent, kind: str, title: str, start: str = "") -> Path | None:
     """Ask for a folder."""
     folder = QtWidgets.QFileDialog.getExistingDirectory(parent, title, start or _folder(kind))

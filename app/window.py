@@ -18,6 +18,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from tactile_core.files.presets import Preset, preset_from_dict
 from tactile_core.rendering.methods import get_method
 
+from . import dialogs
 from .blind import BlindPanel
 from .compare import CompareView
 from .controls import ControlsPanel
@@ -37,6 +38,10 @@ HIDDEN_BLIND = (
 )
 HIDDEN_EXPERIMENT = (
     "An experiment is running: the display is hidden so that it does not give the stimulus away."
+)
+BLIND_FILES = (
+    "Blind A/B in progress: presets and curve exports would name the hidden method. Reveal "
+    "(or cancel the session) in the Blind A/B tab first."
 )
 
 
@@ -87,6 +92,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.setWindowTitle("tactile-tuner")
         self.settings = QtCore.QSettings()
         self.last_error = ""
+        self.confirm = lambda title, text: dialogs.confirm(self, title, text)
+        """Asks yes or no before a run or unsaved ratings are given up (tests answer it)."""
+        self._ask_before_closing = True
         start = preset if preset is not None else (self._restored_preset() if restore else None)
         self.state = TunerState(start.scene if start is not None else None)
         self.device = DeviceController(self.state, profile, process=process, realtime=realtime)
@@ -140,7 +148,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.device_dock = self._dock("Device", "device_dock", self.device_panel,
                                       QtCore.Qt.DockWidgetArea.BottomDockWidgetArea)  # fmt: skip
 
-        self.view_menu = build_menus(
+        self.view_menu, self._method_actions = build_menus(
             self,
             self.files,
             toggle_play=self.toggle_play,
@@ -205,6 +213,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.controls.draw_mode_toggled.connect(gestures.set_draw_mode)
         self.device_panel.profile_requested.connect(self.files.ask_open_profile)
         self.files.curves = lambda: tune.shown_curves
+        self.files.blocked = lambda: BLIND_FILES if self.blind.active else ""
         self.files.before_load = lambda: gestures.set_draw_mode(False)
         self.files.error_raised.connect(self.show_error)
         self.files.message_posted.connect(status)
@@ -223,7 +232,11 @@ class MainWindow(QtWidgets.QMainWindow):
         """Everything off now (Esc, the button, the menu)."""
         self.tune.gestures.end_pulse(restore=True)
         self.device.all_off()
-        self.statusBar().showMessage("all off (Space plays again)")
+        if self.experiments.running:  # Space is the run's, not play/pause
+            self.statusBar().showMessage("all off: the run is paused (Enter or Present again "
+                                         "resumes it)")  # fmt: skip
+        else:
+            self.statusBar().showMessage("all off (Space plays again)")
 
     def _on_escape_pressed(self) -> None:
         self.all_off()
@@ -302,6 +315,12 @@ class MainWindow(QtWidgets.QMainWindow):
             self.tune.show_views()
 
     def _on_blind_changed(self, blind: bool) -> None:
+        if blind:  # draw mode would switch to AS and say so
+            self.tune.gestures.set_draw_mode(False)
+        self.controls.playback.draw_check.setEnabled(not blind)
+        for action in self._method_actions:
+            action.setEnabled(not blind)
+        self._update_title()
         self._update_tune_page()
         self.tune.set_method_hidden(blind)
         self.tabs.setTabEnabled(1, not blind)
@@ -345,6 +364,9 @@ class MainWindow(QtWidgets.QMainWindow):
     def _update_title(self) -> None:
         """``tactile-tuner - preset[*] - method, mu, gamma``: current, with a star once the
         scene differs from the preset it came from."""
+        if self.blind.active:  # the method, and whether it is the preset's, stay hidden
+            self.setWindowTitle("tactile-tuner - Blind A/B (the method is hidden)")
+            return
         scene, files = self.state.scene, self.files
         came_from = files.preset_scene
         modified = came_from is not None and not _same_tuning(scene, came_from)
@@ -426,7 +448,29 @@ class MainWindow(QtWidgets.QMainWindow):
         self.settings.setValue("lanes", self.tune.lanes_check.isChecked())
         self.settings.sync()
 
+    def close_now(self) -> None:
+        """Close without asking (a signal: Ctrl-C in the terminal, SIGTERM, SIGHUP)."""
+        self._ask_before_closing = False
+        self.close()
+
+    def _may_close(self) -> bool:
+        """Whether to close: asks first while a run is on or ratings are unsaved."""
+        reasons = []
+        if self.experiments.running:
+            reasons.append("An experiment is running: it stops (every answer so far is on "
+                           "disk, and Start resumes it).")  # fmt: skip
+        if self.blind.unsaved:
+            reasons.append("The Blind A/B ratings are not saved" + (
+                f" (they are autosaved in {self.blind.autosave_path})."
+                if self.blind.autosave_path else "."))  # fmt: skip
+        if not reasons or not self._ask_before_closing:
+            return True
+        return self.confirm("Quit tactile-tuner", "\n\n".join([*reasons, "Quit anyway?"]))
+
     def closeEvent(self, event) -> None:  # Qt override
+        if not self._may_close():
+            event.ignore()
+            return
         self.tune.live.stop()
         for box in self.findChildren(QtWidgets.QMessageBox):
             box.close()

@@ -22,18 +22,6 @@ from .session import TITLES, SessionWidget
 from .trials import LINK_DOWN, TrialPresenter
 
 
-def _confirm(parent, title: str, text: str) -> bool:
-    box = QtWidgets.QMessageBox(parent)
-    box.setIcon(QtWidgets.QMessageBox.Icon.Question)
-    box.setWindowTitle(title)
-    box.setText(text)
-    box.setStandardButtons(
-        QtWidgets.QMessageBox.StandardButton.Yes | QtWidgets.QMessageBox.StandardButton.No
-    )
-    box.setDefaultButton(QtWidgets.QMessageBox.StandardButton.No)
-    return box.exec() == QtWidgets.QMessageBox.StandardButton.Yes
-
-
 class ExperimentsPanel(QtWidgets.QWidget):
     """The experimenter's console: sets up, starts, watches and analyses the runs.
 
@@ -70,7 +58,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.profile = profile or default_profile
         self.stats = stats
         self.device = device or (lambda: "simulated array")
-        self.confirm = lambda title, text: _confirm(self, title, text)
+        self.confirm = lambda title, text: dialogs.confirm(self, title, text)
         """Asks the experimenter yes or no (tests answer it themselves)."""
         self.saved_scene: Scene | None = None
         """The tuning scene while a run plays its own (restored, paused, when it ends)."""
