@@ -169,6 +169,7 @@ class MainWindow(QtWidgets.QMainWindow):
             on_space=self.toggle_play,
             on_number=self.press_number,
             on_return=self.return_focus,
+            run_only=lambda: (self.experiments.participant_window,),
         )
         QtWidgets.QApplication.instance().installEventFilter(self._key_filter)
 
