@@ -84,7 +84,8 @@ class KeyFilter(QtCore.QObject):
             return True  # the participant's keys, with no run: nothing may play
         focus = app.focusWidget()
         if is_text_input(focus):
-            if key in (QtCore.Qt.Key.Key_Return, QtCore.Qt.Key.Key_Enter):
+            multi_line = isinstance(focus, (QtWidgets.QPlainTextEdit, QtWidgets.QTextEdit))
+            if key in (QtCore.Qt.Key.Key_Return, QtCore.Qt.Key.Key_Enter) and not multi_line:
                 # Let the field commit its value first, then give the keys back.
                 QtCore.QTimer.singleShot(0, self.on_return)
             return False

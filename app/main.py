@@ -126,7 +126,7 @@ def main(argv=None) -> int:
         window.tabs.setCurrentIndex(min(tabs[args.tab], window.tabs.count() - 1))
     if args.size:
         window.resize(*args.size)
-    window.fit_to_screen()
+    window.fit_to_screen(keep_size=args.size is not None)  # a size asked for is the size
     window.show()
 
     if args.screenshot:

@@ -11,11 +11,8 @@ hides, and keeps the session's settings.
 
 from __future__ import annotations
 
-import json
-
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from tactile_core.files.presets import Preset, preset_from_dict
 from tactile_core.rendering.methods import get_method
 
 from . import dialogs
@@ -28,6 +25,7 @@ from .experiments import ExperimentsPanel, GuidedTuning
 from .files import FileActions
 from .keys import KeyFilter, is_text_input
 from .menus import build_menus
+from .settings import restore_window, restored_preset, save_window
 from .state import TunerState
 from .texts import DRAW_HELP
 from .tune import TuneWidget
@@ -95,7 +93,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.confirm = lambda title, text: dialogs.confirm(self, title, text)
         """Asks yes or no before a run or unsaved ratings are given up (tests answer it)."""
         self._ask_before_closing = True
-        start = preset if preset is not None else (self._restored_preset() if restore else None)
+        start = (
+            preset if preset is not None else (restored_preset(self.settings) if restore else None)
+        )
         self.state = TunerState(start.scene if start is not None else None)
         self.device = DeviceController(self.state, profile, process=process, realtime=realtime)
         self.files = FileActions(self.state, self.device, self)
@@ -198,6 +198,7 @@ class MainWindow(QtWidgets.QMainWindow):
         """The parts' signals to one another (through the shell) and to the window."""
         status = self.statusBar().showMessage
         state, device, tune, gestures = self.state, self.device, self.tune, self.tune.gestures
+        files = self.files
         state.error_raised.connect(self.show_error)
         state.playing_changed.connect(self._on_state_playing_changed)
         state.scene_changed.connect(lambda _: self._update_title())
@@ -219,6 +220,10 @@ class MainWindow(QtWidgets.QMainWindow):
         self.files.error_raised.connect(self.show_error)
         self.files.message_posted.connect(status)
         self.files.preset_loaded.connect(self._update_title)
+        self.files.preset_loaded.connect(self._show_preset)
+        self.controls.preset.notes_edited.connect(lambda text: setattr(files, "preset_notes",
+                                                                       text))  # fmt: skip
+        self._show_preset()
         self.blind.blind_changed.connect(self._on_blind_changed)
         self.experiments.running_changed.connect(self._on_experiments_running_changed)
         self.experiments.error_raised.connect(self.show_error)
@@ -249,7 +254,9 @@ class MainWindow(QtWidgets.QMainWindow):
         if self.tune.gestures.pulsing:
             self.tune.gestures.end_pulse(restore=True)
             return
-        self.state.update(playing=not self.state.scene.playing)
+        scene = self.state.scene
+        # A held (scrubbed) instant plays the trace again; otherwise play or pause.
+        self.state.update(playing=scene.hold_s is not None or not scene.playing)
 
     def press_number(self, key: int) -> bool:
         """Number keys: the method, or in blind A/B the shuffled method behind the key; True if
@@ -362,6 +369,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.banner.setVisible(lost)
         self.tune.heatmap.set_streaming(not lost, f"not streaming: {stats.state}")
 
+    def _show_preset(self) -> None:
+        self.controls.preset.show_preset(self.files.preset_name, self.files.preset_notes)
+
     def _update_title(self) -> None:
         """``tactile-tuner - preset[*] - method, mu, gamma``: current, with a star once the
         scene differs from the preset it came from."""
@@ -390,9 +400,10 @@ class MainWindow(QtWidgets.QMainWindow):
                          QtCore.Qt.Orientation.Horizontal)  # fmt: skip
         self.tune.fit_heatmap()
 
-    def fit_to_screen(self) -> None:
+    def fit_to_screen(self, keep_size: bool = False) -> None:
         """Keep the window on its screen and no larger than it (a saved size from a larger
-        screen, or the default, is shrunk to fit)."""
+        screen, or the default, is shrunk to fit); ``keep_size``: a size asked for (``--size``)
+        is kept, only the position is fitted."""
         screen = self.screen() or QtGui.QGuiApplication.primaryScreen()
         if screen is None:
             return
@@ -400,7 +411,7 @@ class MainWindow(QtWidgets.QMainWindow):
         frame = self.frameGeometry()
         w = min(self.width(), area.width() - (frame.width() - self.width()))
         h = min(self.height(), area.height() - (frame.height() - self.height()))
-        if (w, h) != (self.width(), self.height()):
+        if (w, h) != (self.width(), self.height()) and not keep_size:
             self.resize(w, h)
         geometry = self.frameGeometry()
         x = min(max(geometry.x(), area.left()), area.right() - geometry.width() + 1)
@@ -413,41 +424,12 @@ class MainWindow(QtWidgets.QMainWindow):
 
     # --- settings --------------------------------------------------------------------------------
 
-    def _restored_preset(self):
-        """The last session's scene as a preset, or None (none saved, or damaged)."""
-        text = self.settings.value("scene")
-        if not text:
-            return None
-        try:
-            return preset_from_dict(json.loads(str(text)), source="last session")
-        except (ValueError, TypeError):
-            return None  # a damaged setting: start from the default
-
     def _restore_layout(self) -> None:
-        geometry = self.settings.value("geometry")
-        if geometry is not None:
-            self.restoreGeometry(geometry)
-        window_state = self.settings.value("windowState")
-        if window_state is not None:
-            self.restoreState(window_state)
-        mode = self.settings.value("view_mode")
-        if mode:
-            self.state.set_view_mode(str(mode))
-        lanes = str(self.settings.value("lanes", "false")).lower() == "true"
-        self.tune.lanes_check.setChecked(lanes)
+        restore_window(self)
 
     def save_settings(self) -> None:
-        """Remember the scene and the window layout for the next start. During a run the
-        tuning scene saved when it started is remembered, never a trial's."""
-        scene = self.experiments.saved_scene or self.state.scene
-        files = self.files
-        preset = Preset(scene, files.preset_name, files.preset_notes, self.device.profile.name)
-        self.settings.setValue("scene", json.dumps(preset.to_dict()))
-        self.settings.setValue("geometry", self.saveGeometry())
-        self.settings.setValue("windowState", self.saveState())
-        self.settings.setValue("view_mode", self.state.view_mode)
-        self.settings.setValue("lanes", self.tune.lanes_check.isChecked())
-        self.settings.sync()
+        """Remember the scene and the window layout for the next start (:mod:`.settings`)."""
+        save_window(self)
 
     def close_now(self) -> None:
         """Close without asking (a signal: Ctrl-C in the terminal, SIGTERM, SIGHUP)."""
