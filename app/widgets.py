@@ -73,7 +73,6 @@ class MethodSetWidget(QtWidgets.QWidget):
         self.problem = QtWidgets.QLabel("")
         self.problem.setObjectName("method_set_problem")
         self.problem.setWordWrap(True)
-        self.problem.setStyleSheet("color: #c62828")
         self.problem.setVisible(False)
         column.addWidget(self.problem)
 
@@ -98,6 +97,9 @@ class MethodSetWidget(QtWidgets.QWidget):
         the last good one)."""
         if keep is not None:
             self.methods = list(keep)
+        # A red that reads on the palette's window colour, light or dark.
+        dark = self.palette().color(QtGui.QPalette.ColorRole.Window).lightness() < 128
+        self.problem.setStyleSheet(f"color: {'#ff8a80' if dark else '#c62828'}")
         self.problem.setText(message)
         self.problem.setVisible(bool(message))
         self.edit.setText(" ".join(self.methods))
