@@ -192,7 +192,7 @@ def test_specs_are_canonical_and_validated():
     assert get_method("ro").spec == "RO" and get_method("RO:r=1.0").spec == "RO"
     assert get_method("RO:r=1.5").spec == "RO:r=1.5"
     assert get_method("GS", sigma=0.7).spec == "GS:sigma=0.7"
-    assert get_method("RO:r=0.3").values == {"r": 0.3}
+    assert get_method("RO:r=0.3").values == {"r": 0.3, "curve": "smoothstep"}
     for bad, message in [
         ("RO:r=0", "method RO: r must be within"),
         ("RO:radius=1", "method RO has no parameter 'radius'"),

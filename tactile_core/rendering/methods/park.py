@@ -15,6 +15,17 @@ CT breaks ties. The method therefore switches tactors where the point crosses a 
 the square: a tactor at ``d = 1.12`` (an edge midpoint) or ``d = 0.71`` (the square's centre)
 goes on or off there. Tactors outside the grid are dropped, as for AS, which leaves less than
 full energy at the array's edge. Works on any coordinate, with or without a shape.
+
+**The jump, and a continuous variant.** The switch is a jump in intensity: crossing ``x = 2.0``
+at ``y = 3.1`` tactor (1,2) goes from 0 to 0.54 (0.77 after the paper's correction) within
+1e-5 pitches; the largest jump, at the square's centre, is ``sqrt(1/3) = 0.58``. ``PK:blend=w``
+crossfades the left-out tactor over a band ``w`` pitches wide across each centre line: the
+four choices of three tactors are mixed in energy, ``I_i^2 = sum_k p_k I_i,k^2`` with weights
+``p_k`` that ramp linearly across the band, so ``sum I^2 = 1`` still holds and the intensities
+are continuous (four tactors are lit inside the band). ``blend = 0`` (the default) is Park's
+rule with its jump. :func:`tactile_core.rendering.percept.largest_jump` measures both.
+
+PK is driven as computed (``CORRECTION = "none"``): the energy law is its correction.
 """
 
 from __future__ import annotations
@@ -29,10 +40,45 @@ NAME = "PK"
 TITLE = "inverse distance, 3 tactors (Park 2016)"
 BILEVEL = False
 NEEDS_SHAPE = False
-MAX_TACTORS = 3
+PARAMS = {
+    "blend": (0.0, 0.0, 0.5, "band in pitches across each centre line over which the left-out "
+              "tactor is crossfaded (0: Park's switch, a jump)"),
+}  # fmt: skip
+CORRECTION = "none"
+_CORNERS = ((0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0))
 
 
-def sample(shape, x, y, t, tol):
+def MAX_TACTORS(blend=0.0):
+    """Most tactors lit at once: 3, or 4 with a crossfade band (``blend > 0``)."""
+    return 3 if blend == 0 else 4
+
+
+def _ramp(f, blend):
+    """Share of the choices that leave out the lower/left corner: 0 below the centre line,
+    1 above it, linear across a band ``blend`` wide (a step at ``blend = 0``)."""
+    return np.clip((f - 0.5) / blend + 0.5, 0.0, 1.0)
+
+
+def _ramp1(f, blend):
+    return min(max((f - 0.5) / blend + 0.5, 0.0), 1.0)
+
+
+def _blended(inv, px, py):
+    """Energy shares of the four corners, mixing the four choices of three.
+
+    ``inv``: the corners' inverse distances (in :data:`_CORNERS` order); ``px``/``py``: the
+    probability that the left-out corner is the one at x = 0 / y = 0. Works on floats and on
+    arrays alike (the same operations in the same order, so live and batch agree)."""
+    qx, qy = 1.0 - px, 1.0 - py
+    total = inv[0] + inv[1] + inv[2] + inv[3]
+    # Choice k leaves out corner k: its weight, and the sum over the other three.
+    share = (px * py / (total - inv[0]), qx * py / (total - inv[1]),
+             px * qy / (total - inv[2]), qx * qy / (total - inv[3]))  # fmt: skip
+    everything = share[0] + share[1] + share[2] + share[3]
+    return [inv[k] * (everything - share[k]) for k in range(4)]
+
+
+def sample(shape, x, y, t, tol, blend=0.0):
     """The three nearest tactors of the points ``(x, y)`` and their inverse-distance weights.
 
     Parameters
@@ -44,13 +90,26 @@ def sample(shape, x, y, t, tol):
     tol : float or ndarray
         Snap tolerance of the cell lookup.
 
+    blend : float
+        Width of the crossfade band in pitches (0: Park's switch).
+
     Returns
     -------
     list of (cols, rows, values)
-        The four tactors of the square of centres around the point, the farthest at 0.
+        The four tactors of the square of centres around the point, the farthest at 0 (outside
+        a crossfade band).
     """
     c, fx = cell_split(x - 0.5, tol)
     r, fy = cell_split(y - 0.5, tol)
+    if blend > 0.0:
+        on = (fx == 0.0) & (fy == 0.0)
+        inv = [1.0 / np.where(on, 1.0, np.hypot(fx - kx, fy - ky)) for kx, ky in _CORNERS]
+        energy = _blended(inv, _ramp(fx, blend), _ramp(fy, blend))
+        out = []
+        for k, (kx, ky) in enumerate(_CORNERS):
+            value = np.sqrt(np.where(on, 1.0 if k == 0 else 0.0, energy[k]))
+            out.append((c + kx, r + ky, value))
+        return out
     # The left-out corner: opposite the nearest; on a centre line, the lower/left one.
     drop_x = np.where(fx >= 0.5, 0.0, 1.0)
     drop_y = np.where(fy >= 0.5, 0.0, 1.0)
@@ -72,12 +131,18 @@ def sample(shape, x, y, t, tol):
     return out
 
 
-def sample1(shape, x, y, t, tol):
-    """Scalar :func:`sample`: ``(col, row, value)`` of the three lit tactors (one on a centre)."""
+def sample1(shape, x, y, t, tol, blend=0.0):
+    """Scalar :func:`sample`: ``(col, row, value)`` of the three lit tactors (one on a centre;
+    up to four inside a crossfade band)."""
     c, fx = cell_split1(x - 0.5, tol)
     r, fy = cell_split1(y - 0.5, tol)
     if fx == 0.0 and fy == 0.0:
         return ((c, r, 1.0),)
+    if blend > 0.0:
+        inv = [1.0 / math.hypot(fx - kx, fy - ky) for kx, ky in _CORNERS]
+        energy = _blended(inv, _ramp1(fx, blend), _ramp1(fy, blend))
+        return tuple((c + int(kx), r + int(ky), math.sqrt(e))
+                     for (kx, ky), e in zip(_CORNERS, energy) if e > 0.0)  # fmt: skip
     drop = (0 if fx >= 0.5 else 1, 0 if fy >= 0.5 else 1)
     kept = []
     for kx, ky in ((0, 0), (1, 0), (0, 1), (1, 1)):
