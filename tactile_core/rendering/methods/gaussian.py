@@ -7,8 +7,8 @@ contacts near each actuator, so one contact lights every actuator within its rad
 intensity (that rule is :mod:`.vrch`, ``VRCH``). ``sigma = 0.5`` by default; weights below
 0.05 are zero, so the support is the disc of radius ``sigma sqrt(2 ln 20)`` (1.22 pitches at
 the default: a point on a tactor lights it at 1 and its four neighbours at ``exp(-2) = 0.135``;
-a point midway between two tactors lights six). Neither the intensities nor their squares sum to 1. Works on any coordinate, with or without a
-shape.
+a point midway between two tactors lights six). Neither the intensities nor their squares sum
+to 1. Works on any coordinate, with or without a shape.
 """
 
 from __future__ import annotations
