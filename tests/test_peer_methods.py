@@ -131,7 +131,9 @@ def test_pk_on_a_centre_lights_that_tactor_alone(col, row):
     assert at("PK", col + 0.5, row + 0.5) == {(col, row): 1.0}
 
 
-@pytest.mark.parametrize("spec", ["RO", "RO:r=1.7", "GS", "GS:sigma=0.8"])
+@pytest.mark.parametrize(
+    "spec", ["RO", "RO:r=1.7", "RO:curve=linear", "GS", "GS:sigma=0.8", "PK:blend=0.2", "VRCH"]
+)
 @given(p=st.tuples(coord(1.5, 3.5), coord(1.5, 4.5)), q=st.tuples(coord(-1, 1), coord(-1, 1)))
 def test_ro_and_gs_depend_on_distance_only_and_stay_within_their_radius(spec, p, q):
     method = get_method(spec)

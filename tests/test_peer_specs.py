@@ -64,11 +64,24 @@ def test_pk_jumps_at_a_centre_line_and_the_blend_does_not():
     assert mid[(1, 2)] ** 2 == pytest.approx(0.5 * jump**2)
 
 
-@given(st.tuples(coord(0.5, 4.4999), coord(0.5, 5.4999)), st.floats(0.01, 0.5))
+@given(st.tuples(coord(1.5, 3.4999), coord(1.5, 4.4999)), st.floats(0.01, 0.5))
 def test_pk_blend_keeps_unit_energy(p, blend):
     frame = tc.render_xy(f"PK:blend={blend}", *p)
-    assert (frame > 0).sum() <= 4
+    assert (frame > 0).sum() <= get_method(f"PK:blend={blend}").max_tactors == 6
     assert float((frame**2).sum()) == pytest.approx(1.0, abs=1e-12)
+
+
+def test_pk_jumps_at_a_line_of_tactor_centres_too():
+    # Crossing x = 2.5 (column 2's centre line) at y = 3.0, midway between rows 2 and 3: the
+    # third tactor moves from column 1 to column 3, at hypot(1, 0.5) with the two nearest at
+    # 0.5: sqrt((1/1.118) / (1/1.118 + 2/0.5)) = 0.427.
+    w = 1 / math.hypot(1, 0.5)
+    jump = math.sqrt(w / (w + 4))
+    before, after = at("PK", 2.5 - 1e-9, 3.0), at("PK", 2.5 + 1e-9, 3.0)
+    assert before[(1, 3)] == pytest.approx(jump) and (3, 3) in after and (1, 3) not in after
+    blended = [at("PK:blend=0.2", 2.5 + s, 3.0) for s in (-1e-9, 1e-9)]
+    for cell in ((1, 3), (3, 3)):
+        assert abs(blended[1].get(cell, 0) - blended[0].get(cell, 0)) < 1e-6
 
 
 def test_pk_blend_outside_the_band_is_parks_rule():

@@ -16,14 +16,18 @@ the square: a tactor at ``d = 1.12`` (an edge midpoint) or ``d = 0.71`` (the squ
 goes on or off there. Tactors outside the grid are dropped, as for AS, which leaves less than
 full energy at the array's edge. Works on any coordinate, with or without a shape.
 
-**The jump, and a continuous variant.** The switch is a jump in intensity: crossing ``x = 2.0``
-at ``y = 3.1`` tactor (1,2) goes from 0 to 0.54 (0.77 after the paper's correction) within
-1e-5 pitches; the largest jump, at the square's centre, is ``sqrt(1/3) = 0.58``. ``PK:blend=w``
-crossfades the left-out tactor over a band ``w`` pitches wide across each centre line: the
-four choices of three tactors are mixed in energy, ``I_i^2 = sum_k p_k I_i,k^2`` with weights
-``p_k`` that ramp linearly across the band, so ``sum I^2 = 1`` still holds and the intensities
-are continuous (four tactors are lit inside the band). ``blend = 0`` (the default) is Park's
-rule with its jump. :func:`tactile_core.rendering.percept.largest_jump` measures both.
+**The jumps, and a continuous variant.** Each switch is a jump in intensity. Crossing a centre
+line of the square (a cell boundary) the left-out corner changes: at ``x = 2.0``, ``y = 3.1``
+tactor (1,2) goes from 0.54 to 0 and (2,2) from 0 to 0.54 (0.77 after the paper's correction)
+within 1e-5 pitches, up to ``sqrt(1/3) = 0.58`` at the square's centre. Crossing a line of
+tactor centres the square itself changes, and the third tactor moves from the column (row)
+behind to the one ahead: up to 0.43, midway between two tactors. ``PK:blend=w`` crossfades
+both over bands ``w`` pitches wide: per axis, the nearest tactor's column and its neighbour on
+the point's side are chosen with probabilities that ramp linearly across each band, and the
+three-tactor energies of the choices are mixed, ``I_i^2 = sum_k p_k I_i,k^2``, so
+``sum I^2 = 1`` still holds and every intensity is continuous (up to six tactors are lit where
+bands cross). ``blend = 0`` (the default) is Park's rule with its jumps;
+:func:`tactile_core.rendering.jumps.largest_jump` measures both.
 
 PK is driven as computed (``CORRECTION = "none"``): the energy law is its correction.
 """
@@ -45,37 +49,50 @@ PARAMS = {
               "tactor is crossfaded (0: Park's switch, a jump)"),
 }  # fmt: skip
 CORRECTION = "none"
-_CORNERS = ((0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0))
 
 
 def MAX_TACTORS(blend=0.0):
-    """Most tactors lit at once: 3, or 4 with a crossfade band (``blend > 0``)."""
-    return 3 if blend == 0 else 4
+    """Most tactors lit at once: 3, or 6 inside crossfade bands (``blend > 0``)."""
+    return 3 if blend == 0 else 6
 
 
-def _ramp(f, blend):
-    """Share of the choices that leave out the lower/left corner: 0 below the centre line,
-    1 above it, linear across a band ``blend`` wide (a step at ``blend = 0``)."""
-    return np.clip((f - 0.5) / blend + 0.5, 0.0, 1.0)
+# Per axis, Park's three tactors use the nearest tactor's column ``a`` (offset 0 or 1 from the
+# column c = floor(x - 0.5) left of the point) and the column ``b`` next to it on the point's
+# side (offset -1..2): the triple is (a_x, a_y), (b_x, a_y), (a_x, b_y). Each (a, b) choice
+# below is (a offset, b offset, which ramp it takes).
+_AXIS = ((0, 1), (0, -1), (1, 0), (1, 2))
 
 
-def _ramp1(f, blend):
-    return min(max((f - 0.5) / blend + 0.5, 0.0), 1.0)
+def _axis_shares(f, blend, clip):
+    """Probabilities of the four ``(a, b)`` choices of one axis, ``f`` the point's fraction in
+    [0, 1) past column c: ``a = c + 1`` ramps in across ``f = 0.5`` (the cell boundary), and
+    given ``a``, ``b = a + 1`` ramps in across ``f = a - c`` (the tactor's own centre line)."""
+    p_right = clip((f - 0.5) / blend + 0.5, 0.0, 1.0)
+    p_left = 1.0 - p_right
+    b_up0 = clip(f / blend + 0.5, 0.0, 1.0)
+    b_up1 = clip((f - 1.0) / blend + 0.5, 0.0, 1.0)
+    return (p_left * b_up0, p_left * (1.0 - b_up0), p_right * (1.0 - b_up1), p_right * b_up1)
 
 
-def _blended(inv, px, py):
-    """Energy shares of the four corners, mixing the four choices of three.
+def _blended(fx, fy, blend, clip, hypot):
+    """``{(dc, dr): energy}`` of the tactors around the point (offsets from ``c``, ``r``),
+    the three-tactor energies of every choice mixed by its probability. Works on floats (with
+    ``math``'s functions) and on arrays (numpy's) with the same operations in the same order,
+    so the live path equals the batch path."""
+    sx, sy = _axis_shares(fx, blend, clip), _axis_shares(fy, blend, clip)
+    energy = {}
+    for (ax, bx), px in zip(_AXIS, sx):
+        for (ay, by), py in zip(_AXIS, sy):
+            cells = ((ax, ay), (bx, ay), (ax, by))
+            inv = [1.0 / hypot(fx - cx, fy - cy) for cx, cy in cells]
+            share = px * py / (inv[0] + inv[1] + inv[2])
+            for cell, w in zip(cells, inv):
+                energy[cell] = energy.get(cell, 0.0) + share * w
+    return energy
 
-    ``inv``: the corners' inverse distances (in :data:`_CORNERS` order); ``px``/``py``: the
-    probability that the left-out corner is the one at x = 0 / y = 0. Works on floats and on
-    arrays alike (the same operations in the same order, so live and batch agree)."""
-    qx, qy = 1.0 - px, 1.0 - py
-    total = inv[0] + inv[1] + inv[2] + inv[3]
-    # Choice k leaves out corner k: its weight, and the sum over the other three.
-    share = (px * py / (total - inv[0]), qx * py / (total - inv[1]),
-             px * qy / (total - inv[2]), qx * qy / (total - inv[3]))  # fmt: skip
-    everything = share[0] + share[1] + share[2] + share[3]
-    return [inv[k] * (everything - share[k]) for k in range(4)]
+
+def _clip1(v, lo, hi):
+    return min(max(v, lo), hi)
 
 
 def sample(shape, x, y, t, tol, blend=0.0):
@@ -103,13 +120,10 @@ def sample(shape, x, y, t, tol, blend=0.0):
     r, fy = cell_split(y - 0.5, tol)
     if blend > 0.0:
         on = (fx == 0.0) & (fy == 0.0)
-        inv = [1.0 / np.where(on, 1.0, np.hypot(fx - kx, fy - ky)) for kx, ky in _CORNERS]
-        energy = _blended(inv, _ramp(fx, blend), _ramp(fy, blend))
-        out = []
-        for k, (kx, ky) in enumerate(_CORNERS):
-            value = np.sqrt(np.where(on, 1.0 if k == 0 else 0.0, energy[k]))
-            out.append((c + kx, r + ky, value))
-        return out
+        gx, gy = np.where(on, 0.5, fx), np.where(on, 0.5, fy)  # (finite, discarded)
+        energy = _blended(gx, gy, blend, np.clip, np.hypot)
+        return [(c + dc, r + dr, np.sqrt(np.where(on, float(dc == 0 and dr == 0), e)))
+                for (dc, dr), e in energy.items()]  # fmt: skip
     # The left-out corner: opposite the nearest; on a centre line, the lower/left one.
     drop_x = np.where(fx >= 0.5, 0.0, 1.0)
     drop_y = np.where(fy >= 0.5, 0.0, 1.0)
@@ -139,10 +153,8 @@ def sample1(shape, x, y, t, tol, blend=0.0):
     if fx == 0.0 and fy == 0.0:
         return ((c, r, 1.0),)
     if blend > 0.0:
-        inv = [1.0 / math.hypot(fx - kx, fy - ky) for kx, ky in _CORNERS]
-        energy = _blended(inv, _ramp1(fx, blend), _ramp1(fy, blend))
-        return tuple((c + int(kx), r + int(ky), math.sqrt(e))
-                     for (kx, ky), e in zip(_CORNERS, energy) if e > 0.0)  # fmt: skip
+        energy = _blended(fx, fy, blend, _clip1, math.hypot)
+        return tuple((c + dc, r + dr, math.sqrt(e)) for (dc, dr), e in energy.items() if e > 0.0)
     drop = (0 if fx >= 0.5 else 1, 0 if fy >= 0.5 else 1)
     kept = []
     for kx, ky in ((0, 0), (1, 0), (0, 1), (1, 1)):
