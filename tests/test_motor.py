@@ -87,3 +87,20 @@ def test_the_motor_field_is_checked_and_takes_a_table_per_tactor():
         data["motor"] = bad
         with pytest.raises(ProfileError, match=message):
             profile_from_dict(data)
+
+
+def test_activation_curves_felt_through_per_tactor_motors():
+    import tactile_core as tc
+    from tactile_core.rendering.curves import activation_curves
+
+    taus = tuple(0.01 * (1 + i) for i in range(30))  # tactor i: (i + 1) x 10 ms
+    motor = MotorResponse(taus, 0.05)
+    curves = activation_curves(tc.Line((0.5, 2.5), (4.5, 2.5)), "CT", samples=401, motor=motor)
+    assert curves.felt.shape == curves.corrected.shape
+    # Each curve goes through its own tactor's motor: the first, (0,2) = flat 10, rises with
+    # tau 0.11 s from rest over samples 5 ms apart.
+    first = 10
+    assert curves.cells[0] == (0, 2)
+    dt = 2.0 / 400
+    expected = 1 - (taus[first] / dt) * (1 - math.exp(-dt / taus[first]))
+    assert curves.felt[0, 0] == pytest.approx(expected)

@@ -76,6 +76,15 @@ class MotorResponse:
         down = _taus("tau_down_s", self.tau_down_s, size)
         return np.broadcast_to(up, (size,)), np.broadcast_to(down, (size,))
 
+    def select(self, cells) -> MotorResponse:
+        """The motors of ``cells`` (flat indices), in that order (itself if shared)."""
+        if isinstance(self.tau_up_s, float) and isinstance(self.tau_down_s, float):
+            return self
+        cells = np.asarray(cells, dtype=np.intp)
+        size = int(cells.max()) + 1 if cells.size else 1
+        up, down = self.taus(max(size, _count(self)))
+        return MotorResponse(tuple(up[cells].tolist()), tuple(down[cells].tolist()), self.note)
+
     def effective(self, drive, rate_hz: float, state=None) -> tuple[np.ndarray, np.ndarray]:
         """The effective drive of each tactor, frame by frame.
 
@@ -125,6 +134,11 @@ class MotorResponse:
         mean[:, cols] = out
         end[cols] = s
         return mean, end
+
+
+def _count(motor: MotorResponse) -> int:
+    """How many tactors per-tactor time constants describe (1 when shared)."""
+    return max(len(v) if isinstance(v, tuple) else 1 for v in (motor.tau_up_s, motor.tau_down_s))
 
 
 def _decay(tau: np.ndarray, dt: float) -> np.ndarray:

@@ -176,9 +176,10 @@ class Drive:
     valid: np.ndarray | None = None
 
 
-def trace_drive(shape, method, mu: float = 0.33, gamma: float = 0.7, *, grid: Grid | None = None,
-                samples: int = 2001, rate_hz: float | None = None, levels: int | None = None,
-                motor=None, duration_s: float = 2.0, own_correction: bool = False) -> Drive:  # fmt: skip
+def trace_drive(shape, method, mu: float = 0.33, gamma: float = 0.7, *,
+                grid: Grid | None = None, samples: int = 2001, rate_hz: float | None = None,
+                levels: int | None = None, motor=None, duration_s: float = 2.0,
+                own_correction: bool = False) -> Drive:  # fmt: skip
     """The drive of one trace, in continuous time or as sent (see the module notes).
 
     Parameters
@@ -329,7 +330,8 @@ class PerceptRange:
 def predict_range(shape, method, mu: float = 0.33, gamma: float = 0.7, *, participants=None,
                   grid: Grid | None = None, samples: int = 2001, rate_hz: float = 300.0,
                   levels: int = 23, motor=None, duration_s: float = 2.0,
-                  own_correction: bool = True, pitch_mm: float = PITCH_MM) -> PerceptRange:  # fmt: skip
+                  own_correction: bool = True,
+                  pitch_mm: float = PITCH_MM) -> PerceptRange:  # fmt: skip
     """Predict ``method`` for every participant of a range, continuous and as sent.
 
     Parameters
