@@ -23,7 +23,7 @@ from ._device import _Busy as _Busy
 from ._device import _EmulatorProcess as _EmulatorProcess
 from ._device import device_tables
 from ._live import live_table
-from ._methods import methods_table
+from ._methods import methods_table, winners_table
 from ._staircase import staircase_table
 from ._tuning import TUNING_OBSERVERS, TUNING_PLANS, tuning_table
 from ._tuning import _tuning_run as _tuning_run
@@ -48,6 +48,7 @@ __all__ = [
     "run",
     "staircase_table",
     "tuning_table",
+    "winners_table",
 ]
 
 
@@ -67,7 +68,14 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
         show(live_table())
         show(accuracy_table(quick=quick))
     if part in ("methods", "all"):
-        show(methods_table(samples=501 if quick else 2001))
+        from ..rendering.methods import method_names
+        from ..rendering.motor import PALM_MOTOR
+        from ._methods import VARIANTS, _ranges
+
+        samples = 501 if quick else 2001
+        ranges = _ranges(samples, [*method_names(), *VARIANTS], PALM_MOTOR)
+        show(methods_table(samples=samples, ranges=ranges))
+        show(winners_table(samples=samples, ranges=ranges))
     if part in ("device", "all"):
         for table in device_tables(seconds=3.0 if quick else 10.0):
             show(table)
