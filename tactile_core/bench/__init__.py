@@ -24,7 +24,7 @@ from ._device import _EmulatorProcess as _EmulatorProcess
 from ._device import device_tables
 from ._live import live_table
 from ._methods import methods_table, winners_table
-from ._staircase import staircase_table
+from ._staircase import fit_table, staircase_table
 from ._tuning import TUNING_OBSERVERS, TUNING_PLANS, tuning_table
 from ._tuning import _tuning_run as _tuning_run
 
@@ -42,6 +42,7 @@ __all__ = [
     "best_time",
     "dense_area_sampling",
     "device_tables",
+    "fit_table",
     "live_table",
     "methods_table",
     "naive_area_sampling",
@@ -81,6 +82,7 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
             show(table)
     if part in ("experiments", "all"):
         show(staircase_table(tracks=300 if quick else 2000))
+        show(fit_table(tracks=40 if quick else 300))
     if part in ("tuning", "all"):
         show(tuning_table(runs=20 if quick else 200))
     if part in ("gui", "all"):
