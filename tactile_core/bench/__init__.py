@@ -5,7 +5,8 @@ Timings are the minimum over repeated runs (the least disturbed by other process
 
 Inside, one module per part: ``_common`` (scenes, timer, :class:`Table`), ``_batch`` and
 ``_live`` (the rendering cost), ``_accuracy`` (speed against accuracy), ``_device`` (the link
-into the emulator), ``_methods``, ``_staircase`` and ``_tuning``; :func:`run` picks the parts.
+into the emulator), ``_methods``, ``_staircase``, ``_tuning`` and ``_validation`` (the tuning
+against other observers, QUEST+); :func:`run` picks the parts.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from ._methods import methods_table, winners_table
 from ._staircase import fit_table, staircase_table
 from ._tuning import TUNING_OBSERVERS, TUNING_PLANS, tuning_table
 from ._tuning import _tuning_run as _tuning_run
+from ._validation import quest_table, validation_table
 
 __all__ = [
     "FILTERS",
@@ -46,9 +48,11 @@ __all__ = [
     "live_table",
     "methods_table",
     "naive_area_sampling",
+    "quest_table",
     "run",
     "staircase_table",
     "tuning_table",
+    "validation_table",
     "winners_table",
 ]
 
@@ -85,6 +89,8 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
         show(fit_table(tracks=40 if quick else 300))
     if part in ("tuning", "all"):
         show(tuning_table(runs=20 if quick else 200))
+        show(validation_table(runs=20 if quick else 200))
+        show(quest_table(runs=20 if quick else 200))
     if part in ("gui", "all"):
         # The GUI's benchmark lives with the GUI (tactile_tuner), registered under the entry
         # point group "tactile.bench": the core never imports Qt or the GUI package.
