@@ -73,7 +73,8 @@ def test_quest_plus_places_the_thresholds_and_is_recorded():
                               profile=sim.profile)  # fmt: skip
     assert runner.conditions["plan"]["threshold_procedure"] == "quest+"
     sim.run(runner)
-    levels = [d for c, r in runner.tactors for d, _ in runner.trials_by_stage[f"threshold-c{c}r{r}"]]
+    stages = runner.trials_by_stage
+    levels = [d for c, r in runner.tactors for d, _ in stages[f"threshold-c{c}r{r}"]]
     assert len(levels) == 40 and all(0 < d <= 1 for d in levels)
     assert runner.mu == pytest.approx(0.3, abs=0.06)
     with pytest.raises(ValueError, match="threshold_procedure"):
