@@ -85,3 +85,15 @@ def test_a_departing_observer_still_gets_an_answer_from_the_procedure():
     r = simulate_tuning(0.25, 1.0, seed=1, plan=TuningPlan(8, 8, 4), summation=1.0,
                         threshold_sd=0.015, weber=0.1, lapse=0.02)  # fmt: skip
     assert r.ok and r.gamma > 0.7  # linear summation: the right gamma is 1 / K = 1
+
+
+def test_the_command_line_selects_and_reports_the_threshold_procedure(capsys):
+    import json
+
+    from tactile_core.cli import main
+
+    main(["tune-correction", "--simulate", "--threshold", "0.3", "--exponent", "1", "--seed", "3",
+          "--trials-per-tactor", "6", "--trials-per-place", "6", "--corner-trials", "0",
+          "--threshold-procedure", "quest+", "--json"])  # fmt: skip
+    out = json.loads(capsys.readouterr().out)
+    assert out["threshold_procedure"] == "quest+" and out["trials"] == 5 * 6 + 2 * 6
