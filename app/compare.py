@@ -19,7 +19,12 @@ from .widgets import MethodSetWidget
 class CompareView(QtWidgets.QWidget):
     """Any 2-6 methods (the paper's four by default): their heatmaps and activation curves on
     one time axis, all at the current time of the trace. The array plays the method selected in
-    the controls."""
+    the controls.
+
+    Each column is corrected as its method is designed to be driven
+    (:meth:`~tactile_core.rendering.methods.Method.own_correction`): the paper's four and GS
+    with the correction set, EN, PK and RO with none, VRCH with the threshold only; its curve's
+    title says which."""
 
     def __init__(self, state: TunerState, parent=None, methods=PAPER_METHODS):
         super().__init__(parent)
@@ -62,7 +67,9 @@ class CompareView(QtWidgets.QWidget):
             heat.plot.setLabel("bottom", "")
             heat.plot.setLabel("left", "")
             heat.setMinimumSize(100, 160)
-            curve = CurvesView(title=f"{method.name} activation" if len(methods) <= 4 else "")
+            curve = CurvesView(title=f"{method.name}, {method.correction_label}"
+                               if len(methods) <= 4 else "")  # fmt: skip
+            curve.setToolTip(f"{spec} is driven with {method.correction_label}")
             curve.setMinimumSize(100, 120)
             curve.setLabel("left", "")
             grid.addWidget(heat, 0, i)
@@ -89,13 +96,14 @@ class CompareView(QtWidgets.QWidget):
             return
         outline = scene.shape.outline()
         for name in self.methods:
+            mu, gamma = get_method(name).own_correction(scene.mu, scene.gamma)
             curves = activation_curves(
                 scene.shape,
                 name,
                 duration_s=scene.duration_s,
                 direction=scene.direction,
-                mu=scene.mu,
-                gamma=scene.gamma,
+                mu=mu,
+                gamma=gamma,
                 samples=600,
             )
             colors = cell_colors(curves.cells)
@@ -121,6 +129,7 @@ class CompareView(QtWidgets.QWidget):
                 heat.set_point(None)
             else:
                 frame = tc.render(scene.shape, name, t)
-                heat.set_frame(tc.correct(frame, scene.mu, scene.gamma, gain=scene.gain))
+                mu, gamma = get_method(name).own_correction(scene.mu, scene.gamma)
+                heat.set_frame(tc.correct(frame, mu, gamma, gain=scene.gain))
                 heat.set_point(scene.shape.point(t))
             self.curves[name].set_cursor(phase_s)

@@ -49,8 +49,11 @@ def test_the_predicted_view_shows_the_centroid_path_and_felt_intensity(window, q
     window.state.update(method="EN")
     window.state.set_view_mode("predicted")
     qtbot.waitUntil(lambda: "ripple" in window.tune.curves.plotItem.titleLabel.text, timeout=3000)
-    expected = predict(scene.shape, "EN", scene.mu, scene.gamma, samples=400)
-    assert f"ripple {expected.ripple:.2f}" in window.tune.curves.plotItem.titleLabel.text
+    profile = window.device.profile
+    expected = predict(scene.shape, "EN", scene.mu, scene.gamma, rate_hz=scene.rate_hz,
+                       levels=profile.levels, motor=profile.motor)  # fmt: skip
+    title = window.tune.curves.plotItem.titleLabel.text
+    assert f"TH 0.2, K 1: ripple {expected.ripple:.2f}" in title and "25 participants" in title
     x, y = window.tune.heatmap.path.getData()
     np.testing.assert_allclose(np.column_stack([x, y]), expected.centroid)
     (line,) = window.tune.curves.listDataItems()
@@ -60,3 +63,18 @@ def test_the_predicted_view_shows_the_centroid_path_and_felt_intensity(window, q
         lambda: "activation" in window.tune.curves.plotItem.titleLabel.text, timeout=3000
     )
     assert len(window.tune.heatmap.path.getData()[0] or []) == 0
+
+
+def test_compare_drives_each_method_with_its_own_correction(window, qtbot):  # noqa: F811
+    window.state.update(shape=tc.Line((0.5, 1.84), (4.5, 4.16)), mu=0.33, gamma=0.7)
+    window.compare.set_methods(["AS", "EN"])
+    window.tabs.setCurrentWidget(window.compare)
+    heat = window.compare.heatmaps
+    qtbot.waitUntil(lambda: all(h.values.any() for h in heat.values()), timeout=3000)
+    titles = {m: c.plotItem.titleLabel.text for m, c in window.compare.curves.items()}
+    assert "set correction" in titles["AS"] and "no correction" in titles["EN"]
+    # EN's column is the raw sqrt of AS's areas: sum of squares 1 inside the hull; AS's column
+    # is corrected (mu 0.33 lifts every lit tactor to at least 0.33).
+    assert float((heat["EN"].values ** 2).sum()) == pytest.approx(1.0, abs=1e-9)
+    lit = heat["AS"].values[heat["AS"].values > 0]
+    assert lit.min() >= 0.33 - 1e-12

@@ -166,7 +166,8 @@ shapes = st.one_of(
 
 
 @given(shapes, st.lists(coord(0, 1), min_size=1, max_size=8),
-       st.sampled_from([*PEER_METHODS, "RO:r=1.6", "GS:sigma=0.3"]))  # fmt: skip
+       st.sampled_from([*PEER_METHODS, "RO:r=1.6", "GS:sigma=0.3", "RO:curve=linear",
+                        "PK:blend=0.2", "VRCH:r=1.4"]))  # fmt: skip
 def test_live_path_equals_batch(shape, ts, spec):
     batch = tc.render(shape, spec, np.array(ts)).reshape(len(ts), -1)
     for t, row in zip(ts, batch):
@@ -192,7 +193,7 @@ def test_specs_are_canonical_and_validated():
     assert get_method("ro").spec == "RO" and get_method("RO:r=1.0").spec == "RO"
     assert get_method("RO:r=1.5").spec == "RO:r=1.5"
     assert get_method("GS", sigma=0.7).spec == "GS:sigma=0.7"
-    assert get_method("RO:r=0.3").values == {"r": 0.3}
+    assert get_method("RO:r=0.3").values == {"r": 0.3, "curve": "smoothstep"}
     for bad, message in [
         ("RO:r=0", "method RO: r must be within"),
         ("RO:radius=1", "method RO has no parameter 'radius'"),

@@ -26,9 +26,12 @@ METHOD_TIPS = {
     "column centres. Anti-aliased.",
     "EN": "Energy model (Tactile Brush, Israr and Poupyrev 2011) on AS's cells: sqrt of the "
     "areas, so the squares sum to 1.",
-    "PK": "Inverse distance over the 3 nearest tactors (Park et al. 2016), energy-normalised.",
-    "RO": "Smoothstep roll-off within radius r (Syntacts' spatializer).",
-    "GS": "Gaussian weights of spread sigma, cut below 0.05 (VRCH-Server and others).",
+    "PK": "Inverse distance over the 3 nearest tactors (Park et al. 2016), energy-normalised; "
+    "it switches a tactor at each centre line (PK:blend=0.2 crossfades instead).",
+    "RO": "Roll-off within radius r (Syntacts' spatializer): smoothstep; RO:curve=linear is "
+    "Syntacts' own default.",
+    "GS": "This project's Gaussian spread: weights of spread sigma, cut below 0.05.",
+    "VRCH": "VRCH-Server's rule for one contact: every tactor within r at full. Bi-level.",
 }
 
 

@@ -10,7 +10,7 @@ from PySide6 import QtCore
 
 import tactile_core as tc
 from tactile_core.rendering.methods import get_method, mark_unavailable
-from tactile_core.rendering.percept import felt_magnitude
+from tactile_core.rendering.percept import REFERENCE, felt_magnitude
 from tactile_core.rendering.rasterize import point_entries
 
 DISPLAY_HZ = 60
@@ -117,7 +117,7 @@ class LiveDisplay(QtCore.QObject):
                 if mode != "raw":
                     values = tc.correct(values, scene.mu, scene.gamma, gain=scene.gain)
                 if mode == "predicted":
-                    values = felt_magnitude(values, scene.mu, 1.0 / (2.0 * scene.gamma))
+                    values = felt_magnitude(values, REFERENCE.threshold, REFERENCE.exponent)
             values = values.reshape(grid.shape)
             if show_levels:
                 labels = np.char.mod("%.2f", values)

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 from PySide6 import QtCore, QtWidgets
 
 from tactile_core.rendering.curves import activation_curves
-from tactile_core.rendering.percept import predict
+from tactile_core.rendering.percept import REFERENCE, predict, predict_range
 
 from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors
 from ..views._common import set_title
@@ -165,6 +167,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
             self._show_predicted(scene)
             return
         heatmap.set_path(None)
+        felt_view = self.state.view_mode == "felt" and profile.motor is not None
         curves = activation_curves(
             scene.shape,
             scene.method,
@@ -173,22 +176,33 @@ class TuneWidget(QtWidgets.QStackedWidget):
             mu=scene.mu,
             gamma=scene.gamma,
             samples=400,
+            motor=profile.motor if felt_view else None,
         )
+        if felt_view:
+            # What the motors make of the corrected drive: their lag, then their response.
+            curves = dataclasses.replace(curves, corrected=profile.felt(curves.felt))
         self.shown_curves = curves
         colors = cell_colors(curves.cells)
         self.curves.set_curves(curves, colors, scene.duration_s + scene.pause_s)
         heatmap.set_cell_frames(colors)
         heatmap.set_outline(None if heatmap.drawing else scene.shape.outline())
         if not self.method_hidden:
-            title = f"{scene.method} activation, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
+            what = "felt (motor lag and response)" if felt_view else "activation"
+            title = f"{scene.method} {what}, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
             set_title(self.curves.plotItem, title)
 
     def _show_predicted(self, scene) -> None:
-        """The predicted view: the felt centroid's path on the heatmap, the felt intensity over
-        time in the curves view, the ripple and centroid error in its title."""
+        """The predicted view, from what is sent (the scene's rate, the device's levels, its
+        motors): for the reference participant, the felt centroid's path on the heatmap and the
+        felt intensity over time in the curves view; in the title the ripple and centroid
+        error, and the ripple's range over the grid of participants."""
+        profile = self.device.profile
+        sent = dict(grid=profile.grid, rate_hz=min(scene.rate_hz, 1000.0), levels=profile.levels,
+                    motor=profile.motor, duration_s=scene.duration_s)  # fmt: skip
         try:
-            percept = predict(scene.shape, scene.method, scene.mu, scene.gamma,
-                              grid=self.device.profile.grid, samples=400)  # fmt: skip
+            percept = predict(scene.shape, scene.method, scene.mu, scene.gamma, **sent)
+            band = predict_range(scene.shape, scene.method, scene.mu, scene.gamma,
+                                 own_correction=False, samples=400, **sent)  # fmt: skip
         except ValueError as exc:
             self.error_raised.emit(f"no prediction: {exc}")
             return
@@ -202,6 +216,10 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self.curves.set_series(times, percept.felt, scene.duration_s + scene.pause_s,
                                "felt intensity M")  # fmt: skip
         if not self.method_hidden:
-            error = f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f})"
-            title = f"{scene.method}: ripple {percept.ripple:.2f}, off {error}"
+            stage = "felt" if profile.motor is not None else "sent"
+            title = (
+                f"{scene.method}, {REFERENCE.label}: ripple {percept.ripple:.2f}, off "
+                f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f}); ripple "
+                f"{band.span(stage)} over {len(band.participants)} participants"
+            )
             set_title(self.curves.plotItem, title)

@@ -5,7 +5,8 @@ Timings are the minimum over repeated runs (the least disturbed by other process
 
 Inside, one module per part: ``_common`` (scenes, timer, :class:`Table`), ``_batch`` and
 ``_live`` (the rendering cost), ``_accuracy`` (speed against accuracy), ``_device`` (the link
-into the emulator), ``_methods``, ``_staircase`` and ``_tuning``; :func:`run` picks the parts.
+into the emulator), ``_methods``, ``_staircase``, ``_tuning`` and ``_validation`` (the tuning
+against other observers, QUEST+); :func:`run` picks the parts.
 """
 
 from __future__ import annotations
@@ -23,10 +24,11 @@ from ._device import _Busy as _Busy
 from ._device import _EmulatorProcess as _EmulatorProcess
 from ._device import device_tables
 from ._live import live_table
-from ._methods import methods_table
-from ._staircase import staircase_table
+from ._methods import methods_table, winners_table
+from ._staircase import fit_table, staircase_table
 from ._tuning import TUNING_OBSERVERS, TUNING_PLANS, tuning_table
 from ._tuning import _tuning_run as _tuning_run
+from ._validation import quest_table, validation_table
 
 __all__ = [
     "FILTERS",
@@ -42,12 +44,16 @@ __all__ = [
     "best_time",
     "dense_area_sampling",
     "device_tables",
+    "fit_table",
     "live_table",
     "methods_table",
     "naive_area_sampling",
+    "quest_table",
     "run",
     "staircase_table",
     "tuning_table",
+    "validation_table",
+    "winners_table",
 ]
 
 
@@ -67,14 +73,24 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
         show(live_table())
         show(accuracy_table(quick=quick))
     if part in ("methods", "all"):
-        show(methods_table(samples=501 if quick else 2001))
+        from ..rendering.methods import method_names
+        from ..rendering.motor import PALM_MOTOR
+        from ._methods import VARIANTS, _ranges
+
+        samples = 501 if quick else 2001
+        ranges = _ranges(samples, [*method_names(), *VARIANTS], PALM_MOTOR)
+        show(methods_table(samples=samples, ranges=ranges))
+        show(winners_table(samples=samples, ranges=ranges))
     if part in ("device", "all"):
         for table in device_tables(seconds=3.0 if quick else 10.0):
             show(table)
     if part in ("experiments", "all"):
         show(staircase_table(tracks=300 if quick else 2000))
+        show(fit_table(tracks=40 if quick else 300))
     if part in ("tuning", "all"):
         show(tuning_table(runs=20 if quick else 200))
+        show(validation_table(runs=20 if quick else 200))
+        show(quest_table(runs=20 if quick else 200))
     if part in ("gui", "all"):
         # The GUI's benchmark lives with the GUI (tactile_tuner), registered under the entry
         # point group "tactile.bench": the core never imports Qt or the GUI package.

@@ -39,6 +39,37 @@ def _reference(trace: Trace, method: str, mu: float, gamma: float, step_s: float
     return energy, onset
 
 
+MOTOR_STEP_S = 1e-4
+"""Step of the motor reference: the continuous drive through the motors, every 0.1 ms."""
+
+
+def _motor_reference(trace, method, mu, gamma, grid, motor):
+    """The continuous drive of two periods through the motors, as a cumulative integral
+    ``(time_s, integral)`` per tactor (shape (n + 1,), (n + 1, size)), from rest."""
+    n = round(2 * trace.period_s / MOTOR_STEP_S)
+    _, frames = render_frames(trace, method, sampling=Sampling(1.0 / MOTOR_STEP_S, "point"),
+                              mu=mu, gamma=gamma, grid=grid, n_frames=n)  # fmt: skip
+    mean, _ = motor.effective(frames.reshape(n, grid.size), 1.0 / MOTOR_STEP_S)
+    integral = np.vstack([np.zeros(grid.size), np.cumsum(mean, axis=0) * MOTOR_STEP_S])
+    return np.arange(n + 1) * MOTOR_STEP_S, integral
+
+
+def _motor_errors(frames, rate_hz, phase_s, grid, motor, reference):
+    """Per frame and tactor, |streamed - continuous| of the effective drive through the motors,
+    each averaged over the frame, over the frames where either is above 1% (lit or running
+    down)."""
+    n = len(frames)
+    mean, _ = motor.effective(frames.reshape(n, grid.size), rate_hz)
+    time_s, integral = reference
+    edges = np.arange(n + 1) / rate_hz + phase_s
+    keep = edges[1:] <= time_s[-1]
+    at = np.column_stack([np.interp(edges, time_s, integral[:, i]) for i in range(grid.size)])
+    ref = np.diff(at, axis=0) * rate_hz
+    mean, ref = mean[keep], ref[keep]
+    active = (mean > 0.01) | (ref > 0.01)
+    return np.abs(mean - ref)[active]
+
+
 def _frame_metrics(frames, rate_hz, period_s, periods, grid, phase_s, ref_onset):
     """Energy per period and onset errors (s, per period and tactor) of streamed frames.
 
@@ -84,16 +115,19 @@ def accuracy_table(
         step_s, phases = 2e-5, 3
     rng = np.random.default_rng(seed)
     scenes = [(n, m) for n in ("line", "circle") for m in METHOD_NAMES]
-    refs = {}
+    from ..rendering.motor import PALM_MOTOR
+
+    refs, motor_refs = {}, {}
     for name, method in scenes:
         trace = Trace(SCENES[name])
         refs[name, method] = _reference(trace, method, MU, GAMMA, step_s, grid)
+        motor_refs[name, method] = _motor_reference(trace, method, MU, GAMMA, grid, PALM_MOTOR)
     rows = []
     for rate in rates:
         phase_list = rng.uniform(0.0, 1.0 / rate, phases)
         for filt, s in filters:
             sampling = Sampling(rate, filt, s)
-            errs = {k: [] for k in ("e", "o", "eq", "oq", "ed")}
+            errs = {k: [] for k in ("e", "o", "eq", "oq", "ed", "m")}
             for name, method in scenes:
                 trace = Trace(SCENES[name])
                 periods = 2 if abs(trace.period_s * rate - round(trace.period_s * rate)) else 1
@@ -106,6 +140,8 @@ def accuracy_table(
                         n_frames=n, phase_s=phase,
                     )  # fmt: skip
                     quantised = quantize(frames, levels) / (levels - 1)
+                    errs["m"].extend(_motor_errors(quantised, rate, phase, grid, PALM_MOTOR,
+                                                   motor_refs[name, method]))  # fmt: skip
                     dithered = Dither(grid.size, levels).frames(frames) / (levels - 1)
                     for fr, e_key, o_key in (
                         (frames, "e", "o"), (quantised, "eq", "oq"), (dithered, "ed", None),
@@ -130,7 +166,7 @@ def accuracy_table(
             )
             live = LiveFrames(Trace(SCENES["circle"]), "AS", sampling, MU, GAMMA, grid)
             live_cost = best_time(_cycling(live.compute, live.cycle), repeat=3)
-            e = {k: np.array(v) * (100 if k[0] == "e" else 1e3) for k, v in errs.items()}
+            e = {k: np.array(v) * (1e3 if k[0] == "o" else 100) for k, v in errs.items()}
             rows.append(
                 [
                     f"{rate:g}",
@@ -140,6 +176,7 @@ def accuracy_table(
                     f"{e['eq'].mean():.3f} / {e['eq'].max():.2f}",
                     f"{e['oq'].max():.2f}",
                     f"{e['ed'].mean():.3f} / {e['ed'].max():.2f}",
+                    f"{e['m'].mean():.2f} / {e['m'].max():.1f}",
                     f"{cost / 750 * 1e6:.2f}",
                     f"{live_cost * 1e6:.1f}",
                 ]
@@ -152,6 +189,7 @@ def accuracy_table(
         f"{levels} levels rounded: energy % mean / worst",
         f"{levels} levels rounded: onset worst ms",
         f"{levels} levels dithered: energy % mean / worst",
+        f"{levels} levels rounded, through the motors: drive err % mean / worst",
         "batch us/frame",
         "live us/frame",
     ]
@@ -161,12 +199,16 @@ def accuracy_table(
         f"trace + 0.5 s pause) and over {phases} random phases of the trace's start against the "
         "frame clock (mean over tactors and phases / worst tactor in the worst phase). Drive "
         "energy: relative error of the time integral of the corrected drive intensity over one "
-        "period, what the host sends; there is no motor model, so nothing here says what is "
-        "felt. Onset: the start of the first frame a tactor is lit in vs. when it turns on, for "
-        "tactors that turn on after the trace starts. The frame rate is how often the host "
+        "period, what the host sends (no motor model: the last error column adds one). Onset: "
+        "the start of the first frame a tactor is lit in vs. when it turns on, for tactors "
+        "that turn on after the trace starts. The frame rate is how often the host "
         "sends levels, not the array's PWM carrier (about 300 Hz on the paper's array). The "
         f"level columns quantise the frames to {levels} levels first, by plain rounding (the "
-        "paper's pipeline) or with temporal dithering (error feedback per tactor). Costs: AS on "
-        "the circle, batch `render_frames` per frame and the scalar live path per frame."
+        "paper's pipeline) or with temporal dithering (error feedback per tactor). Through the "
+        "motors: the rounded frames and the continuous drive (every 0.1 ms) each through the "
+        "palm array's first-order motors (spin-up 30 ms, run-down 60 ms: estimates), the "
+        "effective drive compared frame by frame (mean over frames where either is above 1% of "
+        "full drive / worst), in % of full drive. Costs: AS on the circle, batch "
+        "`render_frames` per frame and the scalar live path per frame."
     )
     return Table("Speed against accuracy", headers, rows, notes)

@@ -50,13 +50,15 @@ def cmd_simulate(args) -> int:
 def _tuning_plan(args):
     from ..experiments.tuning import TuningPlan
 
-    return TuningPlan(args.trials_per_tactor, args.trials_per_place, args.corner_trials)
+    return TuningPlan(args.trials_per_tactor, args.trials_per_place, args.corner_trials,
+                      threshold_procedure=args.threshold_procedure)  # fmt: skip
 
 
 def _print_tuning(result, args, extra: dict) -> int:
     import json
 
     if args.json:
+        extra = {"threshold_procedure": args.threshold_procedure, **extra}
         print(json.dumps({**result.to_dict(), **extra}, indent=2))
     else:
         print(result.summary())

@@ -131,6 +131,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="constancy trials at each of 2 places (default 40)")  # fmt: skip
     p.add_argument("--corner-trials", type=int, default=12,
                    help="constancy trials at the cell corner, the check (default 12)")  # fmt: skip
+    p.add_argument("--threshold-procedure", choices=("staircase", "quest+"),
+                   default="staircase", help="how threshold levels are placed: a 3-down/1-up "
+                   "track (default) or QUEST+")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=cmd_tune_correction)
 

@@ -13,6 +13,7 @@ import numpy as np
 
 from .._shared.jsonfile import write_json_atomic
 from ..rendering.geometry import ArraySpec, Grid
+from ..rendering.motor import MotorResponse
 from ._profile_json import FORMAT, VERSION, profile_fields
 from .wire import frame_length
 
@@ -30,6 +31,9 @@ class DeviceProfile:
         Serial link speed in bit/s (8N1: 10 bits per byte).
     response : tuple of (tuple of float, tuple of float) or None
         ``(drive, output)`` of the motor response curve, if known.
+    motor : MotorResponse or None
+        The motors' first-order dynamics (spin-up and run-down time constants), if known
+        (:mod:`tactile_core.rendering.motor`); the palm array's are estimates.
     offset, gain : tuple of float, length rows * cols, or None
         Per-tactor calibration in flat cell order (``row * cols + col``).
     threshold : tuple of float or None
@@ -45,6 +49,7 @@ class DeviceProfile:
     array: ArraySpec
     baud: int = 115200
     response: tuple | None = None
+    motor: MotorResponse | None = None
     offset: tuple | None = None
     gain: tuple | None = None
     threshold: tuple | None = None
@@ -155,6 +160,14 @@ class DeviceProfile:
         }
         if self.response is not None:
             data["response"] = {"drive": list(self.response[0]), "output": list(self.response[1])}
+        if self.motor is not None:
+            data["motor"] = {
+                key: (round(v * 1e3, 9) if isinstance(v, float) else [round(x * 1e3, 9) for x in v])
+                for key, v in (("tau_up_ms", self.motor.tau_up_s),
+                               ("tau_down_ms", self.motor.tau_down_s))
+            }  # fmt: skip
+            if self.motor.note:
+                data["motor"]["note"] = self.motor.note
         if self.offset is not None:
             data["calibration"] = {"offset": list(self.offset), "gain": list(self.gain)}
             if self.threshold is not None:

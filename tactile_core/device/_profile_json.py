@@ -14,6 +14,7 @@ import numpy as np
 
 from .._shared import validate as _validate
 from ..rendering.geometry import ArraySpec, Grid
+from ..rendering.motor import MotorResponse
 
 FORMAT = "tactile-device-profile"
 VERSION = 1
@@ -84,8 +85,9 @@ def profile_fields(data, source: str = "profile") -> dict:
     Returns
     -------
     dict
-        ``name``, ``array`` (:class:`ArraySpec`), ``baud``, ``response``, ``offset``, ``gain``,
-        ``threshold``, ``description`` and ``path`` (None), checked and as the class holds them.
+        ``name``, ``array`` (:class:`ArraySpec`), ``baud``, ``response``, ``motor``, ``offset``,
+        ``gain``, ``threshold``, ``description`` and ``path`` (None), checked and as the class
+        holds them.
 
     Raises
     ------
@@ -178,6 +180,8 @@ def profile_fields(data, source: str = "profile") -> dict:
             )
         response = (tuple(drive.tolist()), tuple(output.tolist()))
 
+    motor = _motor(data.get("motor"), source, size, (rows, cols))
+
     offset = gain = threshold = None
     if data.get("calibration") is not None:
         cal = data["calibration"]
@@ -212,9 +216,35 @@ def profile_fields(data, source: str = "profile") -> dict:
         array=array,
         baud=baud,
         response=response,
+        motor=motor,
         offset=offset,
         gain=gain,
         threshold=threshold,
         description=description,
         path=None,
     )
+
+
+def _motor(field, source, size, table):
+    """The ``motor`` field: ``{"tau_up_ms", "tau_down_ms", "note"}``, each time constant one
+    number for every tactor or one per tactor (a flat list or a table of rows)."""
+    if field is None:
+        return None
+    if not isinstance(field, dict):
+        raise ProfileError(
+            f"{source}: field 'motor' must be an object with 'tau_up_ms' and 'tau_down_ms'"
+        )
+    taus = []
+    for key in ("tau_up_ms", "tau_down_ms"):
+        value = _field(field, key, f"{source}: motor")
+        if isinstance(value, list):
+            ms = _numbers(value, f"motor.{key}", source, size, table)
+        else:
+            ms = np.array([_number(value, f"motor.{key}", source)])
+        if np.any(ms < 0) or np.any(ms > 10_000):
+            raise ProfileError(f"{source}: field 'motor.{key}' values must be within [0, 10000]")
+        taus.append(float(ms[0]) / 1e3 if ms.size == 1 else tuple((ms / 1e3).tolist()))
+    note = field.get("note", "")
+    if not isinstance(note, str) or len(note) > 2000:
+        raise ProfileError(f"{source}: field 'motor.note' must be a string of <= 2000 chars")
+    return MotorResponse(taus[0], taus[1], note)

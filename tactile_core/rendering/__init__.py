@@ -7,15 +7,19 @@ The data flow of the paper, one module per step::
 
 ``geometry`` holds the grid, ``rasterize`` evaluates a method at many points (batch) or one
 (the live path), ``scene`` bundles everything that decides a frame into one immutable snapshot,
-``curves`` gives the activation curves of the paper's Figures 3 and 4 and ``percept`` predicts
-what a method feels like. numpy only; nothing here knows of devices, files or Qt.
+``curves`` gives the activation curves of the paper's Figures 3 and 4, ``motor`` the motors'
+first-order lag, ``percept`` predicts what a method feels like for a range of participants and
+``jumps`` measures how abruptly a method switches a tactor. numpy only; nothing here knows of
+devices, files or Qt (a device profile hands its motor model in as a value).
 """
 
 from .correction import Dither, correct, quantize
 from .curves import ActivationCurves, activation_curves
 from .geometry import PALM_ARRAY, ArraySpec, Grid
+from .jumps import largest_jump
 from .methods import METHOD_NAMES, METHODS, get_method
-from .percept import Percept, felt_magnitude, predict
+from .motor import MotorResponse
+from .percept import Participant, Percept, felt_magnitude, participant_grid, predict, predict_range
 from .rasterize import render, render_point, render_xy
 from .scene import PAPER_PIPELINE, Pipeline, Scene
 from .shapes import Circle, Line, Polyline, Shape, Square, parse_shape, shape_from_dict
@@ -33,6 +37,8 @@ __all__ = [
     "Grid",
     "Line",
     "LiveFrames",
+    "MotorResponse",
+    "Participant",
     "Percept",
     "Pipeline",
     "Polyline",
@@ -45,8 +51,11 @@ __all__ = [
     "correct",
     "felt_magnitude",
     "get_method",
+    "largest_jump",
     "parse_shape",
+    "participant_grid",
     "predict",
+    "predict_range",
     "quantize",
     "render",
     "render_frames",

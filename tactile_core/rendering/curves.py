@@ -29,12 +29,16 @@ class ActivationCurves:
         Intensities before correction.
     corrected : ndarray of float64, shape (n, k)
         After threshold/gamma correction.
+    felt : ndarray of float64, shape (n, k), or None
+        The corrected curves through the motors' dynamics (the effective drive, see
+        :mod:`tactile_core.rendering.motor`), when a motor model was given.
     """
 
     time_s: np.ndarray
     cells: tuple
     raw: np.ndarray
     corrected: np.ndarray
+    felt: np.ndarray | None = None
 
     def onsets_s(self) -> np.ndarray:
         """``(k,)`` time of each tactor's first sample with nonzero intensity, in seconds."""
@@ -51,6 +55,7 @@ def activation_curves(
     gamma: float = 1.0,
     samples: int = 2001,
     grid: Grid = _DEFAULT_GRID,
+    motor=None,
 ) -> ActivationCurves:
     """Sample the activation curves of one trace.
 
@@ -66,6 +71,9 @@ def activation_curves(
     samples : int
         Number of samples over the trace, >= 2.
     grid : Grid
+    motor : MotorResponse, optional
+        Also low-pass the corrected curves through the motors (``felt``): each sample is held
+        until the next, from motors at rest; only the tactors the trace lights are simulated.
 
     Returns
     -------
@@ -83,9 +91,14 @@ def activation_curves(
     first = np.argmax(frames[:, active] > 0.0, axis=0)
     order = active[np.argsort(first, kind="stable")]
     raw = frames[:, order]
+    corrected = correct(raw, mu, gamma)
+    felt = None
+    if motor is not None:
+        felt, _ = motor.select(order).effective(corrected, (samples - 1) / duration_s)
     return ActivationCurves(
         time_s=u * duration_s,
         cells=tuple(grid.cell(int(i)) for i in order),
         raw=raw,
-        corrected=correct(raw, mu, gamma),
+        corrected=corrected,
+        felt=felt,
     )

@@ -25,9 +25,14 @@ law. Hence:
   of subjective equality, at two places on the array (one pair side by side, one above each
   other; their tracks start below and above the usual values). gamma is the PSE of one fit to
   both places' trials, with its profile-likelihood interval. A cell corner (four tactors at raw
-  0.25 each) is tracked the same way, as the validation: under the model it has the same PSE.
-  The constancy stimuli are dithered in time, so that the drive of a candidate gamma is not
-  rounded to a level (one level, 1/22 of full drive, moves gamma by up to 12%).
+  0.25 each) is tracked the same way, as a check: under the model it has the same PSE. Under
+  any power-sum rule ``M = (sum m_i^p)^(1/p)`` the PSE is ``1 / (p K)`` at two tactors and at
+  four alike, so the check cannot detect a departure from energy summation; what it detects is
+  an error in mu (the corner's tactors are driven nearer the threshold) or summation that
+  differs across the array. The constancy stimuli are dithered in time, so that the drive of
+  a candidate gamma is not rounded to a level: one level (1/22 of full drive) moves the point
+  of equality by 23% at mu 0.33 / gamma 0.7 and 25% at mu 0.25 / gamma 0.5, so rounding to the
+  nearest level would err by up to half that, about 12%.
 
 A participant who never feels the array, or answers at random, ends the procedure with a
 message and no correction; it never yields a mu or gamma outside [0, 0.95] and [0.1, 10].

@@ -85,12 +85,19 @@ def interval_drive(scene, profile) -> np.ndarray:
 @dataclass
 class SimulatedObserver:
     """The simulated participant of the contract: a power law above a threshold, energy
-    summation, noisy answers.
+    summation, noisy answers; and, to test the procedure against participants it was not built
+    for, departures from that model.
 
     On each trial the threshold varies around ``threshold`` (normal, ``threshold_sd``); each
     interval's felt magnitude (:func:`felt_total` of :func:`interval_drive`) is perturbed in log
     units by ``weber`` (normal), and the stronger interval is chosen (an interval felt as nothing
     loses; two of them are a guess). With probability ``lapse`` the answer is a coin toss.
+
+    The departures (all off by default, which is the contract's participant): ``tactor_sd``
+    gives each tactor its own threshold, drawn once per observer around ``threshold``;
+    ``summation`` is the exponent ``p`` of the power sum ``M = (sum m_i^p)^(1/p)`` (2: energy,
+    1: linear); ``masking`` raises a tactor's threshold by that much drive while one of its four
+    neighbours is driven above its own threshold.
 
     Parameters
     ----------
@@ -107,6 +114,12 @@ class SimulatedObserver:
         Probability of a random answer, in [0, 0.5].
     profile : DeviceProfile, optional
         The array the stimuli play on (the palm array by default).
+    tactor_sd : float
+        Spread of the tactors' own thresholds around ``threshold`` (drive units, 0 to 0.3).
+    summation : float
+        Exponent ``p`` of the power sum over tactors, 0.5 to 10 (2: energy).
+    masking : float
+        Threshold raise while a neighbour is felt, drive units (0 to 0.5).
     """
 
     threshold: float = 0.25
@@ -116,6 +129,9 @@ class SimulatedObserver:
     weber: float = 0.15
     lapse: float = 0.03
     profile: object = None
+    tactor_sd: float = 0.0
+    summation: float = 2.0
+    masking: float = 0.0
     _cache: dict = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
@@ -126,9 +142,48 @@ class SimulatedObserver:
         self.threshold_sd = _validate.in_range("threshold_sd", self.threshold_sd, 0.0, 0.5)
         self.weber = _validate.in_range("weber", self.weber, 0.0, 5.0)
         self.lapse = _validate.in_range("lapse", self.lapse, 0.0, 0.5)
+        self.tactor_sd = _validate.in_range("tactor_sd", self.tactor_sd, 0.0, 0.3)
+        self.summation = _validate.in_range("summation", self.summation, 0.5, 10.0)
+        self.masking = _validate.in_range("masking", self.masking, 0.0, 0.5)
         self.rng = random.Random(self.seed)
         if self.profile is None:
             self.profile = default_profile()
+        shape = self.profile.grid.shape
+        offsets = np.zeros(shape)
+        if self.tactor_sd > 0.0:
+            offsets = np.random.default_rng([self.seed, 20]).normal(0.0, self.tactor_sd, shape)
+        self.thresholds = np.clip(self.threshold + offsets, 0.0, MU_MAX)
+        """Each tactor's own threshold, ``(rows, cols)``."""
+
+    @property
+    def contract(self) -> bool:
+        """True for the contract's participant (no departure from the model)."""
+        return self.tactor_sd == 0.0 and self.summation == 2.0 and self.masking == 0.0
+
+    def felt(self, drive, shift: float = 0.0) -> float:
+        """Felt magnitude of a frame without noise: each tactor above its threshold (shifted by
+        ``shift``, raised by masking), summed by the power ``summation``.
+
+        Parameters
+        ----------
+        drive : array_like of float, shape (rows, cols)
+        shift : float
+            This trial's shift of every threshold, drive units.
+        """
+        d = np.asarray(drive, dtype=np.float64)
+        th = np.clip(self.thresholds + shift, 0.0, 0.999)
+        if self.masking > 0.0:
+            on = d > th
+            near = np.zeros_like(on)
+            near[1:, :] |= on[:-1, :]
+            near[:-1, :] |= on[1:, :]
+            near[:, 1:] |= on[:, :-1]
+            near[:, :-1] |= on[:, 1:]
+            th = np.clip(th + self.masking * near, 0.0, 0.999)
+        x = np.clip((d - th) / (1.0 - th), 0.0, None)
+        m = np.where(d > th, x**self.exponent, 0.0)
+        p = self.summation
+        return float(np.sum(m**p) ** (1.0 / p))
 
     @property
     def mu(self) -> float:
@@ -161,10 +216,16 @@ class SimulatedObserver:
         rng = self.rng
         if rng.random() < self.lapse:
             return rng.choice(("1", "2"))
-        th = min(max(rng.gauss(self.threshold, self.threshold_sd), 0.0), 0.999)
         felt = []
+        if self.contract:
+            th = min(max(rng.gauss(self.threshold, self.threshold_sd), 0.0), 0.999)
+        else:
+            shift = rng.gauss(0.0, self.threshold_sd)
         for scene in trial.intervals:
-            m = felt_total(self.drive(scene), th, self.exponent)
+            if self.contract:
+                m = felt_total(self.drive(scene), th, self.exponent)
+            else:
+                m = self.felt(self.drive(scene), shift)
             felt.append(math.log(m) + rng.gauss(0.0, self.weber) if m > 0.0 else -math.inf)
         if felt[0] == felt[1]:
             return rng.choice(("1", "2"))
@@ -188,7 +249,7 @@ def simulate_tuning(threshold: float, exponent: float, seed: int = 0, plan=None,
     plan : TuningPlan, optional
     **observer
         Further :class:`SimulatedObserver` parameters (``threshold_sd``, ``weber``, ``lapse``,
-        ``profile``).
+        ``profile``, and the departures ``tactor_sd``, ``summation``, ``masking``).
 
     Returns
     -------

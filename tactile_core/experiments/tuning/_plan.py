@@ -7,6 +7,9 @@ from dataclasses import dataclass
 
 from ..._shared import validate as _validate
 
+THRESHOLD_PROCEDURES = ("staircase", "quest+")
+"""The threshold procedures a plan may choose (:attr:`TuningPlan.threshold_procedure`)."""
+
 
 @dataclass(frozen=True)
 class TuningPlan:
@@ -23,17 +26,24 @@ class TuningPlan:
     tactors : tuple of (col, row), optional
         The tactors whose thresholds are measured; default: five across the array
         (:func:`default_layout`).
+    threshold_procedure : {"staircase", "quest+"}
+        How each tactor's levels are placed: the 3-down/1-up track over the device's levels
+        (the default), or QUEST+ (Watson 2017, the ``questplus`` package) over the same levels,
+        each trial at the level expected to shrink the posterior's entropy most. Either way the
+        threshold is the same maximum-likelihood fit to the tactor's trials.
     """
 
     threshold_trials: int = 20
     gamma_trials: int = 40
     corner_trials: int = 12
     tactors: tuple | None = None
+    threshold_procedure: str = "staircase"
 
     def __post_init__(self):
         _validate.integer("threshold_trials", self.threshold_trials, 2, 200)
         _validate.integer("gamma_trials", self.gamma_trials, 2, 400)
         _validate.integer("corner_trials", self.corner_trials, 0, 400)
+        _validate.choice("threshold_procedure", self.threshold_procedure, THRESHOLD_PROCEDURES)
 
     def to_dict(self) -> dict:
         """The JSON form (recorded in ``session.json``)."""
@@ -42,6 +52,7 @@ class TuningPlan:
             "gamma_trials": self.gamma_trials,
             "corner_trials": self.corner_trials,
             "tactors": None if self.tactors is None else [list(c) for c in self.tactors],
+            "threshold_procedure": self.threshold_procedure,
         }
 
 

@@ -14,9 +14,57 @@ from ..runners import HEALTH_FIELDS, INTERVAL_S, Runner, Trial, calibration_from
 from ._fits import fit_gamma, fit_thresholds, median_interval
 from ._plan import TuningPlan, default_layout
 from ._result import TuningResult, _interval
-from ._tracks import _LevelTrack, _LogTrack
+from ._tracks import _LevelTrack, _LogTrack, _QuestTrack
 
 EXPERIMENT = "correction"
+
+
+def mu_from_tracks(tactors, tracks) -> tuple[float | None, dict, str]:
+    """mu from the threshold tracks: each tactor's fit, the tactors left out and why, and the
+    median of the rest.
+
+    Parameters
+    ----------
+    tactors : sequence of (col, row)
+    tracks : sequence of (drives, correct)
+        Per tactor, in the order of ``tactors``: each trial's drive and whether it was right.
+
+    Returns
+    -------
+    mu : float or None
+        The median threshold (rounded to 1e-4), None when more than half the tactors were left
+        out.
+    fits : dict
+        ``{(col, row): (CumulativeFit, felt, problem)}``.
+    failure : str
+        Why there is no mu ("" when there is one).
+    """
+    felt, problems, fits = [], [], {}
+    for cell, fit, (drives, correct) in zip(tactors, fit_thresholds(tracks), tracks):
+        share = sum(correct) / len(correct)
+        problem = ""
+        if fit.location >= MU_MAX or math.isnan(fit.ci[1]):
+            problem = f"not felt reliably ({share:.0%} right; chance is 50%)"
+        elif math.isnan(fit.ci[0]):
+            problem = (
+                f"not bounded from below (mostly right down to drive {min(drives):.2f}): "
+                "the track did not reach the threshold"
+            )
+        fits[cell] = (fit, not problem, problem)
+        if problem:
+            problems.append(f"({cell[0]},{cell[1]}) {problem}")
+        else:
+            felt.append(fit)
+    if len(felt) * 2 <= len(tactors):
+        failure = (
+            f"no threshold: {len(problems)} of {len(tactors)} tactors: "
+            + "; ".join(problems)
+            + ". Check that the hand is on the array and the array is on; a participant who "
+            "answers at random looks like this too; more trials per tactor help a track "
+            "that did not reach its threshold"
+        )
+        return None, fits, failure
+    return round(statistics.median(f.location for f in felt), 4), fits, ""
 
 
 class CorrectionTuning(Runner):
@@ -92,7 +140,10 @@ class CorrectionTuning(Runner):
             "vibration. Press 1 or 2 for the one that held it; guess if unsure. Press a key to "
             "start.",
         )  # fmt: skip
-        tracks = {cell: _LevelTrack(round(top / 2), top) for cell in self.tactors}
+        if self.plan.threshold_procedure == "quest+":
+            tracks = {cell: _QuestTrack(top) for cell in self.tactors}
+        else:
+            tracks = {cell: _LevelTrack(round(top / 2), top) for cell in self.tactors}
         counts = dict.fromkeys(self.tactors, 0)
         while True:
             open_cells = [c for c in self.tactors if counts[c] < self.plan.threshold_trials]
@@ -168,32 +219,7 @@ class CorrectionTuning(Runner):
         for cell in self.tactors:
             rows = self.trials_by_stage[f"threshold-c{cell[0]}r{cell[1]}"]
             tracks.append(tuple(zip(*rows)))
-        felt, problems = [], []
-        for cell, fit, (drives, correct) in zip(self.tactors, fit_thresholds(tracks), tracks):
-            share = sum(correct) / len(correct)
-            problem = ""
-            if fit.location >= MU_MAX or math.isnan(fit.ci[1]):
-                problem = f"not felt reliably ({share:.0%} right; chance is 50%)"
-            elif math.isnan(fit.ci[0]):
-                problem = (
-                    f"not bounded from below (mostly right down to drive {min(drives):.2f}): "
-                    "the track did not reach the threshold"
-                )
-            self.threshold_fits[cell] = (fit, not problem, problem)
-            if problem:
-                problems.append(f"({cell[0]},{cell[1]}) {problem}")
-            else:
-                felt.append(fit)
-        if len(felt) * 2 <= len(self.tactors):
-            self.failure = (
-                f"no threshold: {len(problems)} of {len(self.tactors)} tactors: "
-                + "; ".join(problems)
-                + ". Check that the hand is on the array and the array is on; a participant who "
-                "answers at random looks like this too; more trials per tactor help a track "
-                "that did not reach its threshold"
-            )
-            return
-        self.mu = round(statistics.median(f.location for f in felt), 4)
+        self.mu, self.threshold_fits, self.failure = mu_from_tracks(self.tactors, tracks)
 
     def _estimate_gamma(self) -> None:
         for name in self.places:
@@ -258,8 +284,11 @@ class CorrectionTuning(Runner):
             if not agrees:
                 warnings.append(
                     f"at the cell corner gamma {corner.location:.2f} "
-                    f"({_interval((lo, hi), '.2f')}) differs from {gamma:.2f}: energy "
-                    "summation may not hold for four tactors on this hand"
+                    f"({_interval((lo, hi), '.2f')}) differs from {gamma:.2f}: mu may be off "
+                    "(the corner's four tactors are driven nearer the threshold than a pair's "
+                    "two, so an error in mu moves its gamma more), or tactors add up "
+                    "differently at this place of the array; this check cannot tell energy "
+                    "summation from another power-sum rule, which moves both places alike"
                 )
         return TuningResult(
             True, "measured", mu=self.mu, gamma=gamma,

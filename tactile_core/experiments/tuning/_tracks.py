@@ -1,5 +1,5 @@
-"""The adaptive tracks: whole device levels for the thresholds, log steps of gamma for the
-constancy."""
+"""The adaptive tracks: whole device levels for the thresholds (a 3-down/1-up track or QUEST+),
+log steps of gamma for the constancy."""
 
 from __future__ import annotations
 
@@ -58,3 +58,39 @@ class _LogTrack:
         self.direction = step
         factor = 1.4 if self.reversals < 2 else 1.2
         self.level = min(max(self.level * factor**step, GAMMA_MIN), GAMMA_MAX)
+
+
+class _QuestTrack:
+    """QUEST+ over whole device levels 1..top (Watson 2017; the ``questplus`` package).
+
+    The model is the threshold fit's: in two intervals ``p = 0.5 + (0.5 - lapse) Phi((d - T) /
+    sd)`` at drive ``d = level / top``, with a uniform prior over ``T`` (0 to 1 in steps of
+    0.02), ``sd`` (eight values, 0.01 to 0.3) and the lapse (0, 0.02, 0.05); each trial goes to
+    the level whose answer is expected to leave the posterior with the least entropy. The
+    selection is deterministic, so a resumed run replays the same levels from the same
+    answers.
+    """
+
+    def __init__(self, top: int):
+        import numpy as np
+        import questplus
+
+        self.top = top
+        self.trials = 0
+        self._levels = np.arange(1, top + 1) / top
+        self._qp = questplus.QuestPlus(
+            stim_domain={"intensity": self._levels},
+            param_domain={"mean": np.linspace(0.0, 1.0, 51), "sd": np.geomspace(0.01, 0.3, 8),
+                          "lower_asymptote": 0.5, "lapse_rate": [0.0, 0.02, 0.05]},
+            outcome_domain={"response": ["Correct", "Incorrect"]},
+            func="norm_cdf", stim_scale="linear", stim_selection_method="min_entropy",
+        )  # fmt: skip
+        self._stim = self._qp.next_stim
+        self.level = round(self._stim["intensity"] * top)
+
+    def update(self, correct: bool) -> None:
+        self.trials += 1
+        self._qp.update(stim=self._stim,
+                        outcome={"response": "Correct" if correct else "Incorrect"})  # fmt: skip
+        self._stim = self._qp.next_stim
+        self.level = min(max(round(self._stim["intensity"] * self.top), 1), self.top)

@@ -10,8 +10,9 @@ name      method                      from                 tactors lit at one in
 ``IM``    interpolated midpoint       paper 2.5            up to 2 (anti-aliased)
 ``EN``    energy model on AS's cells  Tactile Brush 2011   up to 4, ``sum I^2 = 1``
 ``PK``    inverse distance, 3 nearest Park et al. 2016     up to 3, ``sum I^2 = 1``
-``RO``    smoothstep roll-off, ``r``  Syntacts 2021        up to 4 at ``r = 1``
-``GS``    Gaussian, ``sigma``         VRCH-Server          up to 6 at ``sigma = 0.5``
+``RO``    roll-off, ``r``, ``curve``  Syntacts 2021        up to 4 at ``r = 1``
+``GS``    Gaussian, ``sigma``         this project         up to 6 at ``sigma = 0.5``
+``VRCH``  every tactor within ``r``   VRCH-Server          up to 4 at ``r = 1`` (bi-level)
 ========  ==========================  ===================  ================================
 
 **The method protocol.** A method is a module (or any object) with these attributes:
@@ -25,12 +26,18 @@ name      method                      from                 tactors lit at one in
   the caller drops them), values in [0, 1];
 - ``sample1(shape, x, y, t, tol, **params) -> ((col, row, value), ...)`` with plain floats: the
   live path, equal to ``sample`` at one point;
-- ``PARAMS`` (optional): ``{name: (default, low, high, description)}`` of float parameters.
+- ``PARAMS`` (optional): ``{name: (default, low, high, description)}`` of float parameters;
+- ``CHOICES`` (optional): ``{name: (options, description)}`` of word parameters, the first
+  option the default (``RO:curve=linear``);
+- ``CORRECTION`` (optional): the correction the method is designed to be driven with, by
+  default: ``"set"`` (the threshold/gamma correction set by the user, the paper's for AS and
+  IM; the default when absent), ``"threshold"`` (the set threshold, gamma 1) or ``"none"``
+  (driven as computed: EN and PK, whose energy normalisation is their own correction).
 
 ``tol`` is the snap tolerance of the cell lookup (:data:`~..geometry.SNAP_ULPS`).
 
-**Parameters** travel with the method's name as a *spec*, ``"RO:r=1.5"`` or
-``"GS:sigma=0.7"`` (defaults left out, so ``"RO"`` is ``"RO:r=1"``): the same string works in
+**Parameters** travel with the method's name as a *spec*, ``"RO:r=1.5"``, ``"RO:curve=linear"``
+or ``"GS:sigma=0.7"`` (defaults left out, so ``"RO"`` is ``"RO:r=1"``): the same string works in
 :func:`tactile_core.render`, :class:`tactile_core.Scene`, ``--method`` on the command line,
 presets and session records. :func:`get_method` parses and validates it.
 
@@ -54,12 +61,14 @@ from types import ModuleType
 import numpy as np
 
 from ..._shared import validate as _validate
-from . import area, closest, energy, gaussian, interpolated, midpoint, park, rolloff
+from . import area, closest, energy, gaussian, interpolated, midpoint, park, rolloff, vrch
 
 ENTRY_POINT_GROUP = "tactile_tuner.methods"
 """Entry-point group under which third-party methods register."""
 
 _NAME = re.compile(r"[A-Z][A-Z0-9_]{0,15}\Z")
+_WORD = re.compile(r"[a-z][a-z0-9_]{0,31}\Z")
+_NOT_WORDS = ("inf", "infinity", "nan")  # float() reads them: refused as not finite
 _ATTRS = ("NAME", "TITLE", "BILEVEL", "NEEDS_SHAPE", "MAX_TACTORS", "sample", "sample1")
 
 
@@ -75,10 +84,14 @@ class Method:
         The most tactors one frame lights, at these parameters.
     module : module or object
         The implementation (see the protocol above).
-    params : tuple of (str, float)
-        Parameter values that differ from the defaults, in the order of ``PARAMS``.
+    params : tuple of (str, float or str)
+        Parameter values that differ from the defaults, in the order of ``PARAMS``, then of
+        ``CHOICES``.
     source : str
         ``"paper"``, ``"peer"`` or ``"plugin <distribution>"``.
+    correction : {"set", "threshold", "none"}
+        The correction the method is designed to be driven with (see the protocol above and
+        :meth:`own_correction`).
     """
 
     name: str
@@ -89,6 +102,7 @@ class Method:
     module: ModuleType
     params: tuple = ()
     source: str = "paper"
+    correction: str = "set"
     _samplers: dict = field(default_factory=dict, repr=False, compare=False, hash=False)
 
     @property
@@ -100,15 +114,51 @@ class Method:
 
     @property
     def param_specs(self) -> dict:
-        """``{name: (default, low, high, description)}`` (empty for most methods)."""
+        """``{name: (default, low, high, description)}`` of the number parameters (empty for
+        most methods)."""
         return dict(getattr(self.module, "PARAMS", None) or {})
+
+    @property
+    def choice_specs(self) -> dict:
+        """``{name: (options, description)}`` of the word parameters (``RO``'s ``curve``); the
+        first option is the default."""
+        return dict(getattr(self.module, "CHOICES", None) or {})
 
     @property
     def values(self) -> dict:
         """Every parameter's value, defaults included."""
         out = {k: spec[0] for k, spec in self.param_specs.items()}
+        out.update({k: spec[0][0] for k, spec in self.choice_specs.items()})
         out.update(self.params)
         return out
+
+    def own_correction(self, mu: float, gamma: float) -> tuple[float, float]:
+        """The correction this method is driven with when the user has set ``mu``/``gamma``.
+
+        ``"set"`` methods (the paper's four, GS, plug-ins unless they say otherwise) take
+        ``(mu, gamma)``; ``"threshold"`` ones (VRCH, whose server maps a value ``v > 0`` to
+        ``offset + (1 - offset) v``) ``(mu, 1)``; ``"none"`` ones ``(0, 1)``, the identity: EN
+        and PK normalise energy themselves, so a gamma on top compresses them a second time,
+        and Syntacts' roll-off (RO) is played as computed.
+
+        Returns
+        -------
+        (float, float)
+            ``(mu, gamma)`` for :func:`~tactile_core.rendering.correction.correct`.
+        """
+        if self.correction == "none":
+            return 0.0, 1.0
+        if self.correction == "threshold":
+            return float(mu), 1.0
+        return float(mu), float(gamma)
+
+    @property
+    def correction_label(self) -> str:
+        """A few words for a title: ``"set correction"``, ``"threshold only"``,
+        ``"no correction"``."""
+        return {"none": "no correction", "threshold": "threshold only"}.get(
+            self.correction, "set correction"
+        )
 
     @property
     def plugin(self) -> bool:
@@ -139,10 +189,15 @@ class Method:
     def with_params(self, **params) -> Method:
         """This method with other parameter values (validated; ``ValueError`` names them)."""
         values = self.values
-        specs = self.param_specs
+        specs, choices = self.param_specs, self.choice_specs
         for key, value in params.items():
+            if key in choices:
+                options = choices[key][0]
+                word = value.lower() if isinstance(value, str) else value
+                values[key] = _validate.choice(f"method {self.name}: {key}", word, options)
+                continue
             if key not in specs:
-                known = ", ".join(specs) or "none"
+                known = ", ".join([*specs, *choices]) or "none"
                 raise ValueError(
                     f"method {self.name} has no parameter {_validate.shown(key)} "
                     f"(its parameters: {known})"
@@ -150,11 +205,14 @@ class Method:
             _, lo, hi, _ = specs[key]
             values[key] = _validate.in_range(f"method {self.name}: {key}", value, lo, hi)
         bound = tuple((k, float(values[k])) for k in specs if values[k] != specs[k][0])
+        bound += tuple((k, values[k]) for k in choices if values[k] != choices[k][0][0])
         return _make(self.module, self.source, bound)
 
 
-def _number(value: float) -> str:
-    """Shortest text that reads back as ``value`` (``1`` for 1.0)."""
+def _number(value) -> str:
+    """Shortest text that reads back as ``value`` (``1`` for 1.0; a word as it is)."""
+    if isinstance(value, str):
+        return value
     return f"{value:g}" if float(f"{value:g}") == value else repr(float(value))
 
 
@@ -162,7 +220,12 @@ def _make(module, source: str, params: tuple = ()) -> Method:
     max_tactors = module.MAX_TACTORS
     if callable(max_tactors):
         defaults = {k: spec[0] for k, spec in (getattr(module, "PARAMS", None) or {}).items()}
-        max_tactors = max_tactors(**{**defaults, **dict(params)})
+        numbers = {k: v for k, v in params if not isinstance(v, str)}
+        max_tactors = max_tactors(**{**defaults, **numbers})
+    correction = getattr(module, "CORRECTION", "set")
+    if correction not in CORRECTIONS:
+        raise ValueError(f"CORRECTION must be one of {', '.join(CORRECTIONS)}, got "
+                         f"{_validate.shown(correction)}")  # fmt: skip
     return Method(
         name=module.NAME,
         title=module.TITLE,
@@ -172,7 +235,12 @@ def _make(module, source: str, params: tuple = ()) -> Method:
         module=module,
         params=params,
         source=source,
+        correction=correction,
     )
+
+
+CORRECTIONS = ("set", "threshold", "none")
+"""The corrections a method may be designed for (its ``CORRECTION``)."""
 
 
 def _checked(spec: str, fn, scalar: bool):
@@ -214,12 +282,13 @@ def _checked(spec: str, fn, scalar: bool):
 PAPER_METHODS = ("CT", "MM", "AS", "IM")
 """The paper's four methods, in the paper's order."""
 
-PEER_METHODS = ("EN", "PK", "RO", "GS")
-"""The methods of other haptic systems (Tactile Brush, Park et al., Syntacts, Gaussian)."""
+PEER_METHODS = ("EN", "PK", "RO", "GS", "VRCH")
+"""The methods of other haptic systems and this project's Gaussian spread (Tactile Brush, Park
+et al., Syntacts, GS, VRCH-Server)."""
 
 METHODS: dict[str, Method] = {
     **{m.NAME: _make(m, "paper") for m in (closest, midpoint, area, interpolated)},
-    **{m.NAME: _make(m, "peer") for m in (energy, park, rolloff, gaussian)},
+    **{m.NAME: _make(m, "peer") for m in (energy, park, rolloff, gaussian, vrch)},
 }
 """Registry of the methods by name: the paper's four, then the peers, then loaded plug-ins."""
 
@@ -342,15 +411,16 @@ def parse_spec(text: str) -> tuple[str, dict]:
         for part in rest.split(","):
             key, eq, value = part.partition("=")
             key = key.strip()
+            word = value.strip().lower()
             try:
                 if not eq or not key:
                     raise ValueError
-                number = float(value)
+                number = word if _WORD.match(word) and word not in _NOT_WORDS else float(value)
             except ValueError:
                 raise ValueError(
                     f"method must be NAME or NAME:param=value,..., got {_validate.shown(text)}"
                 ) from None
-            if not math.isfinite(number):
+            if not isinstance(number, str) and not math.isfinite(number):
                 raise ValueError(f"method {name.strip().upper()}: {key} must be finite, got "
                                  f"{_validate.shown(value.strip())}")  # fmt: skip
             if key in params:
@@ -393,8 +463,10 @@ def get_method(name, **params) -> Method:
     if not merged:
         return method
     bound_key = hit = None
-    if all(_validate.is_number(v) for v in merged.values()):  # (True == 1: not a key)
-        bound_key = (key, tuple(sorted((k, float(v)) for k, v in merged.items())))
+    if all(_validate.is_number(v) or isinstance(v, str) for v in merged.values()):
+        # (True == 1: not a key)
+        bound_key = (key, tuple(sorted((k, v if isinstance(v, str) else float(v))
+                                       for k, v in merged.items())))  # fmt: skip
         hit = _BOUND.get(bound_key)
     if hit is None or hit.module is not method.module:
         hit = method.with_params(**merged)

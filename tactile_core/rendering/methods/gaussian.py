@@ -1,13 +1,14 @@
-"""Gaussian method (GS): Gaussian weights by distance, for comparison with the paper's methods.
+"""Gaussian method (GS): this project's Gaussian spread, for comparison with the paper's methods.
 
-VRCH-Server (the VRChat haptics bridge) and many hand-rolled array drivers spread a point over
-nearby actuators with Gaussian weights, ``exp(-d^2 / (2 sigma^2))`` for the distance ``d`` (in
-pitches) from the point to a tactor. ``sigma = 0.5`` by default; weights below 0.05 are zero, so
-the support is the disc of radius ``sigma sqrt(2 ln 20)`` (1.22 pitches at the default: a point
-on a tactor lights it at 1 and its four neighbours at ``exp(-2) = 0.135``; a point midway
-between two tactors lights six).
-Neither the intensities nor their squares sum to 1. Works on any coordinate, with or without a
-shape.
+A point is spread over nearby tactors with Gaussian weights, ``exp(-d^2 / (2 sigma^2))`` for the
+distance ``d`` (in pitches) from the point to a tactor, as many hand-rolled array drivers do.
+It is not what VRCH-Server computes: there a Gaussian kernel weights a *normalised mean* over the
+contacts near each actuator, so one contact lights every actuator within its radius at full
+intensity (that rule is :mod:`.vrch`, ``VRCH``). ``sigma = 0.5`` by default; weights below
+0.05 are zero, so the support is the disc of radius ``sigma sqrt(2 ln 20)`` (1.22 pitches at
+the default: a point on a tactor lights it at 1 and its four neighbours at ``exp(-2) = 0.135``;
+a point midway between two tactors lights six). Neither the intensities nor their squares sum
+to 1. Works on any coordinate, with or without a shape.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ import numpy as np
 from . import _radial
 
 NAME = "GS"
-TITLE = "Gaussian"
+TITLE = "Gaussian spread (this project)"
 BILEVEL = False
 NEEDS_SHAPE = False
 PARAMS = {"sigma": (0.5, 0.1, 5.0, "spread in pitches (weights below 0.05 are off)")}

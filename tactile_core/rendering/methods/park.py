@@ -15,6 +15,21 @@ CT breaks ties. The method therefore switches tactors where the point crosses a 
 the square: a tactor at ``d = 1.12`` (an edge midpoint) or ``d = 0.71`` (the square's centre)
 goes on or off there. Tactors outside the grid are dropped, as for AS, which leaves less than
 full energy at the array's edge. Works on any coordinate, with or without a shape.
+
+**The jumps, and a continuous variant.** Each switch is a jump in intensity. Crossing a centre
+line of the square (a cell boundary) the left-out corner changes: at ``x = 2.0``, ``y = 3.1``
+tactor (1,2) goes from 0.54 to 0 and (2,2) from 0 to 0.54 (0.77 after the paper's correction)
+within 1e-5 pitches, up to ``sqrt(1/3) = 0.58`` at the square's centre. Crossing a line of
+tactor centres the square itself changes, and the third tactor moves from the column (row)
+behind to the one ahead: up to 0.43, midway between two tactors. ``PK:blend=w`` crossfades
+both over bands ``w`` pitches wide: per axis, the nearest tactor's column and its neighbour on
+the point's side are chosen with probabilities that ramp linearly across each band, and the
+three-tactor energies of the choices are mixed, ``I_i^2 = sum_k p_k I_i,k^2``, so
+``sum I^2 = 1`` still holds and every intensity is continuous (up to six tactors are lit where
+bands cross). ``blend = 0`` (the default) is Park's rule with its jumps;
+:func:`tactile_core.rendering.jumps.largest_jump` measures both.
+
+PK is driven as computed (``CORRECTION = "none"``): the energy law is its correction.
 """
 
 from __future__ import annotations
@@ -29,10 +44,58 @@ NAME = "PK"
 TITLE = "inverse distance, 3 tactors (Park 2016)"
 BILEVEL = False
 NEEDS_SHAPE = False
-MAX_TACTORS = 3
+PARAMS = {
+    "blend": (0.0, 0.0, 0.5, "band in pitches across each centre line over which the left-out "
+              "tactor is crossfaded (0: Park's switch, a jump)"),
+}  # fmt: skip
+CORRECTION = "none"
 
 
-def sample(shape, x, y, t, tol):
+def MAX_TACTORS(blend=0.0):
+    """Most tactors lit at once: 3, or 6 inside crossfade bands (``blend > 0``)."""
+    return 3 if blend == 0 else 6
+
+
+# Per axis, Park's three tactors use the nearest tactor's column ``a`` (offset 0 or 1 from the
+# column c = floor(x - 0.5) left of the point) and the column ``b`` next to it on the point's
+# side (offset -1..2): the triple is (a_x, a_y), (b_x, a_y), (a_x, b_y). Each (a, b) choice
+# below is (a offset, b offset, which ramp it takes).
+_AXIS = ((0, 1), (0, -1), (1, 0), (1, 2))
+
+
+def _axis_shares(f, blend, clip):
+    """Probabilities of the four ``(a, b)`` choices of one axis, ``f`` the point's fraction in
+    [0, 1) past column c: ``a = c + 1`` ramps in across ``f = 0.5`` (the cell boundary), and
+    given ``a``, ``b = a + 1`` ramps in across ``f = a - c`` (the tactor's own centre line)."""
+    p_right = clip((f - 0.5) / blend + 0.5, 0.0, 1.0)
+    p_left = 1.0 - p_right
+    b_up0 = clip(f / blend + 0.5, 0.0, 1.0)
+    b_up1 = clip((f - 1.0) / blend + 0.5, 0.0, 1.0)
+    return (p_left * b_up0, p_left * (1.0 - b_up0), p_right * (1.0 - b_up1), p_right * b_up1)
+
+
+def _blended(fx, fy, blend, clip, hypot):
+    """``{(dc, dr): energy}`` of the tactors around the point (offsets from ``c``, ``r``),
+    the three-tactor energies of every choice mixed by its probability. Works on floats (with
+    ``math``'s functions) and on arrays (numpy's) with the same operations in the same order,
+    so the live path equals the batch path."""
+    sx, sy = _axis_shares(fx, blend, clip), _axis_shares(fy, blend, clip)
+    energy = {}
+    for (ax, bx), px in zip(_AXIS, sx):
+        for (ay, by), py in zip(_AXIS, sy):
+            cells = ((ax, ay), (bx, ay), (ax, by))
+            inv = [1.0 / hypot(fx - cx, fy - cy) for cx, cy in cells]
+            share = px * py / (inv[0] + inv[1] + inv[2])
+            for cell, w in zip(cells, inv):
+                energy[cell] = energy.get(cell, 0.0) + share * w
+    return energy
+
+
+def _clip1(v, lo, hi):
+    return min(max(v, lo), hi)
+
+
+def sample(shape, x, y, t, tol, blend=0.0):
     """The three nearest tactors of the points ``(x, y)`` and their inverse-distance weights.
 
     Parameters
@@ -44,13 +107,23 @@ def sample(shape, x, y, t, tol):
     tol : float or ndarray
         Snap tolerance of the cell lookup.
 
+    blend : float
+        Width of the crossfade band in pitches (0: Park's switch).
+
     Returns
     -------
     list of (cols, rows, values)
-        The four tactors of the square of centres around the point, the farthest at 0.
+        The four tactors of the square of centres around the point, the farthest at 0 (outside
+        a crossfade band).
     """
     c, fx = cell_split(x - 0.5, tol)
     r, fy = cell_split(y - 0.5, tol)
+    if blend > 0.0:
+        on = (fx == 0.0) & (fy == 0.0)
+        gx, gy = np.where(on, 0.5, fx), np.where(on, 0.5, fy)  # (finite, discarded)
+        energy = _blended(gx, gy, blend, np.clip, np.hypot)
+        return [(c + dc, r + dr, np.sqrt(np.where(on, float(dc == 0 and dr == 0), e)))
+                for (dc, dr), e in energy.items()]  # fmt: skip
     # The left-out corner: opposite the nearest; on a centre line, the lower/left one.
     drop_x = np.where(fx >= 0.5, 0.0, 1.0)
     drop_y = np.where(fy >= 0.5, 0.0, 1.0)
@@ -72,12 +145,16 @@ def sample(shape, x, y, t, tol):
     return out
 
 
-def sample1(shape, x, y, t, tol):
-    """Scalar :func:`sample`: ``(col, row, value)`` of the three lit tactors (one on a centre)."""
+def sample1(shape, x, y, t, tol, blend=0.0):
+    """Scalar :func:`sample`: ``(col, row, value)`` of the three lit tactors (one on a centre;
+    up to four inside a crossfade band)."""
     c, fx = cell_split1(x - 0.5, tol)
     r, fy = cell_split1(y - 0.5, tol)
     if fx == 0.0 and fy == 0.0:
         return ((c, r, 1.0),)
+    if blend > 0.0:
+        energy = _blended(fx, fy, blend, _clip1, math.hypot)
+        return tuple((c + dc, r + dr, math.sqrt(e)) for (dc, dr), e in energy.items() if e > 0.0)
     drop = (0 if fx >= 0.5 else 1, 0 if fy >= 0.5 else 1)
     kept = []
     for kx, ky in ((0, 0), (1, 0), (0, 1), (1, 1)):

@@ -2,13 +2,21 @@
 
 Syntacts (Pezent et al., "Syntacts: Open-Source Software and Hardware for Audio-Controlled
 Haptics", IEEE Transactions on Haptics 14(1), 2021) spatialises a virtual source over an array by
-giving each channel a gain that rolls off with its distance ``d`` from the source, zero beyond a
-radius ``r``. This module uses the contract's smoothstep roll-off, ``s(1 - d / r)`` for
-``d < r`` with ``s(x) = x^2 (3 - 2x)``: 1 on the tactor, falling smoothly to 0 with zero slope
-at both ends. Distances are in pitches; ``r = 1`` by default, so a point on a tactor lights it
-alone and a point at a cell corner lights the four around it at ``s(1 - 0.707) = 0.21`` each.
-Intensities do not sum to 1 (nor their squares): Syntacts leaves the balance to the user.
-Works on any coordinate, with or without a shape.
+giving each channel the volume ``curve(1 - clamp(d / r, 0, 1))`` for its distance ``d`` from
+the source (``tact::Spatializer::update``). Its spatializer's defaults are the *linear* curve and
+``r = 0.25`` in its normalised coordinates (``createGrid`` puts the channels of a grid at
+``col / (cols - 1)``, ``row / (rows - 1)``, so on the 5-column palm array 0.25 is one pitch
+across and 1.25 pitches up); the smoothstep ``s(x) = x^2 (3 - 2x)`` is one of the optional
+``tact::Curves`` it can be given instead.
+
+Here ``curve`` is a spec parameter, ``RO:curve=linear`` or ``RO:curve=smoothstep``; the
+contract's ``RO`` is the smoothstep one (``s(1 - d / r)`` for ``d < r``: 1 on the tactor,
+falling to 0 with zero slope at both ends), so that stays the default, and ``RO:curve=linear``
+is Syntacts' own default. Distances are in pitches; ``r = 1`` by default, so a point on a tactor
+lights it alone and a point at a cell corner lights the four around it at ``s(1 - 0.707) =
+0.21`` each (linear: 0.29). Intensities do not sum to 1 (nor their squares): Syntacts leaves the
+balance to the user, and plays the volumes as computed (``CORRECTION = "none"``). Works on any
+coordinate, with or without a shape.
 """
 
 from __future__ import annotations
@@ -22,6 +30,8 @@ TITLE = "roll-off (Syntacts)"
 BILEVEL = False
 NEEDS_SHAPE = False
 PARAMS = {"r": (1.0, 0.1, 10.0, "roll-off radius in pitches: tactors farther away are off")}
+CHOICES = {"curve": (("smoothstep", "linear"), "roll-off curve (Syntacts' default is linear)")}
+CORRECTION = "none"
 
 
 def MAX_TACTORS(r=1.0):
@@ -34,7 +44,15 @@ def smoothstep(x):
     return x * x * (3.0 - 2.0 * x)
 
 
-def sample(shape, x, y, t, tol, r=1.0):
+def linear(x):
+    """``x`` itself: Syntacts' default roll-off curve."""
+    return x
+
+
+CURVES = {"smoothstep": smoothstep, "linear": linear}
+
+
+def sample(shape, x, y, t, tol, r=1.0, curve="smoothstep"):
     """Tactors within ``r`` of the points ``(x, y)`` and their roll-off gains.
 
     Parameters
@@ -47,6 +65,8 @@ def sample(shape, x, y, t, tol, r=1.0):
         Snap tolerance of the cell lookup.
     r : float
         Roll-off radius in pitches.
+    curve : {"smoothstep", "linear"}
+        The roll-off curve ``s``.
 
     Returns
     -------
@@ -55,10 +75,12 @@ def sample(shape, x, y, t, tol, r=1.0):
         ``s(1 - d / r)`` in [0, 1], 0 at ``d >= r``.
     """
     inv = 1.0 / r
-    return _radial.sample(x, y, tol, r, True, lambda d: smoothstep(np.clip(1.0 - d * inv, 0, 1)))
+    s = CURVES[curve]
+    return _radial.sample(x, y, tol, r, True, lambda d: s(np.clip(1.0 - d * inv, 0, 1)))
 
 
-def sample1(shape, x, y, t, tol, r=1.0):
+def sample1(shape, x, y, t, tol, r=1.0, curve="smoothstep"):
     """Scalar :func:`sample`: ``(col, row, value)`` of the lit tactors."""
     inv = 1.0 / r
-    return _radial.sample1(x, y, tol, r, True, lambda d: smoothstep(1.0 - d * inv))
+    s = CURVES[curve]
+    return _radial.sample1(x, y, tol, r, True, lambda d: s(1.0 - d * inv))

@@ -1,0 +1,160 @@
+"""The statistics beyond the paper's, each cross-checked against scipy or statsmodels (or a
+hand computation from the definition) on the same data; the paper's pairwise_wilcoxon keeps
+its contract (tests/test_statistics.py)."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from tactile_core.experiments.inference import (
+    against_chance,
+    bonferroni,
+    effect_sizes_with_intervals,
+    exp3_mixed_model,
+    holm,
+    one_sample,
+    pairwise_exact,
+    ratings_mixed_model,
+    signed_rank_exact,
+)
+from tactile_core.experiments.stats import pairwise_effect_sizes
+
+EXACT = stats.PermutationMethod(n_resamples=np.inf)  # scipy enumerates all 2^n sign flips
+
+
+def tied_scores(seed, n=12, k=4):
+    rng = np.random.default_rng(seed)
+    return {m: rng.integers(0, 8, n).astype(float) * 10 for m in "ABCD"[:k]}
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_exact_signed_rank_test_equals_scipys_permutation_test_with_ties(seed):
+    s = tied_scores(seed)
+    d = s["A"] - s["B"]
+    nonzero = d[d != 0]
+    assert len(np.unique(np.abs(nonzero))) < len(nonzero)  # ties present
+    for alternative in ("two-sided", "greater", "less"):
+        _, p = signed_rank_exact(d, alternative=alternative)
+        ref = stats.wilcoxon(nonzero, alternative=alternative, method=EXACT).pvalue
+        assert p == pytest.approx(ref, rel=1e-12)
+
+
+def test_without_ties_it_is_scipys_exact_distribution():
+    d = np.array([1.5, -2.0, 3.1, 4.2, 5.0, -6.3, 7.7, 8.1, 9.9, 10.4, -11.0, 12.6])
+    t, p = signed_rank_exact(d)
+    ref = stats.wilcoxon(d, method="exact")
+    assert p == pytest.approx(ref.pvalue, rel=1e-12)
+    assert t == 1 + 3 + 4 + 5 + 7 + 8 + 9 + 10 + 12  # ranks of the positive differences
+    # All 12 one way: p = 2 / 2^12 (the paper's smallest Wilcoxon p, exactly).
+    assert signed_rank_exact(np.arange(1, 13.0))[1] == pytest.approx(2 / 4096)
+
+
+def test_holm_and_bonferroni_equal_statsmodels():
+    from statsmodels.stats.multitest import multipletests
+
+    p = np.array([0.01, 0.04, 0.03, 0.005, 0.2, 0.5])
+    assert holm(p) == pytest.approx(multipletests(p, method="holm")[1])
+    assert bonferroni(p) == pytest.approx(multipletests(p, method="bonferroni")[1])
+    table = pairwise_exact(tied_scores(3))
+    raw = [v["p"] for v in table.values()]
+    assert [v["holm"] for v in table.values()] == pytest.approx(
+        multipletests(raw, method="holm")[1]
+    )
+    assert all(v["holm"] <= v["bonferroni"] for v in table.values())
+
+
+def test_effect_sizes_and_their_bootstrap_intervals():
+    s = tied_scores(4)
+    got = effect_sizes_with_intervals(s, n_resamples=4000)
+    ref = pairwise_effect_sizes(s)
+    for pair, (r, lo, hi) in got.items():
+        assert r == pytest.approx(ref[pair], abs=1e-12)  # the same r as the analysis reports
+        assert lo <= r <= hi
+    # The interval against scipy's percentile bootstrap of the same statistic.
+    from tactile_core.experiments.inference import _rank_r
+
+    d = s["A"] - s["C"]
+    boot = stats.bootstrap((d,), lambda x, axis: _rank_r(np.moveaxis(x, axis, -1)),
+                           n_resamples=4000, method="percentile", rng=1)  # fmt: skip
+    _, lo, hi = got[("A", "C")]
+    assert lo == pytest.approx(boot.confidence_interval.low, abs=0.06)
+    assert hi == pytest.approx(boot.confidence_interval.high, abs=0.06)
+
+
+def test_one_sample_against_one_grid_unit():
+    v = np.array([0.42, 0.55, 0.61, 0.70, 0.78, 0.80, 0.85, 0.93, 1.05, 1.12, 0.38, 0.66])
+    got = one_sample(v, 1.0, alternative="less")
+    t = stats.ttest_1samp(v, 1.0, alternative="less")
+    assert got["t"] == pytest.approx(t.statistic) and got["p_t"] == pytest.approx(t.pvalue)
+    exact = stats.wilcoxon(v - 1.0, alternative="less", method="exact").pvalue
+    assert got["p_exact"] == pytest.approx(exact, rel=1e-12)
+    lo, hi = got["ci"]
+    half = stats.t.ppf(0.975, 11) * v.std(ddof=1) / math.sqrt(12)
+    assert (lo, hi) == pytest.approx((v.mean() - half, v.mean() + half))
+    assert got["d"] == pytest.approx((v.mean() - 1) / v.std(ddof=1))
+
+
+def test_accuracy_against_chance():
+    correct = np.array([6, 7, 5, 8, 9, 6, 7, 5, 4, 8, 7, 6])
+    got = against_chance(correct, 10)
+    k, n = int(correct.sum()), 120
+    tail = sum(math.comb(n, j) for j in range(k, n + 1)) / 2**n  # P(X >= k), X ~ B(120, 1/2)
+    assert got["p_binomial"] == pytest.approx(tail, rel=1e-9)
+    nonzero = (correct - 5)[correct != 5]
+    ref = stats.wilcoxon(nonzero, alternative="greater", method=EXACT).pvalue
+    assert got["p_exact"] == pytest.approx(ref, rel=1e-12)
+
+
+def test_the_linear_mixed_model_of_a_balanced_design_by_hand():
+    # Balanced participants x conditions with participant effects: REML's fixed effects are
+    # the differences of condition means, its residual variance the two-way ANOVA's residual
+    # mean square, and a difference's SE sqrt(2 MS_res / n).
+    rng = np.random.default_rng(5)
+    n, k = 12, 4
+    y = rng.normal(0, 15, (n, 1)) + np.array([100.0, 104, 118, 125]) + rng.normal(0, 8, (n, k))
+    got = ratings_mixed_model({m: y[:, j] for j, m in enumerate("ABCD")})
+    resid = y - y.mean(axis=1, keepdims=True) - y.mean(axis=0) + y.mean()
+    ms_res = (resid**2).sum() / ((n - 1) * (k - 1))
+    assert got["residual_var"] == pytest.approx(ms_res, rel=1e-4)
+    ms_participant = k * ((y.mean(axis=1) - y.mean()) ** 2).sum() / (n - 1)
+    assert got["participant_var"] == pytest.approx((ms_participant - ms_res) / k, rel=1e-3)
+    for j, m in enumerate("BCD", start=1):
+        estimate, se, _ = got["effects"][m]
+        assert estimate == pytest.approx(y[:, j].mean() - y[:, 0].mean(), abs=1e-6)
+        assert se == pytest.approx(math.sqrt(2 * ms_res / n), rel=1e-3)
+    assert not got["boundary"] and "OrderedModel" in got["note"]
+
+
+def test_the_logistic_mixed_model_is_the_intended_posterior():
+    # The posterior mode statsmodels finds equals an independent maximisation (scipy) of the
+    # log posterior written from the model's definition: Bernoulli log-likelihood, a random
+    # intercept per participant ~ N(0, exp(v)^2), v ~ N(0, 1), fixed effects ~ N(0, 2^2).
+    from scipy.optimize import minimize
+
+    rng = np.random.default_rng(6)
+    methods = ["A", "B", "C"]
+    answers = {}
+    for i in range(6):
+        bias = rng.normal(0, 0.5)
+        answers[f"p{i}"] = {
+            m: [("circle", "circle" if rng.random() < 1 / (1 + math.exp(-(0.2 + j * 0.6 + bias)))
+                 else "square") for _ in range(10)]
+            for j, m in enumerate(methods)
+        }  # fmt: skip
+    got = exp3_mixed_model(answers, methods)
+    y = np.array([a == "circle" for p in answers.values() for m in methods for _, a in p[m]])
+    x = np.array([[1.0, m == "B", m == "C"] for _ in answers for m in methods for _ in range(10)])
+    who = np.repeat(np.arange(6), 30)
+
+    def negative(theta):
+        fe, v, u = theta[:3], theta[3], theta[4:]
+        eta = x @ fe + u[who]
+        ll = np.sum(y * eta - np.logaddexp(0, eta))
+        ll -= 0.5 * np.sum(u**2) / math.exp(2 * v) + 6 * v + 0.5 * v**2 + 0.5 * fe @ fe / 4
+        return -ll
+
+    best = minimize(negative, np.zeros(10), method="BFGS", options={"gtol": 1e-8})
+    assert got["map"] == pytest.approx(best.x[:3], abs=2e-3)
+    assert set(got["effects"]) == {"B", "C"} and got["participant_sd"] > 0
