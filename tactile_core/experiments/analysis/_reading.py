@@ -17,15 +17,31 @@ from ..runners import METHODS
 
 @dataclass
 class Problems:
-    """Rows left out of the analysis, as ``file:row: problem``."""
+    """Rows left out of the analysis, as ``file:row: problem``.
+
+    ``items`` keeps the first :data:`MAX_KEPT`; ``len()`` counts them all."""
 
     items: list = field(default_factory=list)
+    total: int = 0
+    per_file: dict = field(default_factory=dict)
 
     def add(self, path, line: int, problem: str) -> None:
-        self.items.append(f"{path}:{line}: {problem}")
+        """Report ``problem`` at ``path:line``."""
+        self.total += 1
+        self.per_file[str(path)] = self.per_file.get(str(path), 0) + 1
+        if len(self.items) < MAX_KEPT:
+            self.items.append(f"{path}:{line}: {problem}")
+
+    def in_file(self, path) -> int:
+        """How many problems ``path`` has had."""
+        return self.per_file.get(str(path), 0)
 
     def __len__(self) -> int:
-        return len(self.items)
+        return self.total
+
+
+MAX_KEPT = 1000
+"""Problems kept with their text (the rest are counted)."""
 
 
 def check_sessions(folders, problems: Problems) -> None:
@@ -66,7 +82,7 @@ def participants(results_dir) -> list[Path]:
 
 
 MAX_PROBLEMS_PER_FILE = 100
-"""Rows that cannot be read in one file before the rest of it is left out."""
+"""Rows of one file that cannot be read or used before the rest of it is left out."""
 
 
 def numbered_rows(path, problems: Problems):
@@ -82,7 +98,8 @@ def numbered_rows(path, problems: Problems):
     problems : Problems
         Where a file that cannot be read, a torn last line (no line end) or a row with the
         wrong number of fields is reported; such rows are left out. After
-        :data:`MAX_PROBLEMS_PER_FILE` of them the rest of the file is left out too.
+        :data:`MAX_PROBLEMS_PER_FILE` problems in the file (these, or those its readers
+        report) the rest of the file is left out too.
 
     Yields
     ------
@@ -92,18 +109,16 @@ def numbered_rows(path, problems: Problems):
     path = Path(path)
     if not os.path.lexists(path):
         return
-    bad = 0
     try:
         for line, row, problem in scan_rows(path, _Unreadable):
+            if problems.in_file(path) >= MAX_PROBLEMS_PER_FILE:
+                problems.add(path, line, f"{problems.in_file(path)} rows cannot be used: the "
+                             "rest of the file is left out")  # fmt: skip
+                return
             if row is not None:
                 yield line, row
-                continue
-            bad += 1
-            problems.add(path, line, problem)
-            if bad >= MAX_PROBLEMS_PER_FILE:
-                problems.add(path, line, f"{bad} rows cannot be read: the rest of the file is "
-                             "left out")  # fmt: skip
-                return
+            else:
+                problems.add(path, line, problem)
     except _Unreadable as exc:
         problems.add(path, 1, f"cannot be read: {exc}".replace(f"{path}: ", "", 1))
 

@@ -31,8 +31,11 @@ MAX_ROW_BYTES = 8 << 10
 _CHUNK = 64 << 10
 
 _NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
-_QUIET = _NOFOLLOW | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | getattr(
-    os, "O_CLOEXEC", 0
+_QUIET = (
+    _NOFOLLOW
+    | getattr(os, "O_NONBLOCK", 0)
+    | getattr(os, "O_NOCTTY", 0)
+    | getattr(os, "O_CLOEXEC", 0)
 )
 
 

@@ -101,8 +101,8 @@ class Experiment1(Runner):
             if row.get("mapping") != " ".join(self.mapping):
                 raise ValueError(
                     f"field mapping is {_validate.shown(row.get('mapping'))}, but the session "
-                    f"deals {_validate.shown(' '.join(self.mapping))}: a different seed or software, "
-                    "or the row was changed after it was written"
+                    f"deals {_validate.shown(' '.join(self.mapping))}: a different seed or "
+                    "software, or the row was changed after it was written"
                 )
             return
         super()._check_recorded(trial, row)

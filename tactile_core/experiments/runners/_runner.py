@@ -288,14 +288,19 @@ class Runner:
         trial = self.current
         if trial is None:
             raise ValueError("a row beyond the last trial")
-        if row.get("stage") != trial.stage or row.get("trial") != str(trial.index):
-            raise ValueError(
-                f"stage {_validate.shown(row.get('stage'))}, trial "
-                f"{_validate.shown(row.get('trial'))} is not this session's next trial "
-                f"({trial.stage} {trial.index}): another seed, or rows out of order"
-            )
+        for key, value in (("stage", trial.stage), ("trial", str(trial.index))):
+            if row.get(key) != value:
+                raise ValueError(
+                    f"field {key} is {_validate.shown(row.get(key))}, but this session's next "
+                    f"trial is {trial.stage} {trial.index}: another seed, or rows out of order"
+                )
         self._check_recorded(trial, row)
-        value = self.check_answer(trial, self._recorded_answer(trial, row))
+        try:
+            value = self.check_answer(trial, self._recorded_answer(trial, row))
+        except ValueError as exc:
+            raise ValueError(
+                f"field answer is {_validate.shown(row.get('answer'))}: {exc}"
+            ) from None
         nxt = self._advance(value)
         expected = self._full_row(trial, value)
         measured = self.measured(trial)
@@ -316,7 +321,7 @@ class Runner:
         answer = row.get("answer", "")
         if trial.kind == "rating":
             if not answer.isascii() or not answer.isdigit():
-                raise ValueError(f"field answer is {_validate.shown(answer)}, not a rating 0-100")
+                raise ValueError("not a rating 0-100")
             return int(answer)
         if trial.kind in ("continue", "prepare"):
             return "continue"
