@@ -132,7 +132,7 @@ def test_every_field_of_a_row_blanked_or_changed_is_refused(run):
                 continue
             path.write_bytes(original)
             change(run, 22, field, value)
-            with pytest.raises(SessionError, match=rf"exp2\.csv:22: field \w+ is"):
+            with pytest.raises(SessionError, match=r"exp2\.csv:22: field \w+ is"):
                 Experiment2(open_session(run, "p01"))
             tried += 1
     assert tried >= 2 * len(header) - len(MEASURED) - 1
@@ -278,7 +278,6 @@ def test_a_500_mb_results_file_is_refused_by_its_size_without_reading_it(run):
 
 def test_rows_are_streamed_and_a_surplus_stops_the_reading(run):
     path = run / "participant-p01" / "exp2.csv"
-    header, rows = table(path)
     body = path.read_bytes().split(b"\n", 1)[1]
     copies = (MAX_RESULTS_BYTES // 2) // len(body)
     with path.open("ab") as f:
