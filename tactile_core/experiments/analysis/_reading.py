@@ -75,6 +75,8 @@ def participants(results_dir) -> list[Path]:
     ValueError
         If ``results_dir`` is not a folder.
     """
+    if not isinstance(results_dir, (str, os.PathLike)) or not str(results_dir):
+        raise ValueError(f"results folder must be a folder path, got {results_dir!r}")
     root = Path(results_dir)
     if not root.is_dir():
         raise ValueError(f"results folder {str(root)!r} does not exist")

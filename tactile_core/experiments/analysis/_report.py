@@ -90,8 +90,8 @@ def analyze(results_dir, out=print, *, paper_rounding: bool = False, progress=No
         If the folder does not exist or holds no participant.
     """
     progress = progress or (lambda fraction, what: None)
+    folders = participants(results_dir)  # refuses '' (not the current folder)
     root = Path(results_dir)
-    folders = participants(root)
     if not folders:
         raise ValueError(f"no participant-* folders in {str(root)!r}")
     problems = Problems()

@@ -204,6 +204,9 @@ class Square(Shape):
     def __post_init__(self):
         object.__setattr__(self, "center", _validate.point("center", self.center))
         object.__setattr__(self, "edge", _validate.size("edge", self.edge))
+        cx, cy = self.center
+        h = self.edge / 2.0
+        _validate.extent("edge", "square", self.edge, (cx - h, cx + h, cy - h, cy + h))
 
     @cached_property
     def polyline(self) -> Polyline:
