@@ -21,7 +21,7 @@ def cmd_analyze(args) -> int:
 
 def cmd_simulate(args) -> int:
     """Run every experiment with simulated participants into a results folder (the correction
-tuning with the contract's simulated participant, its measured correction kept)."""
+    tuning with the contract's simulated participant, its measured correction kept)."""
     from ..experiments import RUNNERS, SimulatedParticipant, open_session, save_correction
 
     _validate.integer("participants", args.participants, 1, 1000)
