@@ -89,8 +89,8 @@ class Polyline(Shape):
     def xy(self, t):
         breaks = self._segments[2]
         table, _ = self._segment_table
-        i = np.searchsorted(breaks, t, side="right") - 1
-        np.clip(i, 0, table.shape[1] - 1, out=i)
+        # Not clipped in place: for a scalar t, searchsorted returns a scalar (f(0.25) works).
+        i = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, table.shape[1] - 1)
         t0, width, ax, ay, bx, by = table.take(i, axis=1)
         s = clamp((t - t0) / width, 0.0, 1.0)
         r = 1.0 - s
