@@ -177,6 +177,20 @@ def test_a_header_cut_short_then_junk_is_set_aside(tmp_path, cut, junk):
     assert kept == (torn if torn.endswith(b"\n") else torn + b"\n")
 
 
+@pytest.mark.parametrize("junk", [b"\x00" * 30 + b"\n" + b"\x00" * 30 + b"\n", b"z\nq,q\n\xff"])
+def test_a_torn_row_then_lines_of_junk_is_set_aside(run, junk):
+    path = run / "participant-p01" / "exp2.csv"
+    data = path.read_bytes()
+    start = data.rstrip(b"\n").rfind(b"\n") + 1  # the last row
+    path.write_bytes(data[: start + 20] + junk)  # before: refused, needing hand repair
+    runner = Experiment2(open_session(run, "p01"))
+    assert runner.done == 39 and "what follows it" in runner.recovered
+    runner.close()
+    assert path.read_bytes() == data[:start]
+    torn = data[start : start + 20] + junk
+    assert (path.parent / "exp2.csv.torn").read_bytes() == torn + b"\n" * (not junk.endswith(b"\n"))
+
+
 @pytest.mark.parametrize(
     "first",
     [

@@ -105,39 +105,42 @@ def last_newline(fd: int, size: int) -> int:
     return -1
 
 
-def lines(fd: int, start: int, end: int, path, error=SessionError):
+def lines(fd: int, start: int, end: int):
     """The lines of ``fd`` from offset ``start`` up to offset ``end``, one at a time.
 
     Yields
     ------
     offset : int
         Where the line starts.
-    line : bytes
-        The line, with its line end if it has one.
-
-    Raises
-    ------
-    error
-        For a line longer than :data:`MAX_ROW_BYTES`, naming the file and the line number (the
-        header counted as line 1).
+    line : bytes or None
+        The line, with its line end if it has one; None for a line longer than
+        :data:`MAX_ROW_BYTES` (skipped, never held in memory whole).
     """
     with open(fd, "rb", closefd=False) as f:
         f.seek(start)
-        offset, number = start, 2
+        offset = start
         while offset < end:
             line = f.readline(min(MAX_ROW_BYTES + 1, end - offset))
             if not line:
                 return  # the file shrank under us
-            if len(line) > MAX_ROW_BYTES or (not line.endswith(b"\n") and
-                                             offset + len(line) < end):  # fmt: skip
-                raise error(f"{path}:{number}: a row longer than {MAX_ROW_BYTES} bytes")
-            yield offset, line
-            offset += len(line)
-            number += 1
+            length = len(line)
+            if length > MAX_ROW_BYTES or (not line.endswith(b"\n") and offset + length < end):
+                while not line.endswith(b"\n") and offset + length < end:
+                    line = f.readline(min(1 << 16, end - offset - length))
+                    if not line:
+                        break
+                    length += len(line)
+                yield offset, None
+            else:
+                yield offset, line
+            offset += length
 
 
-def parse_line(line: bytes) -> list[str]:
-    """The fields of one CSV line; ``ValueError`` if it is not UTF-8 or not one CSV row."""
+def parse_line(line: bytes | None) -> list[str]:
+    """The fields of one CSV line; ``ValueError`` if it is too long (None, from :func:`lines`),
+    not UTF-8 or not one CSV row."""
+    if line is None:
+        raise ValueError(f"a row longer than {MAX_ROW_BYTES} bytes")
     try:
         text = line.decode("utf-8")
     except UnicodeDecodeError:
@@ -187,7 +190,7 @@ def scan_rows(path, error=SessionError):
         except ValueError as exc:
             raise error(f"{path}:1: {exc}") from None
         number = 1
-        for number, (_, line) in enumerate(lines(fd, nl + 1, end, path, error), start=2):
+        for number, (_, line) in enumerate(lines(fd, nl + 1, end), start=2):
             try:
                 values = parse_line(line)
                 if len(values) != len(fields):

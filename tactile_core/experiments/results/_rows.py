@@ -31,9 +31,11 @@ class ResultsFile:
     Reading it back (:meth:`rows`) streams the rows one at a time. What a crash or a full disk
     can leave is repaired, never lost: a last row without its line end, or that is not one row
     of the header's fields, is moved to ``<file>.torn`` (appended, never deleted) and the file
-    is cut back to its last complete row, so that trial is presented again; a header cut short,
-    whatever follows it, is moved aside in the same way (no row is written before the header is
-    complete). Any other malformed row is refused with ``file:row: problem``. :attr:`recovered`
+    is cut back to its last complete row, so that trial is presented again. Junk after a torn
+    row (lines that are not rows, as a file system can leave after a crash) goes with it; a
+    header cut short, whatever follows it, is moved aside in the same way (no row is written
+    before the header is complete). A malformed row with rows after it is refused with
+    ``file:row: problem``. :attr:`recovered`
     says what was moved aside.
 
     :meth:`append` writes a row, flushes and syncs it; if that fails (a full disk) the file is
@@ -98,22 +100,38 @@ class ResultsFile:
         if not head.startswith(header):
             self._torn_header(head, size, end, header)
             return
-        if end < size:  # a last row without its line end: torn
-            self._set_aside(end, size, "a torn last row")
-            self._cut(end)
-        last = last_newline(fd, end - 1) + 1 if end > len(header) else end  # the last row
-        for line, (offset, data) in enumerate(lines(fd, len(header), end, self.path), start=2):
+        for line, (offset, data) in enumerate(lines(fd, len(header), end), start=2):
             try:
-                values = parse_line(data)
-                if len(values) != len(self.fields):
-                    raise ValueError(f"{len(values)} fields, the header has {len(self.fields)}")
+                values = self._values(data)
             except ValueError as exc:
-                if offset == last:  # malformed last row: treated as torn
-                    self._set_aside(offset, end, f"row {line}, {exc}")
+                if not self._rows_after(offset, end):  # a torn row, and junk after it: set aside
+                    self._set_aside(offset, size, f"row {line} ({exc}) and what follows it")
                     self._cut(offset)
                     return
                 raise SessionError(f"{self.path}:{line}: {exc}") from None
             yield line, dict(zip(self.fields, values))
+        if end < size:  # a last row without its line end: torn (moved once all rows are read)
+            self._set_aside(end, size, "a torn last row")
+            self._cut(end)
+
+    def _values(self, data) -> list[str]:
+        values = parse_line(data)
+        if len(values) != len(self.fields):
+            raise ValueError(f"{len(values)} fields, the header has {len(self.fields)}")
+        return values
+
+    def _rows_after(self, offset: int, end: int) -> bool:
+        """True if a line after the one at ``offset`` (up to ``end``) is a row of the header's
+        fields: then the line at ``offset`` is not a torn last row but a broken one."""
+        for at, data in lines(self._fd, offset, end):
+            if at == offset:
+                continue
+            try:
+                self._values(data)
+            except ValueError:
+                continue
+            return True
+        return False
 
     def _torn_header(self, head: bytes, size: int, end: int, header: bytes) -> None:
         """A file that does not start with the header: a header cut short (moved aside with
