@@ -328,14 +328,18 @@ def test_a_session_nested_500_deep_is_refused_at_load(run):
     data = json.loads(path.read_text())
     data["parameters"]["deep"] = nested(500)
     path.write_text(json.dumps(data))
-    with pytest.raises(SessionError, match=r"session\.json: nested more than 20 deep"):
+    with pytest.raises(
+        SessionError, match=r"session\.json: nested too deeply \(more than 20 levels"
+    ):
         open_session(run, "p01")  # before: accepted, then Experiment2 raised RecursionError
 
 
 def test_a_correction_nested_500_deep_is_refused(run):
     correction = {"format": "tactile-correction", "mu": 0.3, "gamma": 0.6, "x": nested(500)}
     (run / "participant-p01" / "correction.json").write_text(json.dumps(correction))
-    with pytest.raises(ValueError, match=r"correction\.json: nested more than 20 deep"):
+    with pytest.raises(
+        ValueError, match=r"correction\.json: nested too deeply \(more than 20 levels"
+    ):
         Experiment2(open_session(run, "p01"))
 
 
@@ -350,9 +354,9 @@ def test_deep_presets_and_profiles_are_refused_by_the_cli(tmp_path, capsys):
     preset["notes"], profile["notes"] = nested(300), nested(300)
     (tmp_path / "preset.json").write_text(json.dumps(preset))
     (tmp_path / "profile.json").write_text(json.dumps(profile))
-    with pytest.raises(PresetError, match="nested more than 20 deep"):
+    with pytest.raises(PresetError, match=r"nested too deeply \(more than 20 levels"):
         load_preset(tmp_path / "preset.json")
-    with pytest.raises(ProfileError, match="nested more than 20 deep"):
+    with pytest.raises(ProfileError, match=r"nested too deeply \(more than 20 levels"):
         load_profile(tmp_path / "profile.json")
     code = main(["emulate", "--profile", str(tmp_path / "profile.json"), "--seconds", "0.1"])
-    assert code == 2 and "nested more than 20 deep" in capsys.readouterr().err
+    assert code == 2 and "nested too deeply (more than 20 levels" in capsys.readouterr().err

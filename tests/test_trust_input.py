@@ -112,7 +112,7 @@ PLUGINS = {
     "twice": f"return [({CELL}, 0.75), ({CELL}, 0.75)]",  # before: 1.5 on one tactor
     "offgrid": "return [(x * 0 - 1, y * 0 - 1, 0.5), (x * 0 - 1, y * 0 - 1, 0.5)]",  # dropped
     "nan": f"return [({CELL}, x * np.nan)]",
-    "half": f"return [({CELL}, 0.5)]",  # MAX_TACTORS divides by k: k=0 raises
+    "halfk": f"return [({CELL}, 0.5)]",  # MAX_TACTORS divides by k: k=0 raises
     "quits": "sys.exit(3)",
     "ctrlc": "raise KeyboardInterrupt",
     "short": f"return [({CELL}, np.zeros(len(x) + 1))]",  # one value too many
@@ -126,14 +126,14 @@ def plugins(tmp_path, monkeypatch):
     points = []
     for name, body in PLUGINS.items():
         text = PLUGIN.format(name=name.upper(), sample=body)
-        (root / f"tt_{name}.py").write_text(textwrap.dedent(text))
-        points.append(f"{name} = tt_{name}")
-    (root / "tt_exits.py").write_text("import sys\nsys.exit(1)\n")
-    (root / "tt_interrupts.py").write_text("raise KeyboardInterrupt\n")
-    points += ["exits = tt_exits", "interrupts = tt_interrupts"]
-    info = root / "tt_trust-0.1.dist-info"
+        (root / f"trust19_{name}.py").write_text(textwrap.dedent(text))
+        points.append(f"{name} = trust19_{name}")
+    (root / "trust19_exits.py").write_text("import sys\nsys.exit(1)\n")
+    (root / "trust19_interrupts.py").write_text("raise KeyboardInterrupt\n")
+    points += ["exits = trust19_exits", "interrupts = trust19_interrupts"]
+    info = root / "trust19-0.1.dist-info"
     info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: tt-trust\nVersion: 0.1\n")
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: trust19\nVersion: 0.1\n")
     (info / "entry_points.txt").write_text("[tactile_tuner.methods]\n" + "\n".join(points) + "\n")
     monkeypatch.syspath_prepend(str(root))
     before, unavailable = dict(registry.METHODS), dict(registry.UNAVAILABLE)
@@ -152,7 +152,7 @@ LINE = tc.Line((1.2, 2.7), (3.6, 2.7))
 def test_sys_exit_and_ctrl_c_in_a_plugins_import_are_contained(plugins):
     assert registry.UNAVAILABLE["exits"] == "SystemExit: 1"
     assert registry.UNAVAILABLE["interrupts"].startswith("KeyboardInterrupt")
-    assert {"TWICE", "HALF", "QUITS"} <= set(registry.METHODS)
+    assert {"TWICE", "HALFK", "QUITS"} <= set(registry.METHODS)
 
 
 def test_a_cell_named_twice_at_one_point_is_refused(plugins):
@@ -181,11 +181,11 @@ def test_a_plugins_bad_output_and_exits_become_its_error(plugins, name, error):
 
 
 def test_max_tactors_that_raises_is_a_clean_error_from_render(plugins, tmp_path, capsys):
-    code, err = run_cli(capsys, "render", "--shape", "circle:2.5,3,2", "--method", "HALF:k=0",
+    code, err = run_cli(capsys, "render", "--shape", "circle:2.5,3,2", "--method", "HALFK:k=0",
                         "--out", str(tmp_path / "f.csv"))  # fmt: skip
     # Before: a ZeroDivisionError traceback.
     assert code == 2 and "MAX_TACTORS failed at k=0: ZeroDivisionError" in err
-    assert tc.get_method("HALF:k=0.5").max_tactors == 4
+    assert tc.get_method("HALFK:k=0.5").max_tactors == 4
 
 
 # --- item 14: modes, numbers, empty paths, simulate correction ---------------------------------

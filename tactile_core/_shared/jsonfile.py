@@ -76,12 +76,13 @@ def parse_json(data: bytes, source, error=ValueError, *, max_depth: int = MAX_JS
     except json.JSONDecodeError as exc:
         raise error(f"{source}: not valid JSON: {exc.msg} at line {exc.lineno}") from None
     except RecursionError:
-        raise error(f"{source}: nested more than {max_depth} deep") from None
+        raise error(f"{source}: nested too deeply (more than {max_depth} levels of arrays and "
+                    "objects; no file of this tool nests that deep)") from None  # fmt: skip
     except ValueError as exc:  # NaN/Infinity, or an integer of more than 4300 digits
         raise error(f"{source}: not valid JSON: {str(exc)[:120]}") from None
     if depth(value, max_depth) > max_depth:
-        raise error(f"{source}: nested more than {max_depth} deep (arrays and objects within "
-                    "each other); no file of this tool nests that deep")  # fmt: skip
+        raise error(f"{source}: nested too deeply (more than {max_depth} levels of arrays and "
+                    "objects; no file of this tool nests that deep)")  # fmt: skip
     return value
 
 
