@@ -205,20 +205,21 @@ class Runner:
         Raises
         ------
         ValueError
-            If the answer is not valid for the trial (nothing is recorded), or the runner has
-            finished.
+            If the answer is not valid for the trial, ``rt_s`` is not a time >= 0 or a health
+            count not a whole number >= 0 (nothing is recorded), or the runner has finished.
         """
         trial = self.current
         if trial is None:
             raise ValueError("answer: the experiment has finished")
         value = self.check_answer(trial, answer)
+        measured = {"rt_s": "" if rt_s is None else f"{_validate.non_negative('rt_s', rt_s):.3f}"}
+        for key in HEALTH_FIELDS:  # what a resume accepts in these fields: checked before
+            has = health is not None and key in health
+            measured[key] = str(_validate.integer(key, health[key], 0)) if has else ""
         feedback = self._feedback(trial, value)
         nxt = self._advance(value)
         row = self._full_row(trial, value)
-        row["rt_s"] = "" if rt_s is None else f"{rt_s:.3f}"
-        row["time"] = now()
-        for key in HEALTH_FIELDS:
-            row[key] = "" if health is None or key not in health else str(int(health[key]))
+        row.update(measured, time=now())
         if self._file is not None:
             try:
                 self._file.append(row)  # durable before the runner moves on
@@ -371,14 +372,14 @@ def _check_measured(key: str, value: str) -> None:
         elif key == "rt_s":
             ok = _DECIMAL.fullmatch(value) is not None
         else:
-            ok = value.isascii() and value.isdigit() and len(value) <= 18
+            ok = value.isascii() and value.isdigit() and len(value) <= 40
     except ValueError:
         ok = False
     if not ok:
         raise ValueError(f"field {key} is {_validate.shown(value)}, which the runner never writes")
 
 
-_DECIMAL = re.compile(r"[0-9]{1,12}(\.[0-9]{1,6})?")
+_DECIMAL = re.compile(r"[0-9]{1,40}(\.[0-9]{1,6})?")
 
 
 def _continue(experiment, stage, index, prompt) -> Trial:
