@@ -8,16 +8,17 @@ after start-up to a PNG and exits (works offscreen: ``QT_QPA_PLATFORM=offscreen`
 from __future__ import annotations
 
 import argparse
+import re
 import signal
 import sys
 import traceback
 
 
 def _size(text: str) -> tuple[int, int]:
-    try:
-        w, h = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"size must look like 1280x720, got {text!r}") from None
+    found = re.fullmatch(r"([0-9]{1,6})[xX]([0-9]{1,6})", text)  # ASCII digits only: no 1_280
+    if found is None:
+        raise argparse.ArgumentTypeError(f"size must look like 1280x720, got {text!r}")
+    w, h = int(found[1]), int(found[2])
     if not (320 <= w <= 10_000 and 240 <= h <= 10_000):
         raise argparse.ArgumentTypeError(f"size must be within 320x240 .. 10000x10000: {text}")
     return w, h
@@ -64,6 +65,14 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     """Entry point of ``tactile-tuner``."""
     args = build_parser().parse_args(argv)
+    if args.screenshot is not None:  # before Qt: a path that cannot be written is refused now
+        from tactile_core._shared.outfile import OutputError, check_output
+
+        try:
+            check_output(args.screenshot, (".png",), "--screenshot")
+        except OutputError as exc:
+            print(f"tactile-tuner: error: {exc}", file=sys.stderr)
+            return 2
     if args.bench:
         from .bench import run
 
@@ -129,18 +138,33 @@ def main(argv=None) -> int:
     window.fit_to_screen(keep_size=args.size is not None)  # a size asked for is the size
     window.show()
 
+    failed = []
     if args.screenshot:
 
         def shoot():
-            window.grab().save(args.screenshot)
-            print(f"saved {args.screenshot}")
+            from tactile_core._shared.outfile import atomic_file
+
+            data = QtCore.QByteArray()
+            buffer = QtCore.QBuffer(data)
+            buffer.open(QtCore.QIODevice.OpenModeFlag.WriteOnly)
+            try:
+                if not window.grab().save(buffer, "PNG"):
+                    raise OSError("the window could not be encoded as PNG")
+                with atomic_file(args.screenshot, binary=True) as f:  # all or nothing
+                    f.write(bytes(data))
+            except OSError as exc:
+                print(f"tactile-tuner: error: --screenshot {args.screenshot}: "
+                      f"{exc.strerror or exc}", file=sys.stderr)  # fmt: skip
+                failed.append(exc)
+            else:
+                print(f"saved {args.screenshot}")
             window.close()
 
         QtCore.QTimer.singleShot(1200, shoot)
 
     app.aboutToQuit.connect(window.device.shutdown)
     code = app.exec()
-    return code
+    return 1 if failed else code
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@ calibration, and the paper's pipeline recorded. (Statistics: test_statistics.py;
 test_analysis.py.)"""
 
 import csv
+import os
 import subprocess
 
 import numpy as np
@@ -144,14 +145,17 @@ def test_rows_are_on_disk_before_answer_returns(tmp_path):
     assert len(data) == 2 and data[1]["rt_s"] == "1.250"
 
 
-def make_lock_stale(path):
-    """Rewrite a participant's lock as a process that has ended would have left it."""
+def make_lock_stale(lock):
+    """Leave a participant's lock as a process that has ended would have left it: its record
+    names a process that no longer runs, and its descriptor is closed (the kernel closes a dead
+    process's descriptors, which ends its file lock)."""
     import json
     import socket
 
     pid = subprocess.Popen(["true"])
     pid.wait()
-    path.write_text(json.dumps({"host": socket.gethostname(), "pid": pid.pid, "since": "then"}))
+    lock.path.write_text(json.dumps({"host": socket.gethostname(), "pid": pid.pid, "since": "x"}))
+    os.close(lock._fd)
 
 
 def test_bad_answers_are_refused_and_nothing_is_recorded(tmp_path):
@@ -194,7 +198,7 @@ def test_a_crash_loses_nothing_and_the_session_resumes(tmp_path, name):
     # A crash: every answered row is already synced (test_rows_are_on_disk_before_answer_
     # returns); the dead process leaves its file handle (closed here) and its lock behind.
     runner._file.close()
-    make_lock_stale(runner._lock.path)
+    make_lock_stale(runner._lock)
     del runner
     resumed = RUNNERS[name](open_session(tmp_path / "run", "p06"))
     assert resumed.done == half

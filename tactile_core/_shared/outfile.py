@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import contextlib
 import os
-import tempfile
+import secrets
+import stat
 from pathlib import Path
 
 
@@ -74,10 +75,31 @@ def check_folder(path, what: str = "folder", create: bool = True) -> Path:
 @contextlib.contextmanager
 def atomic_file(path, *, binary: bool = False):
     """Open a temporary file beside ``path`` for writing; on success sync it and rename it over
-    ``path``. On any error the temporary file is removed and ``path`` is left as it was."""
+    ``path``. On any error the temporary file is removed and ``path`` is left as it was.
+
+    The file gets the permissions a plain ``open(path, "w")`` would give it: those of the file
+    it replaces, or for a new file ``0666`` less the umask (``0644`` under the usual ``022``),
+    never the ``0600`` of a private temporary file.
+    """
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
+    folder = path.parent if str(path.parent) else Path(".")
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
+    for _ in range(100):
+        tmp = folder / f".{path.name}.{secrets.token_hex(6)}.tmp"
+        try:
+            fd = os.open(tmp, flags | getattr(os, "O_NOFOLLOW", 0), 0o666)  # the umask applies
+            break
+        except FileExistsError:
+            continue
+    else:  # pragma: no cover - 100 random names taken
+        raise FileExistsError(f"{folder}: no free temporary name for {path.name}")
     try:
+        try:
+            old = os.stat(path)
+        except OSError:
+            old = None
+        if old is not None and stat.S_ISREG(old.st_mode) and hasattr(os, "fchmod"):
+            os.fchmod(fd, stat.S_IMODE(old.st_mode))  # keep the replaced file's permissions
         mode = "wb" if binary else "w"
         kwargs = {} if binary else {"encoding": "utf-8", "newline": ""}
         with os.fdopen(fd, mode, **kwargs) as f:

@@ -9,7 +9,9 @@ not 10). Bounds keep every number that reaches the renderer or the streamer in a
 arithmetic stays finite and exact to far below a tactor's pitch:
 
 - coordinates and sizes: within :data:`MAX_COORD` grid units of the origin (10^6 units is 18 km
-  on the palm array; a shape that large still renders its passage through the grid correctly);
+  on the palm array; a shape that large still renders its passage through the grid correctly),
+  and so is every point a shape passes through (a square's corners, a circle's extremes:
+  :func:`extent`);
 - durations and pauses: at most :data:`MAX_DURATION_S` (an hour per trace);
 - frame rates: at most :data:`MAX_RATE_HZ` (the streamer then caps at what the link carries).
 """
@@ -18,6 +20,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 
 import numpy as np
 
@@ -28,6 +31,27 @@ MAX_DURATION_S = 3600.0
 MAX_RATE_HZ = 100_000.0
 """Highest frame rate accepted anywhere (rendering to a file; streams are capped by the link)."""
 SHOWN_CHARS = 80
+
+
+DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+"""A number as typed on a command line or in a shape or method spec: ASCII digits, an optional
+sign, point and exponent (no ``1_0``, no full-width or other non-ASCII digits, no spaces around
+it, no hex). Python's ``float()`` accepts all of those; the tool does not."""
+WHOLE = re.compile(r"[+-]?[0-9]+")
+"""A whole number as typed: ASCII digits and an optional sign."""
+
+
+def decimal_text(name: str, text: str, *, whole: bool = False) -> float | int:
+    """A number typed as text (:data:`DECIMAL`, or :data:`WHOLE` with ``whole``), or
+    ``ValueError`` naming ``name`` and showing the text. ``nan`` and ``inf`` pass as floats, for
+    the range checks to refuse by name."""
+    if isinstance(text, str):
+        if (WHOLE if whole else DECIMAL).fullmatch(text):
+            return int(text) if whole else float(text)
+        if not whole and text.lower().lstrip("+-") in ("nan", "inf", "infinity"):
+            return float(text)
+    kind = "a whole number such as 3" if whole else "a decimal number such as 0.5"
+    raise ValueError(f"{name} must be {kind}, got {shown(text)}")
 
 
 def shown(value) -> str:
@@ -93,6 +117,18 @@ def coordinate(name: str, value) -> float:
 def size(name: str, value) -> float:
     """A radius or edge in grid units, within ``[0, MAX_COORD]``."""
     return in_range(name, value, 0.0, MAX_COORD)
+
+
+def extent(name: str, shape: str, value: float, bounds) -> None:
+    """Refuse a ``shape`` whose points, given ``name`` = ``value``, reach beyond
+    :data:`MAX_COORD` on either axis (``bounds``: its extreme x and y values): a centre within
+    the bound is not enough, every point the trace passes through must be."""
+    far = max(bounds, key=abs)
+    if abs(far) > MAX_COORD:
+        raise ValueError(
+            f"{name} {shown(value)} takes the {shape} to {far:.12g}: every point of a shape must "
+            f"be within [{-MAX_COORD:g}, {MAX_COORD:g}] grid units on each axis"
+        )
 
 
 def duration(name: str, value, *, allow_zero: bool = False) -> float:

@@ -19,6 +19,23 @@ class UsageError(Exception):
     """A problem with the command line or its files, reported without a traceback."""
 
 
+def number(text: str) -> float:
+    """``type=`` of a decimal option: ASCII digits only (``1_0``, full-width digits and padded
+    spaces are refused, though ``float()`` takes them)."""
+    try:
+        return _validate.decimal_text("the value", text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("the value ")) from None
+
+
+def whole(text: str) -> int:
+    """``type=`` of a whole-number option (see :func:`number`)."""
+    try:
+        return _validate.decimal_text("the value", text, whole=True)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("the value ")) from None
+
+
 def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None:
     p.add_argument(
         "--shape",
@@ -30,14 +47,17 @@ def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None
     p.add_argument("--method", required=True, metavar="M",
                    help=f"the paper's {paper}, the peers {peers} or a plug-in; parameters as "
                    "RO:r=1.5 or GS:sigma=0.7")  # fmt: skip
-    p.add_argument("--mu", type=float, default=0.0, help="threshold in [0, 1] (default 0)")
-    p.add_argument("--gamma", type=float, default=1.0, help="gamma > 0 (default 1)")
+    p.add_argument("--mu", type=number, default=0.0, help="threshold in [0, 1] (default 0)")
+    p.add_argument("--gamma", type=number, default=1.0, help="gamma > 0 (default 1)")
     p.add_argument(
-        "--duration", type=float, default=duration, help=f"seconds per trace (default {duration:g})"
+        "--duration",
+        type=number,
+        default=duration,
+        help=f"seconds per trace (default {duration:g})",
     )
     p.add_argument("--direction", choices=DIRECTIONS, default="forward")
-    p.add_argument("--cols", type=int, default=5, help="grid columns (default 5)")
-    p.add_argument("--rows", type=int, default=6, help="grid rows (default 6)")
+    p.add_argument("--cols", type=whole, default=5, help="grid columns (default 5)")
+    p.add_argument("--rows", type=whole, default=6, help="grid rows (default 6)")
 
 
 def _scene(args):

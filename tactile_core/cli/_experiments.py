@@ -20,8 +20,9 @@ def cmd_analyze(args) -> int:
 
 
 def cmd_simulate(args) -> int:
-    """Run every experiment with simulated participants into a results folder."""
-    from ..experiments import RUNNERS, SimulatedParticipant, open_session
+    """Run every experiment with simulated participants into a results folder (the correction
+    tuning with the contract's simulated participant, its measured correction kept)."""
+    from ..experiments import RUNNERS, SimulatedParticipant, open_session, save_correction
 
     _validate.integer("participants", args.participants, 1, 1000)
     _validate.integer("seed", args.seed, 0, 2**31 - 1)
@@ -39,6 +40,8 @@ def cmd_simulate(args) -> int:
             runner = RUNNERS[name](session, **extra)
             try:
                 participant.run(runner)
+                if name == "correction" and runner.result().ok:
+                    save_correction(runner)  # as tune-correction keeps a measured one
             finally:
                 runner.close()
     print(

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .._version import __version__
-from ._common import _add_scene_arguments
+from ._common import _add_scene_arguments, number, whole
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._render import cmd_emulate, cmd_render, cmd_stream
 
@@ -22,7 +22,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("render", help="write the frames of one trace to .csv or .npz")
     _add_scene_arguments(p, duration=2.0)
-    p.add_argument("--rate", type=float, default=100.0, help="frames per second (default 100)")
+    p.add_argument("--rate", type=number, default=100.0, help="frames per second (default 100)")
     p.add_argument("--out", required=True, help="output file, .csv or .npz")
     p.set_defaults(func=cmd_render)
 
@@ -35,11 +35,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_scene_arguments(p, duration=2.0)
     p.add_argument(
-        "--pause", type=float, default=0.5, help="seconds off between traces (default 0.5)"
+        "--pause", type=number, default=0.5, help="seconds off between traces (default 0.5)"
     )
-    p.add_argument("--rate", type=float, default=300.0, help="frames per second (default 300)")
+    p.add_argument("--rate", type=number, default=300.0, help="frames per second (default 300)")
     p.add_argument(
-        "--seconds", type=float, default=None, help="stop after this long (default: Ctrl-C)"
+        "--seconds", type=number, default=None, help="stop after this long (default: Ctrl-C)"
     )
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
     p.add_argument(
@@ -48,7 +48,7 @@ def build_parser() -> argparse.ArgumentParser:
         default="point",
         help="temporal filter (default point: the paper's pipeline)",
     )
-    p.add_argument("--subsamples", type=int, default=4, help="box filter sub-samples (default 4)")
+    p.add_argument("--subsamples", type=whole, default=4, help="box filter sub-samples (default 4)")
     dither = p.add_mutually_exclusive_group()
     dither.add_argument(
         "--dither", action="store_true", help="temporal dithering of the device levels"
@@ -68,15 +68,15 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("emulate", help="run the device emulator on a pseudo-terminal")
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
-    p.add_argument("--rate", type=float, default=None, help="nominal rate for the interval error")
+    p.add_argument("--rate", type=number, default=None, help="nominal rate for the interval error")
     p.add_argument(
-        "--seconds", type=float, default=None, help="end after this long (default: Ctrl-C)"
+        "--seconds", type=number, default=None, help="end after this long (default: Ctrl-C)"
     )
     p.add_argument("--log", default=None, help="write every received frame to this CSV")
     p.add_argument("--json", default=None, help="write the report to this JSON file")
     p.add_argument(
         "--close-after",
-        type=float,
+        type=number,
         default=None,
         help="close the device after this long (fault test)",
     )
@@ -93,8 +93,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("simulate", help="run the experiments with simulated participants")
     p.add_argument("results", metavar="RESULTS_DIR")
-    p.add_argument("--participants", type=int, default=12)
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--participants", type=whole, default=12)
+    p.add_argument("--seed", type=whole, default=1)
     p.add_argument(
         "--experiments", default="exp1,exp2,exp3", help="comma-separated (and calibration)"
     )
@@ -111,25 +111,25 @@ def build_parser() -> argparse.ArgumentParser:
         "tactor. --simulate runs it against the simulated participant of the contract.",
     )
     p.add_argument("--simulate", action="store_true", help="the simulated participant")
-    p.add_argument("--threshold", type=float, default=None, help="simulated TH in [0, 0.95]")
-    p.add_argument("--exponent", type=float, default=None, help="simulated K in [0.1, 10]")
-    p.add_argument("--threshold-sd", type=float, default=0.02,
+    p.add_argument("--threshold", type=number, default=None, help="simulated TH in [0, 0.95]")
+    p.add_argument("--exponent", type=number, default=None, help="simulated K in [0.1, 10]")
+    p.add_argument("--threshold-sd", type=number, default=0.02,
                    help="simulated threshold spread, drive units (default 0.02)")  # fmt: skip
-    p.add_argument("--weber", type=float, default=0.15,
+    p.add_argument("--weber", type=number, default=0.15,
                    help="simulated magnitude noise, log units (default 0.15)")  # fmt: skip
-    p.add_argument("--lapse", type=float, default=0.03,
+    p.add_argument("--lapse", type=number, default=0.03,
                    help="simulated lapse rate (default 0.03)")  # fmt: skip
-    p.add_argument("--seed", type=int, default=0, help="seeds the procedure (and simulation)")
+    p.add_argument("--seed", type=whole, default=0, help="seeds the procedure (and simulation)")
     p.add_argument("--device", metavar="URL", default=None, help="port or URL; 'sim' for the "
                    "simulated array")  # fmt: skip
     p.add_argument("--participant", metavar="ID", default=None)
     p.add_argument("--results", metavar="DIR", default=None, help="results folder")
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
-    p.add_argument("--trials-per-tactor", type=int, default=20, help="threshold trials per "
+    p.add_argument("--trials-per-tactor", type=whole, default=20, help="threshold trials per "
                    "tactor, 5 tactors (default 20)")  # fmt: skip
-    p.add_argument("--trials-per-place", type=int, default=40,
+    p.add_argument("--trials-per-place", type=whole, default=40,
                    help="constancy trials at each of 2 places (default 40)")  # fmt: skip
-    p.add_argument("--corner-trials", type=int, default=12,
+    p.add_argument("--corner-trials", type=whole, default=12,
                    help="constancy trials at the cell corner, the check (default 12)")  # fmt: skip
     p.add_argument("--threshold-procedure", choices=("staircase", "quest+"),
                    default="staircase", help="how threshold levels are placed: a 3-down/1-up "

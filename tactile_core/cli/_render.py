@@ -87,7 +87,7 @@ def cmd_stream(args) -> int:
         raise UsageError(f"--felt-amplitude needs a motor response curve: profile "
                          f"{profile.name} has none ('response')")  # fmt: skip
     args.seconds = _seconds(args.seconds)
-    if args.record:
+    if args.record is not None:  # '' too: refused, not ignored
         check_output(args.record, (".csv", ".npz"), "--record")
     stop = threading.Event()
     _install_stop_handlers(stop)
@@ -149,7 +149,7 @@ def cmd_emulate(args) -> int:
     if args.rate is not None:
         _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
     for option, value in (("--log", args.log), ("--json", args.json)):
-        if value:
+        if value is not None:  # '' too: refused, not ignored
             check_output(value, (), option)
     stop = threading.Event()
     _install_stop_handlers(stop)

@@ -7,6 +7,7 @@ here, so neither imports the other for it.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from .._shared import validate as _validate
@@ -42,9 +43,9 @@ def load_correction(folder) -> dict | None:
         If the file exists but is not a valid correction record (it names the file).
     """
     path = Path(folder) / CORRECTION_FILE
-    if not path.exists():
+    if not os.path.lexists(path):
         return None
-    data = read_json(path)
+    data = read_json(path, follow_symlinks=False)  # only a regular file in the folder
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise ValueError(f"{path}: not a correction record (format {FORMAT!r})")
     try:

@@ -93,6 +93,10 @@ class SimulatedParticipant:
         ``{(col, row): threshold}`` for the calibration; 0.25 for every tactor if empty.
     detection_spread : float
         Width of the detection logistic (drive units).
+    correction : (float, float)
+        ``(TH, K)`` of the contract's simulated participant
+        (:class:`~tactile_core.experiments.tuning.SimulatedObserver`), who answers the
+        correction tuning's two-interval trials.
     """
 
     seed: int = 0
@@ -104,9 +108,11 @@ class SimulatedParticipant:
     timeout_rate: float = 0.0
     tactor_thresholds: dict = field(default_factory=dict)
     detection_spread: float = 0.03
+    correction: tuple = (0.25, 1.0)
 
     def __post_init__(self):
         self.rng = random.Random(self.seed)
+        self._observer = None
 
     def psychometric(self, condition: str) -> Psychometric:
         """The Experiment 2 psychometric function of ``condition``, placed so that its 70.7%
@@ -143,6 +149,13 @@ class SimulatedParticipant:
             level = float(trial.info["level"])
             p = 1.0 / (1.0 + math.exp(-(level - threshold) / self.detection_spread))
             return "yes" if self.rng.random() < p else "no"
+        if kind == "interval":  # the correction tuning: the contract's simulated participant
+            if self._observer is None:
+                from .tuning import SimulatedObserver
+
+                threshold, exponent = self.correction
+                self._observer = SimulatedObserver(threshold, exponent, seed=self.seed)
+            return self._observer.respond(trial)
         raise ValueError(f"trial kind {kind!r} is not known to the simulated participant")
 
     def run(self, runner, rt_s: float = 1.0):

@@ -4,27 +4,57 @@ passes, and the method set each participant ran."""
 
 from __future__ import annotations
 
-import csv
-import io
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from ..._shared.jsonfile import read_json
+from ..results import scan_rows
 from ..runners import METHODS
 
 
 @dataclass
 class Problems:
-    """Rows left out of the analysis, as ``file:row: problem``."""
+    """Rows left out of the analysis, as ``file:row: problem``.
+
+    ``items`` keeps the first :data:`MAX_KEPT`; ``len()`` counts them all."""
 
     items: list = field(default_factory=list)
+    total: int = 0
+    per_file: dict = field(default_factory=dict)
 
     def add(self, path, line: int, problem: str) -> None:
-        self.items.append(f"{path}:{line}: {problem}")
+        """Report ``problem`` at ``path:line``."""
+        self.total += 1
+        self.per_file[str(path)] = self.per_file.get(str(path), 0) + 1
+        if len(self.items) < MAX_KEPT:
+            self.items.append(f"{path}:{line}: {problem}")
+
+    def in_file(self, path) -> int:
+        """How many problems ``path`` has had."""
+        return self.per_file.get(str(path), 0)
 
     def __len__(self) -> int:
-        return len(self.items)
+        return self.total
+
+
+MAX_KEPT = 1000
+"""Problems kept with their text (the rest are counted)."""
+
+
+def check_sessions(folders, problems: Problems) -> None:
+    """Report each ``session.json`` that exists but cannot be read (its method sets are then
+    taken as the paper's four)."""
+    for folder in folders:
+        path = Path(folder) / "session.json"
+        if os.path.lexists(path):
+            try:
+                read_json(path, follow_symlinks=False)
+            except ValueError as exc:
+                problems.add(path, 1, f"{str(exc).replace(f'{path}: ', '', 1)}; its method sets "
+                             "are taken as the paper's four")  # fmt: skip
 
 
 def participants(results_dir) -> list[Path]:
@@ -45,47 +75,58 @@ def participants(results_dir) -> list[Path]:
     ValueError
         If ``results_dir`` is not a folder.
     """
+    if not isinstance(results_dir, (str, os.PathLike)) or not str(results_dir):
+        raise ValueError(f"results folder must be a folder path, got {results_dir!r}")
     root = Path(results_dir)
     if not root.is_dir():
         raise ValueError(f"results folder {str(root)!r} does not exist")
     return sorted(p for p in root.glob("participant-*") if p.is_dir())
 
 
-def numbered_rows(path, problems: Problems) -> list[tuple[int, dict]]:
-    """Each complete row of a results CSV, with its line number.
+MAX_PROBLEMS_PER_FILE = 100
+"""Rows of one file that cannot be read or used before the rest of it is left out."""
+
+
+def numbered_rows(path, problems: Problems):
+    """Each complete row of a results CSV, with its line number, streamed.
 
     Parameters
     ----------
     path : path
-        The CSV (a missing file has no rows).
+        The CSV (a missing file has no rows). Only a regular file inside the participant's
+        folder of at most :data:`~tactile_core.experiments.results.MAX_RESULTS_BYTES` is read
+        (:func:`~tactile_core.experiments.results.scan_rows`); anything else is reported and
+        left out.
     problems : Problems
         Where a file that cannot be read, a torn last line (no line end) or a row with the
-        wrong number of fields is reported; such rows are left out.
+        wrong number of fields is reported; such rows are left out. After
+        :data:`MAX_PROBLEMS_PER_FILE` problems in the file (these, or those its readers
+        report) the rest of the file is left out too.
 
-    Returns
-    -------
-    list of (int, dict)
+    Yields
+    ------
+    (int, dict)
         ``(line, row)``, the line counted from 1 with the header as line 1.
     """
     path = Path(path)
-    if not path.exists():
-        return []
+    if not os.path.lexists(path):
+        return
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        problems.add(path, 1, f"cannot be read: {exc}")
-        return []
-    if text and not text.endswith("\n"):
-        problems.add(path, text.count("\n") + 1, "torn last row (no line end)")
-        text = text[: text.rfind("\n") + 1]
-    reader = csv.DictReader(io.StringIO(text))
-    out = []
-    for row in reader:
-        if None in row or None in row.values():
-            problems.add(path, reader.line_num, "wrong number of fields")
-            continue
-        out.append((reader.line_num, row))
-    return out
+        for line, row, problem in scan_rows(path, _Unreadable):
+            if problems.in_file(path) >= MAX_PROBLEMS_PER_FILE:
+                problems.add(path, line, f"{problems.in_file(path)} rows cannot be used: the "
+                             "rest of the file is left out")  # fmt: skip
+                return
+            if row is not None:
+                yield line, row
+            else:
+                problems.add(path, line, problem)
+    except _Unreadable as exc:
+        problems.add(path, 1, f"cannot be read: {exc}".replace(f"{path}: ", "", 1))
+
+
+class _Unreadable(ValueError):
+    """A results file the analysis cannot read at all (its message names the file)."""
 
 
 def _parse(path, line, problems, checks) -> dict | None:
@@ -145,12 +186,10 @@ def session_methods(folder: Path, experiment: str) -> tuple[str, ...]:
     tuple of str
         The method specs; the paper's four when none is recorded or the file cannot be read.
     """
-    import json
-
     try:
-        with open(Path(folder) / "session.json", encoding="utf-8") as f:
-            recorded = json.load(f).get("parameters", {}).get(f"{experiment}_methods")
-    except (OSError, ValueError, AttributeError):
+        data = read_json(Path(folder) / "session.json", follow_symlinks=False)
+        recorded = data.get("parameters", {}).get(f"{experiment}_methods")
+    except (ValueError, AttributeError):
         recorded = None
     if isinstance(recorded, list) and all(isinstance(m, str) for m in recorded):
         return tuple(recorded)

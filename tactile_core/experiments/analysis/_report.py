@@ -11,7 +11,7 @@ from ..runners import CONDITIONS_EXP2, METHODS, SHAPES
 from ..stats import friedman, pairwise_effect_sizes, pairwise_wilcoxon
 from . import _extended
 from ._figures import _exp1_figure, _exp2_figure, _exp3_figure, _staircase_figure
-from ._reading import Problems, participants, study_methods
+from ._reading import Problems, check_sessions, participants, study_methods
 from ._scores import (
     PROPERTIES,
     confusion,
@@ -20,6 +20,7 @@ from ._scores import (
     exp2_tracks,
     exp3_answers,
     exp3_scores,
+    track_estimate,
 )
 
 
@@ -91,11 +92,12 @@ def analyze(results_dir, out=print, *, paper_rounding: bool = False, progress=No
         If the folder does not exist or holds no participant.
     """
     progress = progress or (lambda fraction, what: None)
+    folders = participants(results_dir)  # refuses '' (not the current folder)
     root = Path(results_dir)
-    folders = participants(root)
     if not folders:
         raise ValueError(f"no participant-* folders in {str(root)!r}")
     problems = Problems()
+    check_sessions(folders, problems)
     result: dict = {"participants": [f.name for f in folders]}
     out(f"{len(folders)} participant folder(s) in {root}")
     if paper_rounding:
@@ -157,41 +159,117 @@ def _experiment1(root: Path, problems: Problems, result: dict, out, paper_roundi
 
 def _experiment2(root: Path, problems: Problems, result: dict, out) -> None:
     """Each condition's 70.7% length by reversals and by fit, Figure 7 and the staircases (into
-    ``result["exp2"]``)."""
+    ``result["exp2"]``).
+
+    A group mean takes, per condition, only the participants whose track gives an estimate
+    (:func:`exp2_usable`); how many contributed and who was left out, and why, are printed."""
     estimates, ids2, fits = exp2_estimates(root, problems, fits=True)
-    if ids2:
-        out(f"\nExperiment 2 ({len(ids2)} participants with all four stages)")
-        out("Line length (grid units) for 70.7% correct. Reversals: the paper's estimate, the "
-            "mean of the last two peaks and valleys (biased upward for these steps: +8-14% in the "
-            "median, +11-21% in the mean at 30 trials). "
-            "Fit: maximum likelihood over the whole track (logistic in log length, guess 0.25, "
-            "lapse fitted), with its 95% profile-likelihood interval.")  # fmt: skip
-        out("condition\treversals mean\tSE\tfit mean\tSE\tmin\tmax")
-        summary, fit_summary = {}, {}
-        for c in CONDITIONS_EXP2:
-            v = np.asarray(estimates[c], dtype=float)
-            v = v[np.isfinite(v)]
-            f = np.array([x["threshold"] for x in fits[c]])
-            se = v.std(ddof=1) / np.sqrt(len(v)) if len(v) > 1 else float("nan")
-            fse = f.std(ddof=1) / np.sqrt(len(f)) if len(f) > 1 else float("nan")
-            summary[c] = (float(v.mean()) if len(v) else float("nan"), float(se))
-            fit_summary[c] = (float(f.mean()), float(fse))
-            out(f"{c}\t{summary[c][0]:.3f}\t{se:.3f}\t{f.mean():.3f}\t{fse:.3f}\t"
-                f"{min(v.min(), f.min()):.3f}\t{max(v.max(), f.max()):.3f}")  # fmt: skip
-        out("per participant (reversals / fit [95% CI]):")
+    if not ids2:
+        return
+    tracks = exp2_tracks(root, Problems())
+    out(f"\nExperiment 2 ({len(ids2)} participants with all four stages)")
+    out("Line length (grid units) for 70.7% correct. Reversals: the paper's estimate, the "
+        "mean of the last two peaks and valleys (biased upward for these steps: +8-14% in the "
+        "median, +11-21% in the mean at 30 trials). "
+        "Fit: maximum likelihood over the whole track (logistic in log length, guess 0.25, "
+        "lapse fitted), with its 95% profile-likelihood interval.")  # fmt: skip
+    out("Each mean takes the participants whose track gives an estimate (n): a track with "
+        "fewer than 4 reversals (one that sat at the 4-unit cap, say) has no reversal "
+        "estimate, and a fit whose length lies beyond the lengths its track presented is "
+        "not bounded by the data (the fitter ran to the end of its range); both are left out "
+        "and listed below.")  # fmt: skip
+    out("condition\tn\treversals mean\tSE\tn\tfit mean\tSE\tmin\tmax")
+    summary, fit_summary, counts, excluded = {}, {}, {}, []
+    usable_rev, usable_fit = {}, {}
+    for c in CONDITIONS_EXP2:
+        rev, fit = [], []
         for i, pid in enumerate(ids2):
-            cells = []
-            for c in CONDITIONS_EXP2:
-                fit = fits[c][i]
-                lo, hi = (f"{v:.3f}" if np.isfinite(v) else "open" for v in fit["ci"])
-                cells.append(f"{c} {estimates[c][i]:.3f} / {fit['threshold']:.3f} [{lo}, {hi}]")
-            out(f"  {pid}: " + "; ".join(cells))
-        journal = _extended.exp2(out, estimates, fits)
-        _exp2_figure(root, summary, fit_summary, result)
-        _staircase_figure(root, exp2_tracks(root, Problems()), result)
-        result["exp2"] = {"estimates": estimates, "summary": summary, "participants": ids2,
-                          "fits": fits, "fit_summary": fit_summary,
-                          "journal": journal}  # fmt: skip
+            lengths, answers = tracks[pid][c]
+            why_rev, why_fit = exp2_usable(lengths, answers, estimates[c][i], fits[c][i])
+            if why_rev:
+                excluded.append(f"{pid} {c} reversals: {why_rev}")
+            else:
+                rev.append(estimates[c][i])
+            if why_fit:
+                excluded.append(f"{pid} {c} fit: {why_fit}")
+            else:
+                fit.append(fits[c][i]["threshold"])
+        usable_rev[c] = rev
+        usable_fit[c] = [{"threshold": x} for x in fit]
+        summary[c], fit_summary[c] = _mean_se(rev), _mean_se(fit)
+        counts[c] = (len(rev), len(fit))
+        if not rev and not fit:
+            out(f"{c}\t0\t-\t-\t0\t-\t-\t-\t-\t(no participant's track gives an "
+                "estimate: left out)")  # fmt: skip
+            continue
+        both = rev + fit
+        cells = [str(len(rev)), *_cells(summary[c]), str(len(fit)), *_cells(fit_summary[c])]
+        out(f"{c}\t" + "\t".join(cells) + f"\t{min(both):.3f}\t{max(both):.3f}")
+    if excluded:
+        out(f"left out of the means ({len(excluded)}):")
+        for item in excluded:
+            out(f"  {item}")
+    out("per participant (reversals / fit [95% CI]):")
+    for i, pid in enumerate(ids2):
+        cells = []
+        for c in CONDITIONS_EXP2:
+            fit = fits[c][i]
+            lo, hi = (f"{v:.3f}" if np.isfinite(v) else "open" for v in fit["ci"])
+            rev = f"{estimates[c][i]:.3f}" if np.isfinite(estimates[c][i]) else "none"
+            cells.append(f"{c} {rev} / {fit['threshold']:.3f} [{lo}, {hi}]")
+        out(f"  {pid}: " + "; ".join(cells))
+    journal = _extended.exp2(out, usable_rev, usable_fit)
+    _exp2_figure(root, summary, fit_summary, result)
+    _staircase_figure(root, tracks, result)
+    result["exp2"] = {"estimates": estimates, "summary": summary, "participants": ids2,
+                      "fits": fits, "fit_summary": fit_summary, "n": counts,
+                      "excluded": excluded, "journal": journal}  # fmt: skip
+
+
+def exp2_usable(lengths, answers, estimate: float, fit: dict) -> tuple[str, str]:
+    """Why a track's reversal estimate and fit are left out of the group means ("" if not).
+
+    Parameters
+    ----------
+    lengths, answers : sequence
+        The track (:func:`exp2_tracks`).
+    estimate : float
+        Its reversal estimate (NaN with fewer than 4 reversals).
+    fit : dict
+        Its psychometric fit (:func:`~tactile_core.experiments.stats.fit_psychometric`).
+
+    Returns
+    -------
+    (str, str)
+        The reason for the reversal estimate and for the fit. The rules: a track with fewer than
+        4 reversals has no reversal estimate; a fit whose 70.7% length lies beyond the lengths
+        the track presented (longer than its longest line or shorter than its shortest) is not
+        bounded by the data.
+    """
+    why_rev = ""
+    if not np.isfinite(estimate):
+        reversals = len(track_estimate(lengths, answers)[1].reversal_levels)
+        at_cap = sum(1 for v in lengths if v >= 4.0 * (1 - 1e-9))
+        why_rev = f"{reversals} reversal(s), 4 needed" + (
+            f" ({at_cap} of {len(lengths)} trials at the 4-unit cap)" if at_cap else ""
+        )
+    threshold = fit["threshold"]
+    why_fit = ""
+    if not (np.isfinite(threshold) and min(lengths) <= threshold <= max(lengths)):
+        why_fit = (f"{threshold:.3f} lies beyond the lengths presented "
+                   f"({min(lengths):.3f}-{max(lengths):.3f})")  # fmt: skip
+    return why_rev, why_fit
+
+
+def _mean_se(values) -> tuple[float, float]:
+    v = np.asarray(values, dtype=float)
+    mean = float(v.mean()) if len(v) else float("nan")
+    se = float(v.std(ddof=1) / np.sqrt(len(v))) if len(v) > 1 else float("nan")
+    return mean, se
+
+
+def _cells(mean_se) -> list[str]:
+    return [f"{x:.3f}" if np.isfinite(x) else "-" for x in mean_se]
 
 
 def _experiment3(root: Path, problems: Problems, result: dict, out, paper_rounding: bool) -> None:

@@ -3,7 +3,9 @@ tracks and their estimates, Experiment 3's answers, scores and confusion matrix.
 
 from __future__ import annotations
 
-from ..runners import CONDITIONS_EXP2, METHODS, SHAPES
+import math
+
+from ..runners import CONDITIONS_EXP2, DIRECTIONS, METHODS, SHAPES
 from ..staircase import Staircase
 from ..stats import d_prime, fit_psychometric
 from ._reading import (
@@ -75,13 +77,18 @@ def exp1_scores(results_dir, problems: Problems | None = None, methods=None):
 
 
 def exp2_tracks(results_dir, problems: Problems | None = None) -> dict:
-    """Experiment 2's staircase tracks, for the stages with all 30 answers.
+    """Experiment 2's staircase tracks, for the stages with all 30 answers that replay.
+
+    Each track is replayed through the paper's staircase: every row's ``correct`` must be its
+    answer against its direction, its ``length`` the level the staircase presents after the
+    answers before it, and its ``next_length`` the level after its own. A track with a row that
+    does not replay (changed after it was written) is reported at that row and left out.
 
     Parameters
     ----------
     results_dir : path
     problems : Problems, optional
-        Where unreadable or out-of-order rows are reported.
+        Where unreadable, out-of-order or non-replaying rows are reported.
 
     Returns
     -------
@@ -94,6 +101,7 @@ def exp2_tracks(results_dir, problems: Problems | None = None) -> dict:
     for folder in participants(results_dir):
         path = folder / "exp2.csv"
         per: dict = {}
+        rows: dict = {}
         for line, r in numbered_rows(path, problems):
             if r.get("stage") not in CONDITIONS_EXP2:
                 continue
@@ -101,6 +109,9 @@ def exp2_tracks(results_dir, problems: Problems | None = None) -> dict:
                 "trial": (r["trial"], int),
                 "length": (r["length"], _length),
                 "correct": (r["correct"], _flag),
+                "next_length": (r["next_length"], _length),
+                "direction": (r["direction"], _one_of(DIRECTIONS)),
+                "answer": (r["answer"], _one_of(DIRECTIONS)),
             })  # fmt: skip
             if got is None:
                 continue
@@ -110,10 +121,31 @@ def exp2_tracks(results_dir, problems: Problems | None = None) -> dict:
                 continue
             lengths.append(got["length"])
             answers.append(got["correct"])
-        complete = {c: v for c, v in per.items() if len(v[0]) >= 30}
+            rows.setdefault(r["stage"], []).append((line, got))
+        complete = {c: v for c, v in per.items() if len(v[0]) >= 30 and
+                    _replays(path, rows[c], problems)}  # fmt: skip
         if complete:
             tracks[folder.name.removeprefix("participant-")] = complete
     return tracks
+
+
+def _replays(path, rows, problems: Problems) -> bool:
+    """True if a stage's rows follow the paper's staircase from 2.0 (see :func:`exp2_tracks`);
+    otherwise the first row that does not is reported."""
+    sc = Staircase(2.0, 0.685, 1.46, 2, 1, min_level=0.01, max_level=4.0)
+    for line, got in rows:
+        right = got["answer"] == got["direction"]
+        checks = (("correct", got["correct"], right), ("length", got["length"], sc.level))
+        if got["correct"] == right:
+            sc.update(right)
+            checks += (("next_length", got["next_length"], sc.level),)
+        for name, recorded, replayed in checks:
+            if not math.isclose(recorded, replayed, rel_tol=1e-5):
+                problems.add(path, line, f"{name} {recorded:g} does not follow from the answers "
+                             f"(the staircase gives {replayed:g}): the row was changed after it "
+                             "was written; its stage is left out")  # fmt: skip
+                return False
+    return True
 
 
 def track_estimate(lengths, answers, n: int = 4) -> tuple[float, Staircase]:

@@ -11,8 +11,13 @@ A session lives in ``RESULTS_DIR/participant-<id>/``:
   files end.
 - ``.lock``: held while a runner writes to the folder, so that two programs never record the
   same participant at once (:class:`ParticipantLock`).
+
+Only regular files inside the folder are read or written (never through a symbolic link, never
+a FIFO, folder or device), and every read is bounded (:data:`MAX_RESULTS_BYTES`,
+:data:`MAX_ROW_BYTES`; rows are streamed): :func:`open_member`, :func:`scan_rows`.
 """
 
+from ._files import MAX_RESULTS_BYTES, MAX_ROW_BYTES, open_member, scan_rows
 from ._lock import LOCK_FILE, ParticipantLock
 from ._rows import ResultsFile, now, read_rows
 from ._session import (
@@ -37,6 +42,8 @@ from ._session import _FIELDS, _ID, _KIND_NAMES, _SALT, _short  # noqa: F401
 
 __all__ = [
     "LOCK_FILE",
+    "MAX_RESULTS_BYTES",
+    "MAX_ROW_BYTES",
     "SESSION_FILE",
     "ParticipantLock",
     "ResultsFile",
@@ -44,7 +51,9 @@ __all__ = [
     "SessionError",
     "check_participant",
     "now",
+    "open_member",
     "open_session",
     "read_rows",
+    "scan_rows",
     "session_from_dict",
 ]

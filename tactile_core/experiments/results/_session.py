@@ -8,6 +8,7 @@ checked against the one it continues.
 from __future__ import annotations
 
 import datetime as dt
+import os
 import re
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -267,8 +268,8 @@ def open_session(
     root = Path(results_dir)
     folder = root / f"participant-{participant}"
     path = folder / SESSION_FILE
-    if path.exists():
-        session = session_from_dict(read_json(path, SessionError), path)
+    if os.path.lexists(path):  # a symbolic link, even a dangling one, is refused
+        session = session_from_dict(read_json(path, SessionError, follow_symlinks=False), path)
         session.folder = str(folder)
         if pipeline is not None and pipeline.to_dict() != session.pipeline:
             raise SessionError(

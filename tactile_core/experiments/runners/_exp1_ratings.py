@@ -97,8 +97,17 @@ class Experiment1(Runner):
         return {**trial.info, "answer": answer}
 
     def _check_recorded(self, trial, row):
-        if trial.kind == "prepare":
-            if row.get("mapping") and row["mapping"] != " ".join(self.mapping):
-                raise ValueError("exp1.csv: the recorded key mapping differs from the session's")
+        if trial.kind == "prepare":  # its info names the mapping by initials; the row in full
+            if row.get("mapping") != " ".join(self.mapping):
+                raise ValueError(
+                    f"field mapping is {_validate.shown(row.get('mapping'))}, but the session "
+                    f"deals {_validate.shown(' '.join(self.mapping))}: a different seed or "
+                    "software, or the row was changed after it was written"
+                )
             return
         super()._check_recorded(trial, row)
+
+    def measured(self, trial):
+        """As for every runner, and the preparation's key ``switches``."""
+        extra = {"switches"} if trial.kind == "prepare" else set()
+        return super().measured(trial) | extra

@@ -12,7 +12,9 @@ session's seed generates.
 
 from __future__ import annotations
 
+import datetime as dt
 import random
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
@@ -107,10 +109,11 @@ class Runner:
             if write:
                 session.record_run(self.experiment, self.run_record())
             self._file = ResultsFile(self.path, self.fields) if write else None
-            rows = self._file.load() if write else []
             self._rows: list[dict] = []
             self._start()
-            self._replay(rows)
+            if write:
+                self._replay(self._file.rows())  # streamed: a surplus row stops the reading
+                self.recovered = self._file.recovered
         except BaseException:
             self.close()
             raise
@@ -202,39 +205,52 @@ class Runner:
         Raises
         ------
         ValueError
-            If the answer is not valid for the trial (nothing is recorded), or the runner has
-            finished.
+            If the answer is not valid for the trial, ``rt_s`` is not a time >= 0 or a health
+            count not a whole number >= 0 (nothing is recorded), or the runner has finished.
         """
         trial = self.current
         if trial is None:
             raise ValueError("answer: the experiment has finished")
         value = self.check_answer(trial, answer)
+        measured = {"rt_s": "" if rt_s is None else f"{_validate.non_negative('rt_s', rt_s):.3f}"}
+        for key in HEALTH_FIELDS:  # what a resume accepts in these fields: checked before
+            has = health is not None and key in health
+            measured[key] = str(_validate.integer(key, health[key], 0)) if has else ""
         feedback = self._feedback(trial, value)
-        self._after = {}
-        try:
-            nxt = self._gen.send(value)
-        except StopIteration:
-            nxt = None
-        row = self._row(trial, value)
-        row.update(
-            participant=self.session.participant,
-            stage=trial.stage,
-            trial=trial.index,
-            rt_s="" if rt_s is None else f"{rt_s:.3f}",
-            time=now(),
-        )
-        for key in HEALTH_FIELDS:
-            row[key] = "" if health is None or key not in health else int(health[key])
+        nxt = self._advance(value)
+        row = self._full_row(trial, value)
+        row.update(measured, time=now())
         if self._file is not None:
             try:
                 self._file.append(row)  # durable before the runner moves on
             except OSError:
                 self._rewind()  # back to this very trial: the answer was not recorded
                 raise
-        self._rows.append({k: str(row.get(k, "")) for k in self.fields})
+        self._rows.append(row)
         self.current = nxt
         self.done += 1
         return feedback
+
+    def _advance(self, value):
+        """Send ``value`` to the trial generator; the next trial (None at the end)."""
+        self._after = {}
+        try:
+            return self._gen.send(value)
+        except StopIteration:
+            return None
+
+    def _full_row(self, trial: Trial, value) -> dict:
+        """Every field of ``trial``'s row as text (``rt_s``, ``time`` and the health empty);
+        after :meth:`_advance` (the row notes what the answer did)."""
+        row = self._row(trial, value)
+        row.update(participant=self.session.participant, stage=trial.stage, trial=trial.index)
+        return {k: str(row.get(k, "")) for k in self.fields}
+
+    def measured(self, trial: Trial) -> set:
+        """The fields of ``trial``'s row that record what happened rather than what the session
+        deals (the response time, the clock, the stream's health): a replay checks their form,
+        not their value."""
+        return {"rt_s", "time", *HEALTH_FIELDS}
 
     def _rewind(self) -> None:
         """Rebuild the state from the rows on record (after a failed write): the generator
@@ -242,63 +258,83 @@ class Runner:
         rows = list(self._rows)
         self._rows = []
         self._start()
-        self._replay(rows)
+        self._replay(enumerate(rows, start=2))
 
-    def _replay(self, rows: list[dict]) -> None:
-        """Feed recorded answers back in (resuming); check they fit this session.
+    def _replay(self, rows) -> None:
+        """Feed recorded rows back in (resuming), replaying the procedure from them.
 
-        A last row that does not fit (written by a process that died while writing it) is moved
-        aside to the ``.torn`` file and its trial is presented again; any other row that does
-        not fit is refused, naming the file, the row and the problem.
+        Each row must be exactly what this session's procedure writes for its trial given the
+        recorded answer (the trial, the condition, what the answer did: ``correct``, the next
+        level, the reversals), and its measured fields (:meth:`measured`) must have the form
+        the runner writes. Anything else is refused, naming the file, the row and the field:
+        a row the replay does not reproduce was changed after it was written, and building on
+        it would carry the change into every later trial.
+
+        Parameters
+        ----------
+        rows : iterable of (int, dict)
+            ``(line, row)`` in file order, the header as line 1.
         """
-        for i, row in enumerate(rows):
+        for line, row in rows:
             try:
-                self._replay_row(i, row)
+                self._replay_row(row)
             except (ValueError, TypeError, KeyError) as exc:
-                if i == len(rows) - 1 and self._file is not None:
-                    self._file.drop_last_row()
-                    self.recovered = f"{self.path.name} row {i + 2} was incomplete: {exc}"
-                    return
-                raise SessionError(f"{self.path}:{i + 2}: {exc}") from None
+                raise SessionError(f"{self.path}:{line}: {exc}") from None
             self._rows.append(row)
 
     recovered = ""
     """What resuming had to repair (a torn last row moved aside), for the user; empty if none."""
 
-    def _replay_row(self, i: int, row: dict) -> None:
+    def _replay_row(self, row: dict) -> None:
         trial = self.current
         if trial is None:
             raise ValueError("a row beyond the last trial")
-        if row.get("stage") != trial.stage or row.get("trial") != str(trial.index):
-            raise ValueError(
-                f"stage {_validate.shown(row.get('stage'))}, trial "
-                f"{_validate.shown(row.get('trial'))} is not this session's next trial "
-                f"({trial.stage} {trial.index}): another seed, or rows out of order"
-            )
+        for key, value in (("stage", trial.stage), ("trial", str(trial.index))):
+            if row.get(key) != value:
+                raise ValueError(
+                    f"field {key} is {_validate.shown(row.get(key))}, but this session's next "
+                    f"trial is {trial.stage} {trial.index}: another seed, or rows out of order"
+                )
         self._check_recorded(trial, row)
-        value = self.check_answer(trial, self._recorded_answer(trial, row))
-        self._after = {}
         try:
-            self.current = self._gen.send(value)
-        except StopIteration:
-            self.current = None
+            value = self.check_answer(trial, self._recorded_answer(trial, row))
+        except ValueError as exc:
+            raise ValueError(
+                f"field answer is {_validate.shown(row.get('answer'))}: {exc}"
+            ) from None
+        nxt = self._advance(value)
+        expected = self._full_row(trial, value)
+        measured = self.measured(trial)
+        for key in self.fields:
+            if key in measured:
+                _check_measured(key, row.get(key, ""))
+            elif row.get(key) != expected[key]:
+                raise ValueError(
+                    f"field {key} is {_validate.shown(row.get(key))}, but replaying the session "
+                    f"gives {_validate.shown(expected[key])}: the row was changed after it was "
+                    "written (or written by other software); restore it, or start a new "
+                    "participant"
+                )
+        self.current = nxt
         self.done += 1
 
     def _recorded_answer(self, trial: Trial, row: dict):
         answer = row.get("answer", "")
         if trial.kind == "rating":
+            if not answer.isascii() or not answer.isdigit():
+                raise ValueError("not a rating 0-100")
             return int(answer)
         if trial.kind in ("continue", "prepare"):
             return "continue"
-        return None if answer in ("", "None") else answer
+        return None if answer == "" else answer
 
     def _check_recorded(self, trial: Trial, row: dict) -> None:
         for key, value in trial.info.items():
-            if key in row and row[key] not in ("", str(value)):
+            if key in row and row[key] != str(value):
                 raise ValueError(
-                    f"{self.experiment}.csv: recorded {key} {_validate.shown(row[key])} "
-                    "differs from the "
-                    f"session's {_validate.shown(value)}: different seed or software?"
+                    f"field {key} is {_validate.shown(row[key])}, but the session deals "
+                    f"{_validate.shown(str(value))} for this trial: a different seed or software, "
+                    "or the row was changed after it was written"
                 )
 
     def progress(self) -> tuple[int, int]:
@@ -321,6 +357,29 @@ class Runner:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def _check_measured(key: str, value: str) -> None:
+    """A measured field has the form the runner writes: empty, or a whole number >= 0 (the
+    stream's health, Experiment 1's key switches), a time >= 0 in seconds (``rt_s``), or a
+    local ISO 8601 time (``time``)."""
+    if value == "" and key != "time":
+        return
+    try:
+        if key == "time":
+            dt.datetime.fromisoformat(value)
+            ok = len(value) <= 40
+        elif key == "rt_s":
+            ok = _DECIMAL.fullmatch(value) is not None
+        else:
+            ok = value.isascii() and value.isdigit() and len(value) <= 40
+    except ValueError:
+        ok = False
+    if not ok:
+        raise ValueError(f"field {key} is {_validate.shown(value)}, which the runner never writes")
+
+
+_DECIMAL = re.compile(r"[0-9]{1,40}(\.[0-9]{1,6})?")
 
 
 def _continue(experiment, stage, index, prompt) -> Trial:

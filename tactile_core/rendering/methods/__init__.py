@@ -45,8 +45,10 @@ presets and session records. :func:`get_method` parses and validates it.
 names a module or object that follows the protocol. They load on the first lookup of a name that
 is not built in, or on :func:`load_plugins`. A plug-in that fails to load, breaks the protocol or
 takes a built-in's name is listed in :data:`UNAVAILABLE` with its error and never takes the
-program down; one that raises or returns values outside [0, 1] while rendering is refused with a
-``ValueError`` naming it.
+program down (``sys.exit()`` and ``KeyboardInterrupt`` in its import included). Its output is
+checked like any method's (``_plugin``): cells whole numbers, no cell twice at one point, values
+finite within [0, 1]; one that breaks that, or raises anything while rendering or computing
+``MAX_TACTORS``, is refused with a ``ValueError`` naming it.
 """
 
 from __future__ import annotations
@@ -58,10 +60,11 @@ import threading
 from dataclasses import dataclass, field
 from types import ModuleType
 
-import numpy as np
-
 from ..._shared import validate as _validate
 from . import area, closest, energy, gaussian, interpolated, midpoint, park, rolloff, vrch
+from ._plugin import CONTAINED as _CONTAINED
+from ._plugin import checked as _checked
+from ._plugin import max_tactors as _max_tactors
 
 ENTRY_POINT_GROUP = "tactile_tuner.methods"
 """Entry-point group under which third-party methods register."""
@@ -182,7 +185,8 @@ class Method:
             if self.params:
                 fn = functools.partial(fn, **dict(self.params))
             if self.plugin:
-                fn = _checked(self.spec, fn, which == "sample1")
+                fn = _checked(self.spec, fn, which == "sample1")  # output checked, failures
+                # contained (see ``_plugin``)
             hit = self._samplers[which] = fn
         return hit
 
@@ -217,21 +221,20 @@ def _number(value) -> str:
 
 
 def _make(module, source: str, params: tuple = ()) -> Method:
-    max_tactors = module.MAX_TACTORS
-    if callable(max_tactors):
-        defaults = {k: spec[0] for k, spec in (getattr(module, "PARAMS", None) or {}).items()}
-        numbers = {k: v for k, v in params if not isinstance(v, str)}
-        max_tactors = max_tactors(**{**defaults, **numbers})
+    defaults = {k: spec[0] for k, spec in (getattr(module, "PARAMS", None) or {}).items()}
+    numbers = {k: v for k, v in {**defaults, **dict(params)}.items() if not isinstance(v, str)}
+    plugin = " (a plug-in)" if source.startswith("plugin") else ""
+    label = f"{getattr(module, 'NAME', '?')}{plugin}"
     correction = getattr(module, "CORRECTION", "set")
     if correction not in CORRECTIONS:
-        raise ValueError(f"CORRECTION must be one of {', '.join(CORRECTIONS)}, got "
-                         f"{_validate.shown(correction)}")  # fmt: skip
+        raise ValueError(f"method {label}: CORRECTION must be one of {', '.join(CORRECTIONS)}, "
+                         f"got {_validate.shown(correction)}")  # fmt: skip
     return Method(
         name=module.NAME,
         title=module.TITLE,
         bilevel=bool(module.BILEVEL),
         needs_shape=bool(module.NEEDS_SHAPE),
-        max_tactors=int(max_tactors),
+        max_tactors=_max_tactors(module, numbers, label),
         module=module,
         params=params,
         source=source,
@@ -241,42 +244,6 @@ def _make(module, source: str, params: tuple = ()) -> Method:
 
 CORRECTIONS = ("set", "threshold", "none")
 """The corrections a method may be designed for (its ``CORRECTION``)."""
-
-
-def _checked(spec: str, fn, scalar: bool):
-    """Wrap a plug-in's sampler: its exceptions and out-of-range values become a
-    ``ValueError`` naming the method."""
-
-    def bad(detail):
-        return ValueError(f"method {spec} (a plug-in) {detail}")
-
-    def run(*args):
-        try:
-            out = fn(*args)
-        except Exception as exc:  # a plug-in's bug must not look like ours
-            raise bad(f"failed: {type(exc).__name__}: {exc}") from exc
-        try:
-            entries = list(out)
-            for entry in entries:
-                c, r, v = entry
-                if scalar:
-                    ok = _validate.is_number(v) and 0.0 <= v <= 1.0
-                    ok = ok and float(c).is_integer() and float(r).is_integer()
-                else:
-                    values = np.asarray(v, dtype=np.float64)
-                    ok = bool(np.all((values >= 0.0) & (values <= 1.0)))
-                    cells = np.asarray(c, dtype=np.float64), np.asarray(r, dtype=np.float64)
-                    ok = ok and all(np.all(np.isfinite(a) & (a == np.floor(a))) for a in cells)
-                if not ok:
-                    raise ValueError
-        except (TypeError, ValueError):
-            raise bad(
-                "returned something other than (col, row, value) entries with whole cells and "
-                f"values in [0, 1]: {_validate.shown(out)}"
-            ) from None
-        return entries if not scalar else tuple(entries)
-
-    return run
 
 
 PAPER_METHODS = ("CT", "MM", "AS", "IM")
@@ -342,7 +309,8 @@ def load_plugins(entry_points=None) -> dict[str, str]:
                     raise ValueError(f"takes the name {module.NAME} of a built-in method")
                 dist = getattr(getattr(ep, "dist", None), "name", None) or ep.value
                 method = _make(module, f"plugin {dist}")
-            except Exception as exc:  # anything a broken plug-in does is reported, not raised
+            except _CONTAINED as exc:  # anything a broken plug-in does (even sys.exit() or
+                # KeyboardInterrupt in its import) is reported, not raised
                 UNAVAILABLE[label] = f"{type(exc).__name__}: {exc}"
                 continue
             METHODS[method.name] = method
@@ -385,9 +353,7 @@ def _check_protocol(module) -> None:
         ok = ok and len(spec) == 4 and all(_validate.is_number(v) for v in spec[:3])
         if not ok or not spec[1] <= spec[0] <= spec[2]:
             raise ValueError(f"PARAMS[{key!r}] must be (default, low, high, description)")
-    count = _make(module, "plugin").max_tactors
-    if not 1 <= count <= 1024:
-        raise ValueError(f"MAX_TACTORS must be from 1 to 1024, got {count}")
+    _make(module, "plugin")  # MAX_TACTORS at the defaults: a whole number from 1 to 1024
 
 
 def method_names(include_plugins: bool = True) -> tuple[str, ...]:
@@ -415,7 +381,10 @@ def parse_spec(text: str) -> tuple[str, dict]:
             try:
                 if not eq or not key:
                     raise ValueError
-                number = word if _WORD.match(word) and word not in _NOT_WORDS else float(value)
+                if _WORD.match(word) and word not in _NOT_WORDS:
+                    number = word
+                else:
+                    number = _validate.decimal_text(key, value.strip())
             except ValueError:
                 raise ValueError(
                     f"method must be NAME or NAME:param=value,..., got {_validate.shown(text)}"

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import re
-
 from ..._shared import validate as _validate
 from ._polyline import MAX_POINTS, Polyline, Square
 from ._shape import Circle, Line, Shape
 
 SHAPE_KINDS = ("line", "circle", "square", "polyline", "polygon")
-_NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
-"""A decimal number as a user types it (no nan, inf, hex or underscores)."""
+_NUMBER = _validate.DECIMAL
+"""A decimal number as a user types it (ASCII digits: no nan, inf, hex, underscores or
+full-width digits)."""
 
 
 def parse_shape(text: str) -> Shape:

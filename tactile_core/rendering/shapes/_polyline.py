@@ -89,8 +89,8 @@ class Polyline(Shape):
     def xy(self, t):
         breaks = self._segments[2]
         table, _ = self._segment_table
-        i = np.searchsorted(breaks, t, side="right") - 1
-        np.clip(i, 0, table.shape[1] - 1, out=i)
+        # Not clipped in place: for a scalar t, searchsorted returns a scalar (f(0.25) works).
+        i = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, table.shape[1] - 1)
         t0, width, ax, ay, bx, by = table.take(i, axis=1)
         s = clamp((t - t0) / width, 0.0, 1.0)
         r = 1.0 - s
@@ -204,6 +204,9 @@ class Square(Shape):
     def __post_init__(self):
         object.__setattr__(self, "center", _validate.point("center", self.center))
         object.__setattr__(self, "edge", _validate.size("edge", self.edge))
+        cx, cy = self.center
+        h = self.edge / 2.0
+        _validate.extent("edge", "square", self.edge, (cx - h, cx + h, cy - h, cy + h))
 
     @cached_property
     def polyline(self) -> Polyline:

@@ -169,6 +169,8 @@ class Circle(Shape):
     def __post_init__(self):
         object.__setattr__(self, "center", _validate.point("center", self.center))
         object.__setattr__(self, "radius", _validate.size("radius", self.radius))
+        (cx, cy), r = self.center, self.radius
+        _validate.extent("radius", "circle", r, (cx - r, cx + r, cy - r, cy + r))
 
     def xy(self, t):
         cx, cy = self.center
