@@ -48,10 +48,10 @@ def exp1(out, scores: dict) -> dict:
     return result
 
 
-def exp2(out, estimates: dict, fits: dict) -> dict:
+def exp2(out, estimates: dict, fits: dict, paired: bool = True) -> dict:
     """Experiment 2: each condition's threshold against 1 grid unit (one-sided: shorter), by
     the reversal estimate and by the fit (the estimates the group means took), and the
-    conditions compared when every participant's estimates are there."""
+    conditions compared when every participant's estimates are there (``paired``)."""
     out("Journal statistics: each condition against 1 grid unit (one-sided, shorter; t-test, "
         "exact signed-rank, Cohen's d [95% bootstrap CI]):")  # fmt: skip
     result = {"against_1": {}}

@@ -218,7 +218,7 @@ def _experiment2(root: Path, problems: Problems, result: dict, out) -> None:
             rev = f"{estimates[c][i]:.3f}" if np.isfinite(estimates[c][i]) else "none"
             cells.append(f"{c} {rev} / {fit['threshold']:.3f} [{lo}, {hi}]")
         out(f"  {pid}: " + "; ".join(cells))
-    journal = _extended.exp2(out, usable_rev, usable_fit)
+    journal = _extended.exp2(out, usable_rev, usable_fit, paired=not excluded)
     _exp2_figure(root, summary, fit_summary, result)
     _staircase_figure(root, tracks, result)
     result["exp2"] = {"estimates": estimates, "summary": summary, "participants": ids2,
