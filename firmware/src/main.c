@@ -3,13 +3,22 @@
  * format 2 on UART0 at 115200 baud and drives 30 vibration motors by software PWM at 303 Hz with
  * 23 levels. Plain C with avr-libc; no Arduino core.
  *
- * - Timer1 interrupt at 6666.7 Hz steps through the 22 slots of a PWM period, writing four
- *   ports from a precomputed table (pwm.c); a new table is swapped in only at a period's end
- *   (three tables: playing, waiting, being built).
- * - UART0 receive and transmit run from interrupts through ring buffers; the main loop feeds
- *   received bytes to the parser (protocol.c) and sleeps when there is nothing to do.
+ * - Timer1 runs free at 2 MHz (clk / 8) and is the array's clock: overflows every 32.768 ms,
+ *   counted, give a microsecond clock that wraps every 71.6 minutes (clock_us).
+ * - Compare match A steps through the 22 slots of a PWM period every 300 counts (150 us,
+ *   6666.7 Hz), writing four ports from a precomputed table (pwm.c). A frame for now (type 'F')
+ *   waits for the end of the period: a period never mixes two frames (three tables: playing,
+ *   waiting, being built).
+ * - Compare match B plays a timed frame (type 'T') at its time: it writes the first slot of the
+ *   frame's table the moment the counter reaches the frame's time, and the PWM period restarts
+ *   there. The frame's table is built ahead of time into a fourth table; the match is armed once
+ *   the time is less than 16 ms away (half the counter's period, so never ambiguous). A frame
+ *   whose time has passed plays at once and is counted late.
+ * - UART0 receive and transmit run from interrupts through ring buffers; the receive interrupt
+ *   stamps every message delimiter with the clock (the clock exchange's arrival time). The main
+ *   loop feeds received bytes to the parser (protocol.c) and sleeps when there is nothing to do.
  * - The watchdog turns every motor off at once when more than 250 ms have passed since the last
- *   valid frame (250 to 251 ms on the millisecond counter).
+ *   valid frame, and drops the timed frames still waiting.
  *
  * Pin map (channel = row * 5 + col, row 0 at the bottom): channels 0-7 on PORTA (D22-D29),
  * 8-15 on PORTC (D37-D30), 16-23 on PORTL (D49-D42), 24-29 on PORTK bits 0-5 (A8-A13).
@@ -26,21 +35,54 @@
 
 #define CHANNELS (ARRAY_COLS * ARRAY_ROWS)
 #define PORTS PIN_PORTS
-
-
-/* Three tables: the one the timer plays, one waiting for the next period, one being built. A
- * frame that arrives while another waits replaces it; the one playing is never touched. */
 #define NONE 0xFF
-static uint8_t tables[3][PWM_SLOTS * PORTS];
-static volatile uint8_t playing = 0, waiting = NONE;
-static volatile uint32_t now_ms;
+
+/* Four tables: the one the timer plays, one waiting for the next period (a frame for now), one
+ * holding the next timed frame (armed on compare match B), one being built. */
+static uint8_t tables[4][PWM_SLOTS * PORTS];
+static volatile uint8_t playing = 0, waiting = NONE, armed = NONE;
+static volatile uint8_t slot;          /* the slot compare match A plays next */
+static volatile uint32_t overflows;    /* Timer1 overflows: 32,768 us each */
+static volatile uint8_t onset;         /* compare match B played the armed frame */
+static volatile uint8_t first[PORTS];  /* the armed table's first slot, for compare match B */
+static uint8_t built = NONE;           /* the table holding the queue's head, if built */
 
 static volatile uint8_t rx_buf[256], tx_buf[128];
 static volatile uint8_t rx_head, rx_tail, tx_head, tx_tail;
+#define STAMPS 32 /* arrival times of the delimiters waiting in rx_buf */
+static volatile uint32_t stamps[STAMPS];
+static volatile uint8_t stamp_head, stamp_tail;
+
+/* The clock in microseconds; call with interrupts off. An overflow that happened but has not
+ * been counted yet (its flag is set and the counter has wrapped) is counted here. */
+static uint32_t clock_at(uint16_t *counts_out)
+{
+    uint16_t counts = TCNT1;
+    uint32_t high = overflows;
+    if ((TIFR1 & _BV(TOV1)) && counts < 0x8000)
+        high++;
+    *counts_out = counts;
+    return (high << 15) + (counts >> 1);
+}
+
+static uint32_t clock_us_locked(void)
+{
+    uint16_t counts;
+    return clock_at(&counts);
+}
+
+static uint32_t clock_us(void)
+{
+    uint32_t us;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { us = clock_us_locked(); }
+    return us;
+}
+
+ISR(TIMER1_OVF_vect) { overflows++; }
 
 ISR(TIMER1_COMPA_vect)
 {
-    static uint8_t slot, ms_acc;
+    OCR1A += TIMER_TICK;
     const uint8_t *row = tables[playing] + slot * PORTS;
     PORTA = row[0];
     PORTC = row[1];
@@ -53,21 +95,51 @@ ISR(TIMER1_COMPA_vect)
             waiting = NONE;
         }
     }
-    ms_acc += TICK_US_NUM;
-    if (ms_acc >= TICK_US_DEN) {
-        ms_acc -= TICK_US_DEN;
-        now_ms++;
-    }
+}
+
+/* After the armed table's first slot went out at count `at`: it is the one playing, the next
+ * slot follows a tick later. Interrupts are off (compare match B, or the caller). */
+static inline __attribute__((always_inline)) void started_armed(uint16_t at)
+{
+    playing = armed;
+    armed = NONE;
+    waiting = NONE;
+    slot = 1;
+    OCR1A = (uint16_t)(at + TIMER_TICK);
+    TIFR1 = _BV(OCF1A); /* a slot of the old period that matched meanwhile is not played */
+    TIMSK1 &= (uint8_t)~_BV(OCIE1B);
+    onset = 1;
+}
+
+/* The onset of a timed frame: the ports first, so that the pins change a fixed number of cycles
+ * after the match (the interrupt's entry and four register saves), then the bookkeeping. */
+ISR(TIMER1_COMPB_vect)
+{
+    PORTA = first[0];
+    PORTC = first[1];
+    PORTL = first[2];
+    PORTK = first[3];
+    started_armed(OCR1B);
 }
 
 ISR(USART0_RX_vect)
 {
+    uint16_t counts = TCNT1; /* first: the delimiter's arrival, a fixed number of cycles late */
     uint8_t byte = UDR0;
     uint8_t next = (uint8_t)(rx_head + 1);
-    if (next != rx_tail) { /* a full buffer drops the byte; the CRC then drops its message */
-        rx_buf[rx_head] = byte;
-        rx_head = next;
+    if (next == rx_tail)
+        return; /* a full buffer drops the byte; the CRC then drops its message */
+    if (byte == 0) {
+        if ((uint8_t)(stamp_head - stamp_tail) == STAMPS)
+            return; /* no room for its arrival time: dropped like any byte of a full buffer */
+        uint32_t high = overflows;
+        if ((TIFR1 & _BV(TOV1)) && counts < 0x8000)
+            high++;
+        stamps[stamp_head % STAMPS] = (high << 15) + (counts >> 1);
+        stamp_head++;
     }
+    rx_buf[rx_head] = byte;
+    rx_head = next;
 }
 
 ISR(USART0_UDRE_vect)
@@ -92,18 +164,78 @@ static void send(const uint8_t *data, uint8_t n)
     }
 }
 
-static void show(const uint8_t *levels)
+static uint8_t free_table(void)
 {
-    uint8_t free_table;
+    uint8_t t = 0;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        free_table = 0;
-        while (free_table == playing || free_table == waiting)
-            free_table++;
+        while (t == playing || t == waiting || t == armed || t == built)
+            t++;
     }
+    return t;
+}
+
+/* A frame for now: drop what is scheduled, play it from the next period. */
+static void show(const uint8_t *levels)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        TIMSK1 &= (uint8_t)~_BV(OCIE1B);
+        armed = NONE;
+    }
+    built = NONE;
+    uint8_t t = free_table();
     /* The timer may start playing the waiting table meanwhile; this one stays free. */
-    pwm_build(levels, CHANNELS, PINS, PORTS, PWM_SLOTS, tables[free_table]);
-    waiting = free_table;
+    pwm_build(levels, CHANNELS, PINS, PORTS, PWM_SLOTS, tables[t]);
+    waiting = t;
+}
+
+/* The queue's head: build its table ahead, arm compare match B once its time is near, or play
+ * it at once when its time has passed. One frame is armed at a time. */
+static void schedule(tp_state *state)
+{
+    if (onset) {
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { onset = 0; }
+        built = NONE;
+        tp_played(state, 0);
+    }
+    const tp_timed *head = tp_head(state);
+    if (head == NULL || armed != NONE)
+        return;
+    if ((int32_t)(head->at_us - clock_us()) > ARM_WINDOW_US)
+        return;
+    if (built == NONE) {
+        uint8_t t = free_table();
+        pwm_build(head->levels, CHANNELS, PINS, PORTS, PWM_SLOTS, tables[t]);
+        built = t;
+    }
+    uint8_t at_once = 0, late = 0;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        uint16_t counts;
+        int32_t ahead = (int32_t)(head->at_us - clock_at(&counts));
+        armed = built;
+        for (uint8_t i = 0; i < PORTS; i++)
+            first[i] = tables[built][i];
+        if (ahead > ARM_MARGIN_US) { /* counts are half microseconds */
+            OCR1B = (uint16_t)((counts & ~1u) + 2u * (uint16_t)ahead - ONSET_LEAD_COUNTS);
+            TIFR1 = _BV(OCF1B);
+            TIMSK1 |= _BV(OCIE1B);
+        } else { /* due now, or past: play at once */
+            PORTA = first[0];
+            PORTC = first[1];
+            PORTL = first[2];
+            PORTK = first[3];
+            started_armed(TCNT1);
+            onset = 0;
+            at_once = 1;
+            late = ahead < 0;
+        }
+    }
+    if (at_once) {
+        built = NONE;
+        tp_played(state, late);
+    }
 }
 
 /* The watchdog: everything off now, not at the end of the period. */
@@ -114,15 +246,11 @@ static void all_off_now(void)
         for (uint8_t i = 0; i < sizeof tables[0]; i++)
             tables[playing][i] = 0;
         waiting = NONE;
+        armed = NONE;
+        TIMSK1 &= (uint8_t)~_BV(OCIE1B);
         PORTA = PORTC = PORTL = PORTK = 0;
     }
-}
-
-static uint32_t millis(void)
-{
-    uint32_t ms;
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { ms = now_ms; }
-    return ms;
+    built = NONE;
 }
 
 int main(void)
@@ -139,9 +267,9 @@ int main(void)
     UCSR0B = _BV(RXEN0) | _BV(TXEN0) | _BV(RXCIE0);
 
     TCCR1A = 0;
-    TCCR1B = _BV(WGM12) | _BV(CS11); /* CTC, clk / 8 */
-    OCR1A = TIMER_TOP;
-    TIMSK1 = _BV(OCIE1A);
+    OCR1A = TIMER_TICK;
+    TIMSK1 = _BV(OCIE1A) | _BV(TOIE1);
+    TCCR1B = _BV(CS11); /* normal mode (free running), clk / 8: the clock starts here */
 
     static tp_state state;
     static const tp_config config = {ARRAY_COLS, ARRAY_ROWS, ARRAY_LEVELS, WATCHDOG_MS, PWM_HZ,
@@ -153,17 +281,30 @@ int main(void)
     for (;;) {
         while (rx_tail != rx_head) {
             uint8_t byte = rx_buf[rx_tail];
+            uint32_t at;
+            if (byte == 0) {
+                at = stamps[stamp_tail % STAMPS];
+                stamp_tail++;
+            } else {
+                at = clock_us();
+            }
             rx_tail = (uint8_t)(rx_tail + 1);
-            int result = tp_feed(&state, byte, millis());
-            if (result == TP_APPLIED)
+            int result = tp_feed(&state, byte, at);
+            if (result == TP_APPLIED) {
                 show(state.levels);
-            else if (result == TP_REPLY)
+            } else if (result == TP_REPLY) {
                 send(state.reply, state.reply_len);
+            } else if (result == TP_CLOCK_ASKED) {
+                tp_clock_reply(&state, clock_us());
+                send(state.reply, state.reply_len);
+            }
+            schedule(&state); /* a due frame is not held up by a long run of bytes */
         }
-        if (tp_watchdog(&state, millis()))
+        schedule(&state);
+        if (tp_watchdog(&state, clock_us()))
             all_off_now();
         cli();
-        if (rx_tail == rx_head) { /* nothing to do until the next interrupt */
+        if (rx_tail == rx_head && !onset) { /* nothing to do until the next interrupt */
             sleep_enable();
             sei();
             sleep_cpu();

@@ -153,7 +153,7 @@ class SimulatedArray:
 
     def __init__(self, profile: DeviceProfile | None = None):
         self.profile = profile or default_profile()
-        self.model = ArrayModel(self.profile)
+        self.model = ArrayModel(self.profile, epoch=time.monotonic())
         self._lock = threading.Lock()
         self._replies = bytearray()
         self.closed = False
@@ -193,7 +193,9 @@ class SimulatedArray:
     def watchdog_trips(self) -> int:
         """Watchdog trips (brought up to date)."""
         with self._lock:
-            self.model.watchdog(time.monotonic())
+            now = time.monotonic()
+            self.model.advance(now)
+            self.model.watchdog(now)
             return self.model.watchdog_trips
 
     @property
@@ -210,6 +212,7 @@ class SimulatedArray:
         """Current levels as a ``(rows, cols)`` uint8 frame, zero after the watchdog."""
         now = time.monotonic() if now is None else now
         with self._lock:
+            self.model.advance(now)
             self.model.watchdog(now)
             channel_levels = np.frombuffer(self.model.levels, dtype=np.uint8)
         flat = np.zeros(self.profile.channels, dtype=np.uint8)
