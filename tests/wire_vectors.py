@@ -5,8 +5,9 @@ extension with a queue of 24) whose clock starts at 0 µs, receiving ``steps``:
 ``("feed", bytes)`` or ``("advance_ms", n)`` (the clock moves on; timed frames that come due
 play, at most one per step here). After the steps it has applied the frames ``applied`` (seq,
 levels) in order, holds ``levels``, has answered ``replies`` (the concatenated wire bytes) and
-counts ``frames_applied``, ``dropped`` (by reason in ``dropped_by``) and ``watchdog_trips``. The same vectors run against the Python receiver
-(:class:`tactile_core.device.array.ArrayModel`) and the firmware's C parser compiled for the host.
+counts ``frames_applied``, ``dropped`` (by reason in ``dropped_by``) and ``watchdog_trips``.
+The same vectors run against the Python receiver (:class:`tactile_core.device.array.ArrayModel`)
+and the firmware's C parser compiled for the host.
 
 The CRC is computed bit by bit here and COBS by hand, independently of ``tactile_core.device.wire``.
 """

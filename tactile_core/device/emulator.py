@@ -8,9 +8,10 @@ something off), and counts dropped messages by reason; it also counts gaps in th
 numbers and measures the intervals between frames. Timed frames (the scheduled-frame extension)
 wait for their time on the emulated array's clock, which starts at 0 when the emulator opens;
 the log has each one at the time it was to be played, and the report counts those that came late
-or found the queue full and how late the emulator's own loop played the others. When it ends (Ctrl-C, SIGTERM, ``--seconds``)
-it prints a report: frames, rate, p50/p99 interval error, dropped messages, watchdog trips, the
-last levels; its counters are the ones a status answer reports.
+or found the queue full and how late the emulator's own loop played the others. When it ends
+(Ctrl-C, SIGTERM, ``--seconds``) it prints a report: frames, rate, p50/p99 interval error,
+dropped messages, watchdog trips, the last levels; its counters are the ones a status answer
+reports.
 """
 
 from __future__ import annotations
