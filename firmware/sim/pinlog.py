@@ -247,3 +247,37 @@ def check(log: PinLog) -> Check:
         duty_error_cycles=int(err.max()) if err.size else 0,
         pwm_hz=CPU_HZ / period,
     )
+
+
+# --- the firmware's own latencies, counted from its machine code ----------------------------
+
+INTERRUPT_RESPONSE = 5 + 3
+"""Cycles from an interrupt's flag to the first instruction of its handler on the ATmega2560:
+5 to push the 3-byte return address, 3 for the ``jmp`` in the vector table."""
+_CYCLES = {"push": 2, "pop": 2, "lds": 2, "sts": 2, "ld": 2, "ldd": 2, "st": 2, "std": 2,
+           "mul": 2, "adiw": 2, "sbiw": 2, "call": 5, "rcall": 4, "ret": 5, "reti": 5}  # fmt: skip
+
+
+def handler_cycles(elf, vector: int, until: str) -> int:
+    """Cycles from interrupt ``vector``'s flag to the instruction whose disassembly contains
+    ``until`` (e.g. ``"0x0084"``, the load of TCNT1, or ``"out\\t0x02"``, the write of PORTA),
+    counted on the handler's machine code (``avr-objdump -d``): the interrupt response plus each
+    instruction before it (1 cycle unless listed in ``_CYCLES``). The handler must reach it
+    without a branch, as the firmware's do."""
+    import subprocess
+
+    text = subprocess.run(["avr-objdump", "-d", str(elf)], capture_output=True, text=True,
+                          check=True).stdout  # fmt: skip
+    lines = text.split(f"<__vector_{vector}>:\n", 1)[1].splitlines()
+    cycles = INTERRUPT_RESPONSE
+    for line in lines:
+        if until in line:
+            return cycles
+        parts = line.split("\t")
+        if len(parts) < 3:
+            raise ValueError(f"{until!r} not found in vector {vector}")
+        cycles += _CYCLES.get(parts[2].split()[0], 1)
+    raise ValueError(f"{until!r} not found in vector {vector}")
+
+
+RX_VECTOR, COMPB_VECTOR = 25, 18  # USART0_RX, TIMER1_COMPB on the ATmega2560

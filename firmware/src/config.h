@@ -16,11 +16,12 @@
 
 /* Timed frames: compare match B is armed once a frame's time is less than ARM_WINDOW_US away
  * (the counter wraps every 32.768 ms); a frame less than ARM_MARGIN_US away plays at once. The
- * match fires ONSET_LEAD_COUNTS (half microseconds) early, for the interrupt's entry and the
- * register saves before the first port is written (measured in simavr, docs/firmware.md). */
+ * match fires ONSET_LEAD_COUNTS (half microseconds) early: from the match to the write of PORTA
+ * the interrupt takes 41 cycles (2.56 us: its entry, six register saves, the slot's row),
+ * counted on the machine code by tests/test_firmware_schedule.py. */
 #define ARM_WINDOW_US 16000
 #define ARM_MARGIN_US 8
-#define ONSET_LEAD_COUNTS 0
+#define ONSET_LEAD_COUNTS 5
 
 #define UART_UBRR 16 /* with U2X0: 16 MHz / 8 / 17 = 117,647 baud (115200 + 2.1 %) */
 

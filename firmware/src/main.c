@@ -9,11 +9,12 @@
  *   6666.7 Hz), writing four ports from a precomputed table (pwm.c). A frame for now (type 'F')
  *   waits for the end of the period: a period never mixes two frames (three tables: playing,
  *   waiting, being built).
- * - Compare match B plays a timed frame (type 'T') at its time: it writes the first slot of the
- *   frame's table the moment the counter reaches the frame's time, and the PWM period restarts
- *   there. The frame's table is built ahead of time into a fourth table; the match is armed once
- *   the time is less than 16 ms away (half the counter's period, so never ambiguous). A frame
- *   whose time has passed plays at once and is counted late.
+ * - Compare match B plays a timed frame (type 'T') at its time: the moment the counter reaches
+ *   the frame's time its table takes over, from the slot the period is in (the period runs on
+ *   undisturbed, so every duty stays level / 22 on average; only the period the frame starts in
+ *   mixes the two frames, at the frame's time). The frame's table is built ahead of time into a
+ *   fourth table; the match is armed once the time is less than 16 ms away (half the counter's
+ *   period, so never ambiguous). A frame whose time has passed plays at once, counted late.
  * - UART0 receive and transmit run from interrupts through ring buffers; the receive interrupt
  *   stamps every message delimiter with the clock (the clock exchange's arrival time). The main
  *   loop feeds received bytes to the parser (protocol.c) and sleeps when there is nothing to do.
@@ -41,16 +42,16 @@
  * holding the next timed frame (armed on compare match B), one being built. */
 static uint8_t tables[4][PWM_SLOTS * PORTS];
 static volatile uint8_t playing = 0, waiting = NONE, armed = NONE;
-static volatile uint8_t slot;          /* the slot compare match A plays next */
+static volatile uint8_t slot = PWM_SLOTS - 1; /* the slot being played */
 static volatile uint32_t overflows;    /* Timer1 overflows: 32,768 us each */
 static volatile uint8_t onset;         /* compare match B played the armed frame */
-static volatile uint8_t first[PORTS];  /* the armed table's first slot, for compare match B */
+static const uint8_t *volatile armed_table; /* tables[armed], for compare match B */
 static uint8_t built = NONE;           /* the table holding the queue's head, if built */
 
 static volatile uint8_t rx_buf[256], tx_buf[128];
 static volatile uint8_t rx_head, rx_tail, tx_head, tx_tail;
-#define STAMPS 32 /* arrival times of the delimiters waiting in rx_buf */
-static volatile uint32_t stamps[STAMPS];
+#define STAMPS 32 /* arrival times of the delimiters waiting in rx_buf: counter, overflows */
+static volatile uint16_t stamp_counts[STAMPS], stamp_high[STAMPS];
 static volatile uint8_t stamp_head, stamp_tail;
 
 /* The clock in microseconds; call with interrupts off. An overflow that happened but has not
@@ -83,11 +84,6 @@ ISR(TIMER1_OVF_vect) { overflows++; }
 ISR(TIMER1_COMPA_vect)
 {
     OCR1A += TIMER_TICK;
-    const uint8_t *row = tables[playing] + slot * PORTS;
-    PORTA = row[0];
-    PORTC = row[1];
-    PORTL = row[2];
-    PORTK = row[3];
     if (++slot == PWM_SLOTS) {
         slot = 0;
         if (waiting != NONE) { /* only between periods: a period never mixes two frames */
@@ -95,51 +91,65 @@ ISR(TIMER1_COMPA_vect)
             waiting = NONE;
         }
     }
+    const uint8_t *row = tables[playing] + slot * PORTS;
+    PORTA = row[0];
+    PORTC = row[1];
+    PORTL = row[2];
+    PORTK = row[3];
 }
 
-/* After the armed table's first slot went out at count `at`: it is the one playing, the next
- * slot follows a tick later. Interrupts are off (compare match B, or the caller). */
-static inline __attribute__((always_inline)) void started_armed(uint16_t at)
+/* The armed table takes over in the slot being played. Interrupts are off (compare match B, or
+ * the caller); the ports first, so that the pins change a fixed number of cycles after the
+ * match (the interrupt's entry and a few register saves), then the bookkeeping. */
+static inline __attribute__((always_inline)) void play_armed(void)
 {
+    const uint8_t *row = armed_table + slot * PORTS;
+    PORTA = row[0];
+    PORTC = row[1];
+    PORTL = row[2];
+    PORTK = row[3];
     playing = armed;
     armed = NONE;
     waiting = NONE;
-    slot = 1;
-    OCR1A = (uint16_t)(at + TIMER_TICK);
-    TIFR1 = _BV(OCF1A); /* a slot of the old period that matched meanwhile is not played */
     TIMSK1 &= (uint8_t)~_BV(OCIE1B);
     onset = 1;
 }
 
-/* The onset of a timed frame: the ports first, so that the pins change a fixed number of cycles
- * after the match (the interrupt's entry and four register saves), then the bookkeeping. */
-ISR(TIMER1_COMPB_vect)
-{
-    PORTA = first[0];
-    PORTC = first[1];
-    PORTL = first[2];
-    PORTK = first[3];
-    started_armed(OCR1B);
-}
+ISR(TIMER1_COMPB_vect) { play_armed(); }
 
+/* Receive: the counter first (the delimiter's arrival, a fixed number of cycles after it), then
+ * interrupts back on, so that a timed frame's compare match never waits for the rest. */
 ISR(USART0_RX_vect)
 {
-    uint16_t counts = TCNT1; /* first: the delimiter's arrival, a fixed number of cycles late */
+    uint16_t counts = TCNT1;
     uint8_t byte = UDR0;
+    uint16_t high = (uint16_t)overflows;
+    if ((TIFR1 & _BV(TOV1)) && counts < 0x8000)
+        high++;
+    sei();
     uint8_t next = (uint8_t)(rx_head + 1);
     if (next == rx_tail)
         return; /* a full buffer drops the byte; the CRC then drops its message */
     if (byte == 0) {
+        uint8_t at = stamp_head % STAMPS;
         if ((uint8_t)(stamp_head - stamp_tail) == STAMPS)
             return; /* no room for its arrival time: dropped like any byte of a full buffer */
-        uint32_t high = overflows;
-        if ((TIFR1 & _BV(TOV1)) && counts < 0x8000)
-            high++;
-        stamps[stamp_head % STAMPS] = (high << 15) + (counts >> 1);
+        stamp_counts[at] = counts;
+        stamp_high[at] = high;
         stamp_head++;
     }
     rx_buf[rx_head] = byte;
     rx_head = next;
+}
+
+/* The arrival time of the oldest delimiter waiting, on the microsecond clock. */
+static uint32_t pop_stamp(void)
+{
+    uint8_t at = stamp_tail % STAMPS;
+    uint32_t high_now = clock_us() >> 15; /* overflows now (mod 2^17), < 65536 after the stamp */
+    uint32_t high = high_now - (uint16_t)((uint16_t)high_now - stamp_high[at]);
+    stamp_tail++;
+    return (high << 15) + (stamp_counts[at] >> 1);
 }
 
 ISR(USART0_UDRE_vect)
@@ -215,18 +225,13 @@ static void schedule(tp_state *state)
         uint16_t counts;
         int32_t ahead = (int32_t)(head->at_us - clock_at(&counts));
         armed = built;
-        for (uint8_t i = 0; i < PORTS; i++)
-            first[i] = tables[built][i];
+        armed_table = tables[built];
         if (ahead > ARM_MARGIN_US) { /* counts are half microseconds */
             OCR1B = (uint16_t)((counts & ~1u) + 2u * (uint16_t)ahead - ONSET_LEAD_COUNTS);
             TIFR1 = _BV(OCF1B);
             TIMSK1 |= _BV(OCIE1B);
         } else { /* due now, or past: play at once */
-            PORTA = first[0];
-            PORTC = first[1];
-            PORTL = first[2];
-            PORTK = first[3];
-            started_armed(TCNT1);
+            play_armed();
             onset = 0;
             at_once = 1;
             late = ahead < 0;
@@ -267,7 +272,7 @@ int main(void)
     UCSR0B = _BV(RXEN0) | _BV(TXEN0) | _BV(RXCIE0);
 
     TCCR1A = 0;
-    OCR1A = TIMER_TICK;
+    OCR1A = TIMER_TICK; /* the first slot of the first period */
     TIMSK1 = _BV(OCIE1A) | _BV(TOIE1);
     TCCR1B = _BV(CS11); /* normal mode (free running), clk / 8: the clock starts here */
 
@@ -283,8 +288,7 @@ int main(void)
             uint8_t byte = rx_buf[rx_tail];
             uint32_t at;
             if (byte == 0) {
-                at = stamps[stamp_tail % STAMPS];
-                stamp_tail++;
+                at = pop_stamp();
             } else {
                 at = clock_us();
             }
