@@ -68,19 +68,19 @@ def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
                 values = iter(
                     np.tile(np.r_[np.linspace(0.2, 0.6, 30), np.linspace(0.6, 0.2, 30)], 1000)
                 )
-                spin = window.controls.mu_spin
+                spin = window.controls.correction.mu_spin
                 drag.timeout.connect(lambda v=values, spin=spin: spin.setValue(next(v)))
                 drag.start(33)
             loop = QtCore.QEventLoop()
             QtCore.QTimer.singleShot(500, loop.quit)  # settle
             loop.exec()
-            window._display_times.clear()
+            window.tune.live.tick_times.clear()
             start = time.perf_counter()
             loop = QtCore.QEventLoop()
             QtCore.QTimer.singleShot(round(seconds * 1000), loop.quit)
             loop.exec()
             drag.stop()
-            ticks = np.array([t for t in window._display_times if t >= start])
+            ticks = np.array([t for t in window.tune.live.tick_times if t >= start])
             stats = window.device.stats
             window.close()
             report, log = emu.finish()

@@ -121,7 +121,7 @@ def test_digits_typed_into_the_device_box_stay_there(window, qtbot):
 
 
 def test_enter_commits_a_field_and_gives_the_keys_back(window, qtbot):
-    spin = window.controls.mu_spin
+    spin = window.controls.correction.mu_spin
     spin.setFocus()
     spin.selectAll()
     qtbot.keyClicks(spin, "0.5")
@@ -138,7 +138,7 @@ def test_enter_commits_a_field_and_gives_the_keys_back(window, qtbot):
 
 def test_esc_in_a_drop_down_closes_only_the_drop_down(window, qtbot):
     window.state.update(playing=True)
-    combo = window.controls.shape_combo
+    combo = window.controls.shape.shape_combo
     combo.showPopup()
     popup = QtWidgets.QApplication.activePopupWidget()
     assert popup is not None
@@ -155,7 +155,7 @@ def test_esc_in_a_dialog_closes_only_the_dialog(window, qtbot):
     qtbot.keyClick(box, Key.Key_Escape)
     qtbot.waitUntil(lambda: not box.isVisible(), timeout=1000)
     assert window.state.scene.playing
-    qtbot.keyClick(window.heatmap, Key.Key_Escape)  # in the window: all off
+    qtbot.keyClick(window.tune.heatmap, Key.Key_Escape)  # in the window: all off
     assert not window.state.scene.playing
 
 
@@ -177,35 +177,35 @@ def test_thirty_tactors_get_thirty_colours_none_the_cursors():
 
 def test_lanes_show_one_row_per_tactor_labelled(window, qtbot):
     window.state.update(shape=tc.Line((0.5, 1.84), (4.5, 4.16)), method="MM")
-    qtbot.waitUntil(lambda: window.curves.curves is not None
-                    and window.curves.curves.cells[0] == (0, 1), timeout=2000)  # fmt: skip
-    window.lanes_check.setChecked(True)
-    cells = window.curves.curves.cells
-    ticks = window.curves.getAxis("left")._tickLevels[0]
+    qtbot.waitUntil(lambda: window.tune.curves.curves is not None
+                    and window.tune.curves.curves.cells[0] == (0, 1), timeout=2000)  # fmt: skip
+    window.tune.lanes_check.setChecked(True)
+    cells = window.tune.curves.curves.cells
+    ticks = window.tune.curves.getAxis("left")._tickLevels[0]
     assert [label for _, label in ticks] == [f"({c},{r})" for c, r in cells]
-    y0 = window.curves._solid[cells[0]].yData.max()
-    y1 = window.curves._solid[cells[1]].yData.max()
+    y0 = window.tune.curves._solid[cells[0]].yData.max()
+    y1 = window.tune.curves._solid[cells[1]].yData.max()
     assert y0 > y1 + 0.5  # separate lanes, not all at 1.0
-    cursor = window.curves.cursor.pen.color().name()
-    assert cursor not in {c.lower() for c in window.curves.colors.values()}
+    cursor = window.tune.curves.cursor.pen.color().name()
+    assert cursor not in {c.lower() for c in window.tune.curves.colors.values()}
 
 
 def test_hovering_a_cell_highlights_its_curve_and_back(window, qtbot):
     window.state.update(shape=tc.Line((0.5, 1.84), (4.5, 4.16)), method="AS")
-    qtbot.waitUntil(lambda: window.curves.curves is not None, timeout=2000)
-    cell = window.curves.curves.cells[2]
-    vb = window.heatmap.plot.vb
+    qtbot.waitUntil(lambda: window.tune.curves.curves is not None, timeout=2000)
+    cell = window.tune.curves.curves.cells[2]
+    vb = window.tune.heatmap.plot.vb
     scene_point = vb.mapViewToScene(QtCore.QPointF(cell[0] + 0.5, cell[1] + 0.5))
-    qtbot.mouseMove(window.heatmap.viewport(), window.heatmap.mapFromScene(scene_point))
-    qtbot.waitUntil(lambda: window.curves._solid[cell].opts["pen"].width() == 5, timeout=2000)
-    assert f"tactor ({cell[0]},{cell[1]})" in window.heatmap.readout.text
-    window.curves.curve_hovered.emit((0, 1))
-    assert window.heatmap.highlight_item.isVisible()
-    assert window.heatmap.highlight_item.rect().topLeft() == QtCore.QPointF(0, 1)
+    qtbot.mouseMove(window.tune.heatmap.viewport(), window.tune.heatmap.mapFromScene(scene_point))
+    qtbot.waitUntil(lambda: window.tune.curves._solid[cell].opts["pen"].width() == 5, timeout=2000)
+    assert f"tactor ({cell[0]},{cell[1]})" in window.tune.heatmap.readout.text
+    window.tune.curves.curve_hovered.emit((0, 1))
+    assert window.tune.heatmap.highlight_item.isVisible()
+    assert window.tune.heatmap.highlight_item.rect().topLeft() == QtCore.QPointF(0, 1)
 
 
 def test_heatmap_ticks_are_grid_units(window):
-    ticks = window.heatmap.plot.getAxis("bottom")._tickLevels[0]
+    ticks = window.tune.heatmap.plot.getAxis("bottom")._tickLevels[0]
     assert [v for v, _ in ticks] == [0, 1, 2, 3, 4, 5]
 
 
@@ -213,32 +213,34 @@ def test_dragging_the_cursor_pauses_and_shows_that_moment(window, qtbot):
     scene = window.state.scene.replace(shape=tc.Line((0.5, 1.84), (4.5, 4.16)), method="AS",
                                        mu=0.0, gamma=1.0, playing=True)  # fmt: skip
     window.state.set_scene(scene)
-    window.curves.scrubbed.emit(0.5)  # a quarter into the 2 s trace: x = 1.5
+    window.tune.curves.scrubbed.emit(0.5)  # a quarter into the 2 s trace: x = 1.5
     assert not window.state.scene.playing
     window.state.set_view_mode("corrected")
     expected = tc.render(scene.shape, "AS", 0.25)
-    qtbot.waitUntil(lambda: np.allclose(window.heatmap.values, expected, atol=1e-12), timeout=2000)
-    assert window.curves.cursor.value() == pytest.approx(0.5)
+    qtbot.waitUntil(
+        lambda: np.allclose(window.tune.heatmap.values, expected, atol=1e-12), timeout=2000
+    )
+    assert window.tune.curves.cursor.value() == pytest.approx(0.5)
 
 
 def test_clicking_a_cell_pulses_its_tactor_and_shift_holds_it(window, qtbot):
     before = window.state.scene
-    window.heatmap.cell_clicked.emit(3, 4, False)
+    window.tune.heatmap.cell_clicked.emit(3, 4, False)
     scene = window.state.scene
     assert scene.shape == tc.Line((3.5, 4.5), (3.5, 4.5)) and scene.method == "CT"
     qtbot.waitUntil(lambda: window.device.sent_levels()[4, 3] == 22, timeout=2000)
     qtbot.waitUntil(lambda: window.state.scene.shape == before.shape, timeout=2000)  # back
-    window.heatmap.cell_clicked.emit(1, 1, True)  # Shift: held
+    window.tune.heatmap.cell_clicked.emit(1, 1, True)  # Shift: held
     qtbot.wait(600)
     assert window.state.scene.shape == tc.Line((1.5, 1.5), (1.5, 1.5))
     assert window.device.sent_levels()[1, 1] == 22
-    window.heatmap.cell_clicked.emit(1, 1, False)  # a click releases it
+    window.tune.heatmap.cell_clicked.emit(1, 1, False)  # a click releases it
     assert window.state.scene.shape == before.shape
 
 
 def test_the_correction_key_never_covers_the_curves(window):
-    assert window.correction.plotItem.legend is None
-    title = window.correction.plotItem.titleLabel.text
+    assert window.tune.correction.plotItem.legend is None
+    title = window.tune.correction.plotItem.titleLabel.text
     assert "device levels" in title
 
 
@@ -248,9 +250,9 @@ def test_a_lost_device_is_obvious(window, qtbot):
         StreamStats(state="disconnected", status="device disconnected: /dev/ttyUSB9")
     )
     assert window.banner.isVisible() and "/dev/ttyUSB9" in window.banner.text()
-    assert window.heatmap.banner.isVisible()
+    assert window.tune.heatmap.banner.isVisible()
     window.device.status_changed.emit(StreamStats(state="streaming", status="reconnected"))
-    assert not window.banner.isVisible() and not window.heatmap.banner.isVisible()
+    assert not window.banner.isVisible() and not window.tune.heatmap.banner.isVisible()
     window.device.url = None
 
 
@@ -312,10 +314,10 @@ def test_the_curve_title_and_hint_fit_their_panel(window, qtbot, size):
     # A title wider than its plot is cut off at the right (it was, at 1600 x 1000).
     window.resize(*size)
     qtbot.wait(50)
-    window._fit_heatmap()
+    window.tune.fit_heatmap()
     qtbot.wait(20)
-    title = window.curves.plotItem.titleLabel.item.boundingRect().width()
-    assert 0 < title <= window.curves.width()
+    title = window.tune.curves.plotItem.titleLabel.item.boundingRect().width()
+    assert 0 < title <= window.tune.curves.width()
     hint = window.findChild(QtWidgets.QLabel, "curves_hint")
     assert hint.minimumSizeHint().width() == 0  # elides; never sets the panel's width
     assert "drag the dashed cursor" in hint.toolTip()
@@ -323,11 +325,13 @@ def test_the_curve_title_and_hint_fit_their_panel(window, qtbot, size):
 
 def test_every_parameter_has_a_short_tooltip_with_unit_or_section(window):
     c = window.controls
-    widgets = [c.mu_spin, c.mu_slider, c.gamma_spin, c.gamma_slider, c.duration_spin,
-               c.pause_spin, c.direction_combo, c.rate_spin, c.filter_combo, c.subsamples_spin,
-               c.dither_check, c.emphasis_spin, c.gain_spin, c.draw_check,
-               *c.method_buttons.buttons(), *c.view_buttons.buttons(),
-               *[f for fields in c.shape_fields.values() for f in fields]]  # fmt: skip
+    widgets = [c.correction.mu_spin, c.correction.mu_slider, c.correction.gamma_spin,
+               c.correction.gamma_slider, c.trace.duration_spin, c.trace.pause_spin,
+               c.trace.direction_combo, c.trace.rate_spin, c.trace.filter_combo,
+               c.trace.subsamples_spin, c.trace.dither_check, c.trace.emphasis_spin,
+               c.trace.gain_spin, c.playback.draw_check,
+               *c.method.method_buttons.buttons(), *c.playback.view_buttons.buttons(),
+               *[f for fields in c.shape.shape_fields.values() for f in fields]]  # fmt: skip
     for w in widgets:
         text = w.toolTip()
         assert text.startswith("<qt>"), (w, text)  # rich text: wraps, never 1100 px wide
@@ -345,12 +349,12 @@ def test_the_plots_follow_a_dark_palette(window, qtbot):
     try:
         apply_theme(app, "dark")
         qtbot.wait(50)
-        background = window.curves.backgroundBrush().color()
+        background = window.tune.curves.backgroundBrush().color()
         assert background.lightness() < 60
-        assert window.heatmap.backgroundBrush().color().lightness() < 60
+        assert window.tune.heatmap.backgroundBrush().color().lightness() < 60
         apply_theme(app, "light")
         qtbot.wait(50)
-        assert window.curves.backgroundBrush().color().lightness() > 200
+        assert window.tune.curves.backgroundBrush().color().lightness() > 200
     finally:
         app.setPalette(saved_palette)
         app.setStyle(saved_style)
@@ -359,7 +363,7 @@ def test_the_plots_follow_a_dark_palette(window, qtbot):
 def test_the_title_follows_the_tuning(window, qtbot, tmp_path):
     from tactile_core.files.presets import builtin_presets
 
-    assert window.load_preset_file(builtin_presets()["exp3-circle"])
+    assert window.files.load_preset_file(builtin_presets()["exp3-circle"])
     title = window.windowTitle()
     assert "Experiment 3 circle" in title and "*" not in title and "mu 0.33" in title
     window.state.update(mu=0.5)
@@ -390,11 +394,11 @@ def test_dialogs_remember_their_folder_per_kind(tmp_path):
 def test_draw_mode_clears_its_curves_and_restores_the_scene(window, qtbot):
     before = window.state.scene.replace(method="IM", pause_s=0.7)
     window.state.set_scene(before)
-    qtbot.waitUntil(lambda: window.curves.curves is not None, timeout=2000)
-    window.controls.draw_check.setChecked(True)
-    qtbot.waitUntil(lambda: window.curves.curves is None, timeout=2000)
+    qtbot.waitUntil(lambda: window.tune.curves.curves is not None, timeout=2000)
+    window.controls.playback.draw_check.setChecked(True)
+    qtbot.waitUntil(lambda: window.tune.curves.curves is None, timeout=2000)
     assert window.state.scene.method == "AS" and window.state.scene.pause_s == 0.0
-    window.controls.draw_check.setChecked(False)
+    window.controls.playback.draw_check.setChecked(False)
     scene = window.state.scene
     assert (scene.method, scene.pause_s, scene.shape) == ("IM", 0.7, before.shape)
-    qtbot.waitUntil(lambda: window.curves.curves is not None, timeout=2000)
+    qtbot.waitUntil(lambda: window.tune.curves.curves is not None, timeout=2000)

@@ -84,21 +84,23 @@ def test_the_tuner_switches_the_domain_and_plots_both(qtbot):
     win = MainWindow(restore=False)
     qtbot.addWidget(win)
     win.show()
-    check = win.controls.felt_domain_check
+    check = win.controls.correction.felt_domain_check
     qtbot.waitUntil(check.isEnabled, timeout=5000)  # the palm array has a response curve
     win.state.update(shape=CIRCLE, method="CT", mu=0.0, gamma=1.0, dither=False)
     check.click()
     assert win.state.scene.felt_domain
-    qtbot.waitUntil(lambda: "(felt)" in win.correction.plotItem.titleLabel.text, timeout=3000)
+    qtbot.waitUntil(lambda: "(felt)" in win.tune.correction.plotItem.titleLabel.text, timeout=3000)
     # mu 0.5 on felt amplitude is drive 0.38 (worked above), level round(8.36) = 8.
     # At mu 0 the first lit level is the motor's start: drive 0.2, level round(4.4) = 4.
-    qtbot.waitUntil(lambda: win.correction.steps.getData()[1][1] == pytest.approx(4 / 22),
+    qtbot.waitUntil(lambda: win.tune.correction.steps.getData()[1][1] == pytest.approx(4 / 22),
                     timeout=3000)  # fmt: skip
     win.state.update(mu=0.5)
-    qtbot.waitUntil(lambda: win.correction.steps.getData()[1][1] == pytest.approx(8 / 22),
+    qtbot.waitUntil(lambda: win.tune.correction.steps.getData()[1][1] == pytest.approx(8 / 22),
                     timeout=3000)  # fmt: skip
-    assert win.correction.steps.getData()[1][-1] == pytest.approx(1.0)
+    assert win.tune.correction.steps.getData()[1][-1] == pytest.approx(1.0)
     check.click()
     assert not win.state.scene.felt_domain
-    qtbot.waitUntil(lambda: "(felt)" not in win.correction.plotItem.titleLabel.text, timeout=3000)
+    qtbot.waitUntil(
+        lambda: "(felt)" not in win.tune.correction.plotItem.titleLabel.text, timeout=3000
+    )
     win.close()

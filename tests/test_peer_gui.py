@@ -14,47 +14,49 @@ pytestmark = pytest.mark.usefixtures("qt_settings")
 
 
 def test_other_methods_and_their_parameter_drive_the_array(window, qtbot):  # noqa: F811
-    controls = window.controls
+    method_box = window.controls.method
     window.state.update(shape=tc.Circle((2.5, 3.0), 2.0), mu=0.0, gamma=1.0, dither=False)
-    combo = controls.other_combo
+    combo = method_box.other_combo
     combo.setCurrentIndex(combo.findData("RO"))
     combo.activated.emit(combo.currentIndex())
-    assert window.state.scene.method == "RO" and controls.other_button.isChecked()
-    assert controls.param_spin.isVisible() and controls.param_label.text() == "r"
-    controls.param_spin.setValue(2.0)
+    assert window.state.scene.method == "RO" and method_box.other_button.isChecked()
+    assert method_box.param_spin.isVisible() and method_box.param_label.text() == "r"
+    method_box.param_spin.setValue(2.0)
     assert window.state.scene.method == "RO:r=2"
     # RO at r = 2 lights more tactors than any of the paper's methods can (at most 4).
     wait_for_levels(qtbot, window, lambda levels: (levels > 0).sum() > 4)
     qtbot.keyClick(window, QtCore.Qt.Key.Key_3)  # key 3: back to the paper's AS
-    assert window.state.scene.method == "AS" and not controls.param_spin.isVisible()
-    assert controls.other_combo.currentIndex() == -1  # the list shows no method as on
+    assert window.state.scene.method == "AS" and not method_box.param_spin.isVisible()
+    assert method_box.other_combo.currentIndex() == -1  # the list shows no method as on
     wait_for_levels(qtbot, window, lambda levels: 0 < (levels > 0).sum() <= 4)
-    controls.other_button.click()  # "other" with nothing chosen: the first of the list
-    assert window.state.scene.method == "EN" and controls.other_combo.currentData() == "EN"
+    method_box.other_button.click()  # "other" with nothing chosen: the first of the list
+    assert window.state.scene.method == "EN" and method_box.other_combo.currentData() == "EN"
 
 
 def test_blind_ab_hides_the_other_method_and_its_parameter(window):  # noqa: F811
     window.blind.set_methods(["AS", "GS:sigma=0.8"])
     window.blind.start(seed=3)
-    controls = window.controls
-    assert controls.other_combo.currentIndex() == -1 and not controls.other_combo.isEnabled()
-    assert not controls.param_spin.isVisible()
+    method_box = window.controls.method
+    assert method_box.other_combo.currentIndex() == -1 and not method_box.other_combo.isEnabled()
+    assert not method_box.param_spin.isVisible()
     window.blind.select_key(2 if window.blind.mapping[1].startswith("GS") else 1)
     assert window.state.scene.method == "GS:sigma=0.8"
-    assert controls.other_combo.currentIndex() == -1 and not controls.param_spin.isVisible()
+    assert method_box.other_combo.currentIndex() == -1 and not method_box.param_spin.isVisible()
 
 
 def test_the_predicted_view_shows_the_centroid_path_and_felt_intensity(window, qtbot):  # noqa: F811
     scene = window.state.scene
     window.state.update(method="EN")
     window.state.set_view_mode("predicted")
-    qtbot.waitUntil(lambda: "ripple" in window.curves.plotItem.titleLabel.text, timeout=3000)
+    qtbot.waitUntil(lambda: "ripple" in window.tune.curves.plotItem.titleLabel.text, timeout=3000)
     expected = predict(scene.shape, "EN", scene.mu, scene.gamma, samples=400)
-    assert f"ripple {expected.ripple:.2f}" in window.curves.plotItem.titleLabel.text
-    x, y = window.heatmap.path.getData()
+    assert f"ripple {expected.ripple:.2f}" in window.tune.curves.plotItem.titleLabel.text
+    x, y = window.tune.heatmap.path.getData()
     np.testing.assert_allclose(np.column_stack([x, y]), expected.centroid)
-    (line,) = window.curves.listDataItems()
+    (line,) = window.tune.curves.listDataItems()
     np.testing.assert_allclose(line.getData()[1], expected.felt)
     window.state.set_view_mode("corrected")
-    qtbot.waitUntil(lambda: "activation" in window.curves.plotItem.titleLabel.text, timeout=3000)
-    assert len(window.heatmap.path.getData()[0] or []) == 0
+    qtbot.waitUntil(
+        lambda: "activation" in window.tune.curves.plotItem.titleLabel.text, timeout=3000
+    )
+    assert len(window.tune.heatmap.path.getData()[0] or []) == 0

@@ -163,13 +163,13 @@ def test_a_plugin_appears_in_the_tuner_streams_and_compares(site, qtbot, monkeyp
     win = MainWindow(restore=False)
     qtbot.addWidget(win)
     win.show()
-    combo = win.controls.other_combo
-    win.controls.fill_other_methods()
+    combo = win.controls.method.other_combo
+    win.controls.method.fill_other_methods()
     assert combo.findData("HALF") >= 0
     broken = [combo.itemText(i) for i in range(combo.count()) if combo.itemData(i) is None]
     assert any("broken" in text for text in broken)
     win.state.update(method="HALF", mu=0.0, gamma=1.0, dither=False)
-    assert win.controls.other_button.isChecked()
+    assert win.controls.method.other_button.isChecked()
 
     def half_lit():
         levels = win.device.sent_levels()
@@ -202,7 +202,7 @@ def test_a_plugin_that_breaks_in_the_tuner_is_listed_and_nothing_else_breaks(
     assert "method BOOM (a plug-in) failed" in errors[-1] and "unavailable" in errors[-1]
     assert "BOOM" not in registry.METHODS and "ZeroDivisionError" in registry.UNAVAILABLE["boom"]
     assert win.state.scene.method == "AS"
-    combo = win.controls.other_combo
+    combo = win.controls.method.other_combo
     assert combo.findData("BOOM") < 0
     assert any("boom" in combo.itemText(i) for i in range(combo.count()))
     # One that fails only while playing: back to AS, paused, listed.

@@ -48,36 +48,36 @@ def test_starts_on_the_simulated_array_and_streams(window, qtbot):
 
 
 def test_keys_1_to_4_select_the_method_and_the_array_follows(window, qtbot):
-    window.heatmap.setFocus()
-    qtbot.keyClick(window.heatmap, QtCore.Qt.Key.Key_1)
+    window.tune.heatmap.setFocus()
+    qtbot.keyClick(window.tune.heatmap, QtCore.Qt.Key.Key_1)
     assert window.state.scene.method == "CT"
-    assert window.controls.method_buttons.checkedButton().objectName() == "method_CT"
+    assert window.controls.method.method_buttons.checkedButton().objectName() == "method_CT"
     # CT is bi-level: one tactor at full level (22) on the array.
     wait_for_levels(qtbot, window, lambda lv: (lv > 0).sum() == 1 and lv.max() == 22)
-    qtbot.keyClick(window.heatmap, QtCore.Qt.Key.Key_4)
+    qtbot.keyClick(window.tune.heatmap, QtCore.Qt.Key.Key_4)
     assert window.state.scene.method == "IM"
-    qtbot.keyClick(window.heatmap, QtCore.Qt.Key.Key_2)
+    qtbot.keyClick(window.tune.heatmap, QtCore.Qt.Key.Key_2)
     assert window.state.scene.method == "MM"
 
 
 def test_mu_spin_box_reaches_the_wire(window, qtbot):
-    window.controls.mu_spin.setValue(1.0)
+    window.controls.correction.mu_spin.setValue(1.0)
     assert window.state.scene.mu == 1.0
-    assert window.controls.mu_slider.value() == 100
+    assert window.controls.correction.mu_slider.value() == 100
     # mu = 1: every lit tactor at full level, whatever its area.
     wait_for_levels(qtbot, window, lambda lv: lv.any() and set(lv[lv > 0].tolist()) == {22})
 
 
 def test_gamma_slider_is_logarithmic(window):
-    from tactile_tuner.panels import gamma_to_slider, slider_to_gamma
+    from tactile_tuner.controls import gamma_to_slider, slider_to_gamma
 
     assert slider_to_gamma(0) == pytest.approx(0.1)
     assert slider_to_gamma(500) == pytest.approx(1.0)
     assert slider_to_gamma(1000) == pytest.approx(10.0)
     assert gamma_to_slider(0.7) == round((math.log10(0.7) + 1) * 500)
-    window.controls.gamma_slider.setValue(750)  # 10 ** 0.5
+    window.controls.correction.gamma_slider.setValue(750)  # 10 ** 0.5
     assert window.state.scene.gamma == pytest.approx(3.162, abs=1e-3)
-    assert window.controls.gamma_spin.value() == pytest.approx(3.16, abs=0.01)
+    assert window.controls.correction.gamma_spin.value() == pytest.approx(3.16, abs=0.01)
 
 
 def test_nan_from_a_control_is_rejected_and_nothing_changes(window, qtbot):
@@ -93,69 +93,69 @@ def test_view_modes_show_raw_corrected_sent_and_felt(window, qtbot):
     window.state.update(shape=tc.Line((2.2, 3.5), (2.2, 3.5)), pause_s=0.0)  # a steady point
     window.state.set_view_mode("raw")
     # AS at (2.2, 3.5): 0.3 on (1, 3), 0.7 on (2, 3), nothing else
-    qtbot.waitUntil(lambda: abs(window.heatmap.values[3, 1] - 0.3) < 1e-12, timeout=2000)
-    raw = window.heatmap.values.copy()
+    qtbot.waitUntil(lambda: abs(window.tune.heatmap.values[3, 1] - 0.3) < 1e-12, timeout=2000)
+    raw = window.tune.heatmap.values.copy()
     assert raw[3, 2] == pytest.approx(0.7) and raw.sum() == pytest.approx(1.0)
     window.state.set_view_mode("corrected")
-    qtbot.waitUntil(lambda: window.heatmap.values[3, 1] != pytest.approx(0.3), timeout=2000)
-    np.testing.assert_allclose(window.heatmap.values, tc.correct(raw, 0.33, 0.7))
+    qtbot.waitUntil(lambda: window.tune.heatmap.values[3, 1] != pytest.approx(0.3), timeout=2000)
+    np.testing.assert_allclose(window.tune.heatmap.values, tc.correct(raw, 0.33, 0.7))
     window.state.set_view_mode("sent")
     qtbot.wait(100)
-    sent = window.heatmap.values
+    sent = window.tune.heatmap.values
     assert set(np.unique(np.round(sent * 22, 9))) <= set(range(23))  # whole device levels
     window.state.set_view_mode("felt")
     qtbot.wait(100)
-    felt = window.heatmap.values
+    felt = window.tune.heatmap.values
     assert (felt <= window.device.profile.felt(np.ones(1))[0]).all()
     assert felt[3, 2] > 0
 
 
 def test_space_pauses_and_resumes(window, qtbot):
-    window.heatmap.setFocus()
-    qtbot.keyClick(window.heatmap, QtCore.Qt.Key.Key_Space)
+    window.tune.heatmap.setFocus()
+    qtbot.keyClick(window.tune.heatmap, QtCore.Qt.Key.Key_Space)
     assert not window.state.scene.playing
     wait_for_levels(qtbot, window, lambda lv: not lv.any())
     assert window.device.stats.state == "paused"
-    qtbot.keyClick(window.heatmap, QtCore.Qt.Key.Key_Space)
+    qtbot.keyClick(window.tune.heatmap, QtCore.Qt.Key.Key_Space)
     assert window.state.scene.playing
     wait_for_levels(qtbot, window, lambda lv: lv.any())
 
 
 def test_escape_turns_everything_off_even_from_a_text_field(window, qtbot):
-    window.controls.duration_spin.setFocus()
-    qtbot.keyClick(window.controls.duration_spin, QtCore.Qt.Key.Key_Escape)
+    window.controls.trace.duration_spin.setFocus()
+    qtbot.keyClick(window.controls.trace.duration_spin, QtCore.Qt.Key.Key_Escape)
     assert not window.state.scene.playing
     wait_for_levels(qtbot, window, lambda lv: not lv.any())
-    qtbot.mouseClick(window.controls.play_button, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.mouseClick(window.controls.playback.play_button, QtCore.Qt.MouseButton.LeftButton)
     assert window.state.scene.playing
-    qtbot.mouseClick(window.controls.off_button, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.mouseClick(window.controls.playback.off_button, QtCore.Qt.MouseButton.LeftButton)
     assert not window.state.scene.playing
 
 
 def test_shape_controls_edit_the_shape(window):
-    window.controls.shape_combo.setCurrentIndex(1)  # circle
+    window.controls.shape.shape_combo.setCurrentIndex(1)  # circle
     assert isinstance(window.state.scene.shape, tc.Circle)
-    radius = window.controls.shape_fields["circle"][2]
+    radius = window.controls.shape.shape_fields["circle"][2]
     radius.setValue(1.5)
     assert window.state.scene.shape.radius == 1.5
-    window.controls.shape_combo.setCurrentIndex(2)
+    window.controls.shape.shape_combo.setCurrentIndex(2)
     assert isinstance(window.state.scene.shape, tc.Square)
-    window.controls.duration_spin.setValue(3.0)
-    window.controls.filter_combo.setCurrentText("point")
+    window.controls.trace.duration_spin.setValue(3.0)
+    window.controls.trace.filter_combo.setCurrentText("point")
     assert window.state.scene.duration_s == 3.0 and window.state.scene.filter == "point"
-    window.controls.emphasis_spin.setValue(0.5)  # corner emphasis, selectable in the tuner
-    window.controls.gain_spin.setValue(0.8)
+    window.controls.trace.emphasis_spin.setValue(0.5)  # corner emphasis, selectable in the tuner
+    window.controls.trace.gain_spin.setValue(0.8)
     assert window.state.scene.emphasis == 0.5 and window.state.scene.gain == 0.8
 
 
 def test_curves_and_heatmap_frames_share_colours(window):
-    curves = window._curves
-    assert set(window.heatmap._frames) == set(curves.cells)
-    solid = window.curves._lines[::2]  # per tactor: corrected (solid), then raw (dashed)
-    colours = {frame.pen().color().name() for frame in window.heatmap._frames.values()}
+    curves = window.tune.shown_curves
+    assert set(window.tune.heatmap._frames) == set(curves.cells)
+    solid = window.tune.curves._lines[::2]  # per tactor: corrected (solid), then raw (dashed)
+    colours = {frame.pen().color().name() for frame in window.tune.heatmap._frames.values()}
     assert len(colours) == len(curves.cells)  # one colour per tactor
     for i, cell in enumerate(curves.cells):
-        frame = window.heatmap._frames[cell]
+        frame = window.tune.heatmap._frames[cell]
         assert frame.pen().color().name() == solid[i].opts["pen"].color().name(), cell
         np.testing.assert_array_equal(solid[i].yData, curves.corrected[:, i])
 
@@ -165,12 +165,12 @@ def test_preset_round_trip(window, tmp_path):
         method="IM", mu=0.2, gamma=1.3, shape=tc.Circle((2.5, 3.5), 1.5), pause_s=0.0
     )
     path = tmp_path / "mine.json"
-    assert window.save_preset_file(path, name="mine", notes="felt good")
+    assert window.files.save_preset_file(path, name="mine", notes="felt good")
     saved = window.state.scene
     window.state.update(method="CT", mu=0.5)
-    assert window.load_preset_file(path)
+    assert window.files.load_preset_file(path)
     assert window.state.scene.replace(epoch=0) == saved.replace(epoch=0)
-    assert window.preset_notes == "felt good"
+    assert window.files.preset_notes == "felt good"
     data = json.loads(path.read_text())
     assert data["version"] == 1 and data["method"] == "IM"
 
@@ -192,7 +192,7 @@ def test_bad_preset_shows_what_is_wrong_and_changes_nothing(window, tmp_path, co
         content = json.dumps(data)
     path.write_text(content)
     before = window.state.scene
-    assert not window.load_preset_file(path)
+    assert not window.files.load_preset_file(path)
     assert window.state.scene == before
     assert words in window.last_error and str(path) in window.last_error
 
@@ -211,33 +211,33 @@ def test_built_in_presets_hold_the_papers_conditions(window):
     }
     assert set(presets) == set(expected)
     for name, (mu, gamma, pause) in expected.items():
-        assert window.load_preset_file(presets[name]), window.last_error
+        assert window.files.load_preset_file(presets[name]), window.last_error
         s = window.state.scene
         assert (s.mu, s.gamma, s.pause_s, s.duration_s) == (mu, gamma, pause, 2.0), name
-    window.load_preset_file(presets["exp1-line"])
+    window.files.load_preset_file(presets["exp1-line"])
     line = window.state.scene.shape
     slope = (line.p1[1] - line.p0[1]) / (line.p1[0] - line.p0[0])
     assert slope == pytest.approx(0.58) and line.p0[0] < line.p1[0]  # left to right
-    window.load_preset_file(presets["exp2-L1"])
+    window.files.load_preset_file(presets["exp2-L1"])
     mid = np.mean([window.state.scene.shape.p0, window.state.scene.shape.p1], axis=0)
     assert (mid == np.round(mid)).all()  # a cell corner
-    window.load_preset_file(presets["exp2-L3"])
+    window.files.load_preset_file(presets["exp2-L3"])
     mid = np.mean([window.state.scene.shape.p0, window.state.scene.shape.p1], axis=0)
     assert ((mid - 0.5) == np.round(mid - 0.5)).all()  # a tactor centre
-    window.load_preset_file(presets["exp3-square"])
+    window.files.load_preset_file(presets["exp3-square"])
     assert window.state.scene.shape == tc.Square((2.5, 3.5), 4.0)
 
 
 def test_exports(window, tmp_path):
     window.state.update(mu=0.33, gamma=0.7)
     for suffix in (".csv", ".png", ".svg"):
-        assert window.export_curves(tmp_path / f"curves{suffix}"), window.last_error
+        assert window.files.export_curves(tmp_path / f"curves{suffix}"), window.last_error
         assert (tmp_path / f"curves{suffix}").stat().st_size > 500
     header = (tmp_path / "curves.csv").read_text().splitlines()[0].split(",")
     assert header[0] == "time" and header[1].endswith("_raw") and header[2].endswith("_corrected")
     assert (tmp_path / "curves.svg").read_text().lstrip().startswith(("<?xml", "<svg"))
-    assert window.export_lut(tmp_path / "lut.h")
-    assert window.export_lut(tmp_path / "lut.csv")
+    assert window.files.export_lut(tmp_path / "lut.h")
+    assert window.files.export_lut(tmp_path / "lut.csv")
     rows = list(csv.DictReader((tmp_path / "lut.csv").read_text().splitlines()))
     assert len(rows) == 256
     levels = [int(r["level"]) for r in rows]
@@ -251,7 +251,7 @@ def test_exports(window, tmp_path):
     assert "static const uint8_t TACTILE_LUT[256]" in text
     values = [int(v) for v in text.split("{", 1)[1].split("}", 1)[0].replace("\n", " ").split(",")]
     assert values == levels
-    assert not window.export_lut(tmp_path / "lut.txt")
+    assert not window.files.export_lut(tmp_path / "lut.txt")
     assert "must end in" in window.last_error
 
 
@@ -274,8 +274,8 @@ def test_blind_ab_hides_the_mapping_and_records_it(window, qtbot, tmp_path):
     mapping = window.blind.mapping
     assert sorted(mapping) == ["AS", "CT", "IM", "MM"]
     assert all(label.text() == "?" for label in window.blind.method_labels)
-    assert window.tune_stack.currentIndex() == 1  # the display that would give it away is hidden
-    assert window.controls.method_buttons.checkedButton() is None
+    assert window.tune.currentIndex() == 1  # the display that would give it away is hidden
+    assert window.controls.method.method_buttons.checkedButton() is None
     assert not window.device_panel.status_label.isVisible()
     # Every rating starts empty: nothing could pass for a rating that was never given.
     assert all(s.value() == -1 and s.text() == "not rated" for r in window.blind.rating_spins
@@ -293,7 +293,7 @@ def test_blind_ab_hides_the_mapping_and_records_it(window, qtbot, tmp_path):
     window.blind.rating_spins[0][0].setValue(80)
     window.blind.save(tmp_path / "blind.csv")
     assert window.blind.reveal()
-    assert window.tune_stack.currentIndex() == 0
+    assert window.tune.currentIndex() == 0
     assert [label.text().split()[0] for label in window.blind.method_labels] == mapping
     window.blind.save(tmp_path / "blind.csv")  # appended, one header
     rows = list(csv.DictReader((tmp_path / "blind.csv").read_text().splitlines()))
@@ -326,21 +326,21 @@ def test_blind_ab_saves_a_key_never_played_as_not_rated(window, qtbot, tmp_path)
 
 def test_draw_mode_moves_a_free_point_with_ct_and_as_only(window, qtbot):
     window.state.update(method="MM")
-    window.controls.draw_check.setChecked(True)
-    assert window.heatmap.drawing
+    window.controls.playback.draw_check.setChecked(True)
+    assert window.tune.heatmap.drawing
     assert window.state.scene.method == "AS"  # MM needs a shape
-    mm = window.controls.method_buttons.button(1)
+    mm = window.controls.method.method_buttons.button(1)
     assert not mm.isEnabled() and "need a shape" in mm.toolTip()
     window.press_number(2)
     assert window.state.scene.method == "AS" and "draw mode" in window.last_error
-    window.heatmap.point_drawn.emit(1.5, 4.5)  # a tactor centre
+    window.tune.heatmap.point_drawn.emit(1.5, 4.5)  # a tactor centre
     assert window.state.scene.shape == tc.Line((1.5, 4.5), (1.5, 4.5))
     assert window.state.scene.playing
     wait_for_levels(qtbot, window, lambda lv: lv[4, 1] == 22 and (lv > 0).sum() == 1)
-    window.heatmap.draw_released.emit()
+    window.tune.heatmap.draw_released.emit()
     wait_for_levels(qtbot, window, lambda lv: not lv.any())
-    window.controls.draw_check.setChecked(False)
-    assert not window.heatmap.drawing and mm.isEnabled()
+    window.controls.playback.draw_check.setChecked(False)
+    assert not window.tune.heatmap.drawing and mm.isEnabled()
 
 
 def test_closing_the_window_turns_the_array_off(qtbot):
@@ -452,7 +452,7 @@ def test_felt_view_needs_a_response_curve(qtbot, tmp_path):
     data.pop("response")
     win = MainWindow(profile=profile_from_dict(data), restore=False)
     qtbot.addWidget(win)
-    felt = win.controls.view_buttons.button(3)
+    felt = win.controls.playback.view_buttons.button(3)
     assert not felt.isEnabled() and "response" in felt.toolTip()
     win.state.set_view_mode("felt")
     win.controls.set_felt_available(False)

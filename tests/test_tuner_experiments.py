@@ -1,60 +1,18 @@
-"""The tuner's Experiments tab, driven from the keyboard against the simulated array."""
+"""The tuner's Experiments tab, driven from the keyboard against the simulated array: the
+paper's experiments, the calibration, and the analysis of a results folder."""
 
-import csv
 import json
 
 import pytest
-from PySide6 import QtCore, QtGui, QtWidgets
+from PySide6 import QtCore, QtGui
 
 import tactile_core as tc
 
+from . import experiments_gui_support as support
+from .experiments_gui_support import choose, press, rows, wait_trial
 
-@pytest.fixture(autouse=True)
-def quick_runs(qt_settings, monkeypatch):
-    import tactile_tuner.experiments
-
-    monkeypatch.setattr(
-        tactile_tuner.experiments, "GAP_S", 0.01
-    )  # no pause between questions in tests
-
-
-@pytest.fixture
-def window(qtbot, tmp_path):
-    from tactile_tuner.window import MainWindow
-
-    win = MainWindow(restore=False)
-    qtbot.addWidget(win)
-    win.show()
-    qtbot.waitExposed(win)
-    panel = win.experiments
-    panel.folder_edit.setText(str(tmp_path / "results"))
-    panel.participant_edit.setText("P01")
-    panel.confirm = lambda title, text: True  # the experimenter says yes
-    win.tabs.setCurrentWidget(panel)
-    yield win
-    panel.stop()
-    win.close()
-
-
-def choose(panel, name):
-    panel.experiment_combo.setCurrentIndex(panel.experiment_combo.findData(name))
-
-
-def press(qtbot, win, key, text=""):
-    qtbot.keyClick(win.experiments.prompt, key)
-
-
-def rows(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
-
-
-def wait_trial(qtbot, panel, kind):
-    qtbot.waitUntil(
-        lambda: panel.runner is not None and panel.runner.current is not None
-        and panel.runner.current.kind == kind and not panel.gap_timer.isActive(),
-        timeout=3000,
-    )  # fmt: skip
+quick_runs = support.quick_runs  # autouse: no pause between questions
+window = support.window
 
 
 def test_experiment3_by_keyboard_hides_the_display_and_records_every_answer(
@@ -63,10 +21,10 @@ def test_experiment3_by_keyboard_hides_the_display_and_records_every_answer(
     panel = window.experiments
     choose(panel, "exp3")
     assert panel.start()
-    assert window.tune_stack.currentIndex() == 1 and not window.tabs.isTabEnabled(0)
+    assert window.tune.currentIndex() == 1 and not window.tabs.isTabEnabled(0)
     assert not window.controls_dock.isVisible()  # its shape fields would give the answer away
     assert not window.device_panel.status_label.isVisible()  # so would "streaming MM at ..."
-    assert "Experiment 3" in panel.prompt.text()
+    assert "Experiment 3" in panel.participant_window.prompt.text()
     Key = QtCore.Qt.Key
     answered = 0
     while panel.runner is not None:
@@ -82,11 +40,14 @@ def test_experiment3_by_keyboard_hides_the_display_and_records_every_answer(
             press(qtbot, window, Key.Key_C if trial.info["shape"] == "circle" else Key.Key_S)
             answered += 1
             qtbot.waitUntil(
-                lambda: panel.runner is None or not panel.gap_timer.isActive(), timeout=2000
+                lambda: panel.runner is None or not panel.trials.gap_timer.isActive(), timeout=2000
             )
     assert answered == 40
-    assert "Finished" in panel.run_label.text() and "finished" in panel.prompt.text()
-    assert window.tune_stack.currentIndex() == 0 and window.tabs.isTabEnabled(0)
+    assert (
+        "Finished" in panel.run_label.text()
+        and "finished" in panel.participant_window.prompt.text()
+    )
+    assert window.tune.currentIndex() == 0 and window.tabs.isTabEnabled(0)
     assert window.controls_dock.isVisible()
     data = rows(tmp_path / "results" / "participant-P01" / "exp3.csv")
     questions = [r for r in data if r["stage"] in ("CT", "MM", "AS", "IM")]
@@ -104,9 +65,9 @@ def test_experiment3_time_limit_records_a_timeout(window, qtbot, monkeypatch, tm
     panel.start()
     press(qtbot, window, QtCore.Qt.Key.Key_G)
     wait_trial(qtbot, panel, "shape")
-    assert "s left" in panel.countdown.text()
+    assert "s left" in panel.participant_window.countdown.text()
     qtbot.waitUntil(lambda: panel.runner.done == 2, timeout=3000)  # nobody answered
-    assert panel.feedback.text().startswith("Time is up: it was a")
+    assert panel.participant_window.feedback.text().startswith("Time is up: it was a")
     data = rows(tmp_path / "results" / "participant-P01" / "exp3.csv")
     assert data[-1]["timeout"] == "1" and data[-1]["answer"] == ""
 
@@ -121,12 +82,14 @@ def test_experiment1_preparation_keys_and_ratings_then_stop_and_resume(window, q
         press(qtbot, window, qt_key)
         assert window.state.scene.method == mapping[key - 1]  # the hidden mapping plays
     press(qtbot, window, Key.Key_R)  # a letter: on to the ratings
-    assert panel.runner.current.kind == "rating" and panel.rating_edit.isVisible()
+    assert (
+        panel.runner.current.kind == "rating" and panel.participant_window.rating_edit.isVisible()
+    )
     for value in ("85", "40"):
-        qtbot.keyClicks(panel.rating_edit, value)
-        qtbot.keyClick(panel.rating_edit, Key.Key_Return)
-    qtbot.keyClicks(panel.rating_edit, "100")
-    qtbot.keyClick(panel.rating_edit, Key.Key_Return)
+        qtbot.keyClicks(panel.participant_window.rating_edit, value)
+        qtbot.keyClick(panel.participant_window.rating_edit, Key.Key_Return)
+    qtbot.keyClicks(panel.participant_window.rating_edit, "100")
+    qtbot.keyClick(panel.participant_window.rating_edit, Key.Key_Return)
     done = panel.runner.done
     assert done == 4
     panel.stop()
@@ -141,14 +104,14 @@ def test_experiment1_preparation_keys_and_ratings_then_stop_and_resume(window, q
 def test_experiment1_on_a_chosen_method_set_from_the_console(window, qtbot, tmp_path):
     panel = window.experiments
     choose(panel, "exp1")
-    panel.methods_edit.edit.setText("AS EN RO:r=1.5")
-    panel.methods_edit.edit.editingFinished.emit()
-    assert panel.methods_edit.methods == ["AS", "EN", "RO:r=1.5"]
+    panel.setup.methods_edit.edit.setText("AS EN RO:r=1.5")
+    panel.setup.methods_edit.edit.editingFinished.emit()
+    assert panel.setup.methods_edit.methods == ["AS", "EN", "RO:r=1.5"]
     assert panel.start()
     Key = QtCore.Qt.Key
     mapping = panel.runner.mapping
     assert sorted(mapping) == ["AS", "EN", "RO:r=1.5"]
-    assert "1-3" in panel.keys_label.text()
+    assert "1-3" in panel.participant_window.keys_label.text()
     press(qtbot, window, Key.Key_3)
     assert window.state.scene.method == mapping[2]
     press(qtbot, window, Key.Key_4)  # no fourth method: nothing changes
@@ -158,16 +121,16 @@ def test_experiment1_on_a_chosen_method_set_from_the_console(window, qtbot, tmp_
     # Stopped and resumed with the console back at the paper's four: the participant's own set
     # comes back (a console at its default never overrides what a session recorded).
     panel.stop()
-    panel.methods_edit.apply(["CT", "MM", "AS", "IM"])
+    panel.setup.methods_edit.apply(["CT", "MM", "AS", "IM"])
     assert panel.start()
     assert panel.runner.methods == ["AS", "EN", "RO:r=1.5"]
-    assert panel.methods_edit.methods == ["AS", "EN", "RO:r=1.5"]
+    assert panel.setup.methods_edit.methods == ["AS", "EN", "RO:r=1.5"]
     panel.stop()
     # A bad set typed into the console is refused on the spot; the last good set stays.
-    panel.methods_edit.edit.setText("AS")
-    panel.methods_edit.edit.editingFinished.emit()
-    assert "choose 2 to 8" in panel.methods_edit.problem.text()
-    assert panel.methods_edit.methods == ["AS", "EN", "RO:r=1.5"]
+    panel.setup.methods_edit.edit.setText("AS")
+    panel.setup.methods_edit.edit.editingFinished.emit()
+    assert "choose 2 to 8" in panel.setup.methods_edit.problem.text()
+    assert panel.setup.methods_edit.methods == ["AS", "EN", "RO:r=1.5"]
 
 
 def test_experiment2_arrow_keys_and_feedback(window, qtbot):
@@ -185,7 +148,7 @@ def test_experiment2_arrow_keys_and_feedback(window, qtbot):
         answer = right if i % 2 == 0 else next(d for d in arrows if d != right)
         press(qtbot, window, arrows[answer])
         expected = "Correct." if answer == right else f"Wrong: the line moved {right}."
-        assert panel.feedback.text() == expected
+        assert panel.participant_window.feedback.text() == expected
 
 
 def test_escape_during_a_run_turns_the_array_off_and_pauses(window, qtbot):
@@ -195,12 +158,12 @@ def test_escape_during_a_run_turns_the_array_off_and_pauses(window, qtbot):
     press(qtbot, window, QtCore.Qt.Key.Key_G)
     wait_trial(qtbot, panel, "direction")
     trial = panel.runner.current
-    qtbot.keyClick(panel.prompt, QtCore.Qt.Key.Key_Escape)
+    qtbot.keyClick(panel.participant_window.prompt, QtCore.Qt.Key.Key_Escape)
     assert not window.state.scene.playing
-    assert "Paused" in panel.prompt.text()
+    assert "Paused" in panel.participant_window.prompt.text()
     press(qtbot, window, QtCore.Qt.Key.Key_Up)  # ignored while paused
     assert panel.runner.current is trial
-    qtbot.keyClick(panel.prompt, QtCore.Qt.Key.Key_Return)
+    qtbot.keyClick(panel.participant_window.prompt, QtCore.Qt.Key.Key_Return)
     assert window.state.scene.playing and window.state.scene.shape == trial.scene.shape
 
 
@@ -221,7 +184,8 @@ def test_calibration_presents_one_tactor_at_the_staircase_level(window, qtbot):
     qtbot.waitUntil(only_that_tactor, timeout=5000)
     press(qtbot, window, QtCore.Qt.Key.Key_Y)
     qtbot.waitUntil(
-        lambda: panel.runner.current is not trial and not panel.gap_timer.isActive(), timeout=2000
+        lambda: panel.runner.current is not trial and not panel.trials.gap_timer.isActive(),
+        timeout=2000,
     )
     assert float(panel.runner.current.info["level"]) == pytest.approx(0.35)  # felt: x 0.7
     press(qtbot, window, QtCore.Qt.Key.Key_R)  # feel it again: still the same trial
@@ -242,7 +206,7 @@ def test_saving_a_calibrated_profile_puts_it_to_use(window, tmp_path):
 
 def test_bad_participant_id_is_refused(window):
     panel = window.experiments
-    panel.participant_edit.setText("../../etc")
+    panel.setup.participant_edit.setText("../../etc")
     assert not panel.start()
     assert "participant" in window.last_error and not panel.running
 
@@ -257,13 +221,16 @@ def test_analyze_button_shows_the_tables(window, qtbot, tmp_path):
         == 0
     )
     panel = window.experiments
-    assert panel.run_analysis()  # in the background: the window stays responsive
-    qtbot.waitUntil(lambda: "Table 2" in panel.output.toPlainText(), timeout=60_000)
-    assert "CT, MM" in panel.output.toPlainText()
+    assert panel.analysis.run_analysis()  # in the background: the window stays responsive
+    qtbot.waitUntil(lambda: "Table 2" in panel.analysis.output.toPlainText(), timeout=60_000)
+    assert "CT, MM" in panel.analysis.output.toPlainText()
     fixed = QtGui.QFontDatabase.systemFont(QtGui.QFontDatabase.SystemFont.FixedFont)
-    assert panel.output.font().family() == fixed.family()  # tables line up
-    assert panel.figures.count() == 1 and panel.figures.tabText(0) == "fig8-exp3-scores"
-    assert not panel.figures.widget(0).widget().pixmap().isNull()
+    assert panel.analysis.output.font().family() == fixed.family()  # tables line up
+    assert (
+        panel.analysis.figures.count() == 1
+        and panel.analysis.figures.tabText(0) == "fig8-exp3-scores"
+    )
+    assert not panel.analysis.figures.widget(0).widget().pixmap().isNull()
 
 
 def test_scene_gain_scales_what_is_sent(window, qtbot):
@@ -294,233 +261,3 @@ def test_an_experiment_runs_against_a_port(window, qtbot, emulator_thread):
         press(qtbot, window, QtCore.Qt.Key.Key_C)
     panel.stop()
     qtbot.waitUntil(lambda: not any(emulator.levels[-1]), timeout=3000)
-
-
-# --- a participant's window, an experimenter's console ----------------------------------------
-
-
-def test_participant_window_shows_only_the_prompt_and_the_console_the_run(window, qtbot):
-    panel = window.experiments
-    choose(panel, "exp2")
-    assert panel.start()
-    pw = panel.participant_window
-    assert pw.isVisible() and pw is not window
-    widgets = pw.findChildren(QtWidgets.QWidget)
-    assert {type(w).__name__ for w in widgets} <= {"QLabel", "QLineEdit"}  # nothing to set up
-    assert "Experiment 2" in pw.prompt.text()
-    assert panel.participant_label.text() == "participant P01"
-    assert panel.participant_label.font().pointSize() >= panel.font().pointSize() + 10
-    press(qtbot, window, QtCore.Qt.Key.Key_G)
-    wait_trial(qtbot, panel, "direction")
-    assert "trial 2 of 124" in panel.run_label.text() and "length 2" in panel.run_label.text()
-    assert "length" not in pw.prompt.text()  # the stimulus stays off the participant's screen
-    assert "participant-P01" in panel.path_label.text()
-    qtbot.waitUntil(lambda: "Hz" in panel.health_label.text(), timeout=2000)
-    panel.stop()
-    assert not pw.isVisible()
-
-
-def test_the_participant_id_is_required(window):
-    panel = window.experiments
-    panel.participant_edit.setText("")
-    assert not panel.start()
-    assert "participant must be" in window.last_error
-
-
-def test_resuming_an_existing_participant_asks_first(window, qtbot):
-    panel = window.experiments
-    choose(panel, "exp3")
-    asked = []
-    panel.confirm = lambda title, text: asked.append(text) or True
-    assert panel.start() and "new participant, P01" in asked[-1]
-    panel.stop()
-    panel.confirm = lambda title, text: asked.append(text) or False
-    assert not panel.start() and not panel.running
-    assert "P01 already has results" in asked[-1]
-
-
-def test_a_run_refuses_to_start_while_the_array_is_disconnected(window):
-    from tactile_core.device.streamer import StreamStats
-
-    panel = window.experiments
-    panel.stats = lambda: StreamStats(state="disconnected", status="device disconnected: /dev/x")
-    assert not panel.start() and not panel.running
-    assert "not connected" in window.last_error and "/dev/x" in window.last_error
-
-
-def test_a_lost_link_pauses_the_run_and_the_trial_is_presented_again(window, qtbot, tmp_path):
-    from tactile_core.device.streamer import StreamStats
-
-    panel = window.experiments
-    choose(panel, "exp3")
-    panel.start()
-    press(qtbot, window, QtCore.Qt.Key.Key_G)
-    wait_trial(qtbot, panel, "shape")
-    trial = panel.runner.current
-    panel.on_device_status(StreamStats(state="disconnected", status="device disconnected"))
-    assert not window.state.scene.playing  # the array is off
-    assert "link lost" in panel.log.toPlainText()
-    assert not panel.submit(trial.info["shape"])  # no answers while the link is down
-    panel.on_device_status(StreamStats(state="streaming", status="reconnected"))
-    assert "back" in panel.log.toPlainText() and panel.resume_button.isEnabled()
-    press(qtbot, window, QtCore.Qt.Key.Key_Return)
-    assert panel.runner.current == trial and window.state.scene.playing
-    press(
-        qtbot,
-        window,
-        QtCore.Qt.Key.Key_C if trial.info["shape"] == "circle" else QtCore.Qt.Key.Key_S,
-    )
-    panel.stop()
-    data = rows(tmp_path / "results" / "participant-P01" / "exp3.csv")
-    assert data[-1]["presentations"] == "2"  # marked: presented twice
-    assert data[-2]["presentations"] == "1"
-
-
-def test_a_real_link_drop_reaches_the_run(window, qtbot, emulator_thread):
-    emulator, path = emulator_thread
-    window.device_panel.port_combo.setCurrentText(path)
-    qtbot.mouseClick(window.device_panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
-    panel = window.experiments
-    choose(panel, "exp3")
-    panel.start()
-    press(qtbot, window, QtCore.Qt.Key.Key_G)
-    wait_trial(qtbot, panel, "shape")
-    emulator.unplugged = True
-    qtbot.waitUntil(lambda: "link lost" in panel.log.toPlainText(), timeout=5000)
-    assert panel._paused and not window.state.scene.playing
-
-
-def test_a_run_restores_the_tuning_scene_and_never_writes_settings(window, qtbot):
-    tuning = window.state.scene.replace(shape=tc.Circle((2.0, 3.0), 1.5), mu=0.5, method="IM")
-    window.state.set_scene(tuning)
-    before = window.settings.value("scene")
-    panel = window.experiments
-    choose(panel, "exp3")
-    panel.start()
-    press(qtbot, window, QtCore.Qt.Key.Key_G)
-    wait_trial(qtbot, panel, "shape")
-    assert window.state.scene.shape != tuning.shape  # the trial plays
-    window.save_settings()  # e.g. the window closed mid-run
-    saved = window.settings.value("scene")
-    assert '"mu": 0.5' in saved and '"radius": 1.5' in saved  # the tuning scene, not the trial's
-    panel.stop()
-    scene = window.state.scene
-    assert (scene.shape, scene.mu, scene.method) == (tuning.shape, tuning.mu, tuning.method)
-    assert not scene.playing  # restored paused: a hand may still be on the array
-    del before
-
-
-def test_an_invalid_rating_is_refused_visibly(window, qtbot):
-    panel = window.experiments
-    choose(panel, "exp1")
-    panel.start()
-    press(qtbot, window, QtCore.Qt.Key.Key_R)
-    assert panel.runner.current.kind == "rating"
-    done = panel.runner.done
-    for text in ("150", "-3", "abc"):
-        panel.rating_edit.setText(text)
-        qtbot.keyClick(panel.rating_edit, QtCore.Qt.Key.Key_Return)
-        assert "0 to 100" in panel.participant_window.rating_error.text()
-        assert panel.runner.done == done
-    panel.rating_edit.setText("100")
-    qtbot.keyClick(panel.rating_edit, QtCore.Qt.Key.Key_Return)
-    assert panel.runner.done == done + 1 and panel.participant_window.rating_error.text() == ""
-
-
-def test_a_full_disk_keeps_the_trial_on_screen(window, qtbot, monkeypatch):
-    import errno
-
-    panel = window.experiments
-    choose(panel, "exp3")
-    panel.start()
-    press(qtbot, window, QtCore.Qt.Key.Key_G)
-    wait_trial(qtbot, panel, "shape")
-    trial = panel.runner.current
-
-    def full(row):
-        raise OSError(errno.ENOSPC, "No space left on device")
-
-    monkeypatch.setattr(panel.runner._file, "append", full)
-    assert not panel.submit("circle")
-    assert panel.runner.current == trial and "No space" in window.last_error
-    monkeypatch.undo()
-    assert panel.submit("circle")
-    assert panel.runner.done == 2
-
-
-@pytest.fixture
-def quick_tuning(monkeypatch):
-    import functools
-
-    import tactile_tuner.experiments
-    from tactile_core.experiments import RUNNERS
-    from tactile_core.experiments.tuning import CorrectionTuning, TuningPlan
-
-    monkeypatch.setattr(tactile_tuner.experiments, "INTERVAL_S", 0.03)
-    monkeypatch.setattr(tactile_tuner.experiments, "INTERVAL_GAP_S", 0.02)
-    monkeypatch.setitem(
-        RUNNERS, "correction", functools.partial(CorrectionTuning, plan=TuningPlan(12, 16, 4))
-    )
-
-
-def test_tune_by_feel_guides_plays_two_intervals_and_applies_the_result(
-    window, qtbot, quick_tuning, tmp_path
-):
-    from tactile_core.experiments.tuning import SimulatedObserver
-
-    panel = window.experiments
-    window.start_tuning()
-    assert window.tabs.currentWidget() is panel
-    assert panel.experiment_combo.currentData() == "correction"
-    assert "mu, then gamma" in panel.run_label.text() and "Esc pauses" in panel.run_label.text()
-    assert panel.start()
-    Key = QtCore.Qt.Key
-    press(qtbot, window, Key.Key_G)  # the instructions
-    trial = panel.runner.current
-    assert trial.kind == "interval"
-    # Interval 1 plays first: the array plays it (or is silent), then interval 2, then the
-    # question; a key pressed before both have played is not taken.
-    first = trial.intervals[0]
-    if first is None:
-        assert not window.state.scene.playing
-    else:
-        assert window.state.scene.shape == first.shape and window.state.scene.gain == first.gain
-    assert panel.intervals_playing
-    press(qtbot, window, Key.Key_1)
-    assert panel.runner.done == 1  # only the instructions so far
-    observer = SimulatedObserver(0.3, 1.0, seed=4)
-    while panel.runner is not None:
-        qtbot.waitUntil(lambda: not panel.intervals_playing and not panel.gap_timer.isActive(),
-                        timeout=3000)  # fmt: skip
-        if panel.runner is None:  # the last answer finished the run
-            break
-        trial = panel.runner.current
-        if trial.kind == "continue":
-            press(qtbot, window, Key.Key_G)
-            continue
-        answer = observer.respond(trial)
-        press(qtbot, window, Key.Key_1 if answer == "1" else Key.Key_2)
-    result = panel.last_tuning
-    assert result is not None and result.ok, result.message
-    folder = tmp_path / "results" / "participant-P01"
-    assert (folder / "correction.json").exists() and (folder / "correction-P01.json").exists()
-    assert len(rows(folder / "correction.csv")) == 2 + 5 * 12 + 2 * 16 + 4
-    dialog = window.tuning_dialog
-    assert f"{result.mu:.3f}" in dialog.findChild(QtWidgets.QPlainTextEdit).toPlainText()
-    dialog.apply_button.click()
-    assert (window.state.scene.mu, window.state.scene.gamma) == (result.mu, result.gamma)
-    assert panel.save_profile_button.isEnabled()  # the thresholds feed the calibration
-
-
-def test_escape_while_the_intervals_play_pauses_with_the_array_off(window, qtbot, quick_tuning):
-    panel = window.experiments
-    choose(panel, "correction")
-    assert panel.start()
-    press(qtbot, window, QtCore.Qt.Key.Key_G)
-    assert panel.intervals_playing
-    qtbot.keyClick(window.experiments.prompt, QtCore.Qt.Key.Key_Escape)
-    assert not panel.intervals_playing and not window.state.scene.playing
-    qtbot.wait(150)  # the interval timer would have played interval 2 by now
-    assert not window.state.scene.playing
-    panel.present_again()
-    assert panel.intervals_playing

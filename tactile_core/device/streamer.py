@@ -13,28 +13,33 @@ the scene pauses or goes idle, on any error path (``finally``), and at interpret
 zero frames at ``idle_rate_hz`` (>= 10 Hz) so the array's 250 ms watchdog never trips while the
 host is alive. The requested rate is capped at what the link carries (``baud / 10 / frame
 bytes``: 320 Hz for the palm array at 115200 baud), and the status says so.
+
+Here is the thread; its statistics (:class:`StreamStats` and the book it is read from) live in
+``_stream_stats``, and what it derives from a scene (rate, period, device levels) in
+``_stream_plan``.
 """
 
 from __future__ import annotations
 
 import atexit
-import ctypes
 import math
-import os
 import sys
 import threading
 import time
 import traceback
 import weakref
-from dataclasses import dataclass
 
 import numpy as np
 
-from ..rendering.correction import Dither, quantize1
+from ..rendering.correction import Dither
 from ..rendering.scene import Scene, check_scene
+from ._stream_plan import _ChannelLevels, _Plan, _raise_priority, _reduce_timer_slack
+from ._stream_stats import StatsBook, StreamStats
 from .link import LinkError, identify
 from .profile import DeviceProfile, default_profile
-from .wire import KEEPALIVE_S, Info, MessageReader, Status, encode_frame, encode_query
+from .wire import Info, MessageReader, Status, encode_frame, encode_query
+
+__all__ = ["StreamStats", "Streamer"]
 
 _RUNNING: weakref.WeakSet = weakref.WeakSet()
 
@@ -44,145 +49,6 @@ def _stop_all() -> None:
     """Interpreter exit: stop every running streamer (each sends its all-off frame)."""
     for streamer in list(_RUNNING):
         streamer.stop(timeout=1.0)
-
-
-def _reduce_timer_slack() -> None:
-    """Linux: wake this thread within ~1 us of the requested time instead of ~50 us."""
-    if sys.platform.startswith("linux"):
-        try:
-            ctypes.CDLL(None).prctl(29, 1000, 0, 0, 0)  # PR_SET_TIMERSLACK, 1 us
-        except (OSError, AttributeError):
-            pass
-
-
-def _raise_priority() -> str:
-    """Try to give the calling thread real-time priority (SCHED_FIFO 10); say what happened.
-
-    Linux grants it to root or to users with an ``rtprio`` limit (``ulimit -r``, or
-    ``/etc/security/limits.conf``). The output thread sleeps most of each frame and spins at most
-    ``spin_s``, so it cannot starve the machine.
-    """
-    try:
-        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(10))
-    except AttributeError:
-        return "real-time priority is not available on this system"
-    except PermissionError:
-        return "real-time priority not permitted (raise the rtprio limit: ulimit -r 10)"
-    except OSError as exc:
-        return f"real-time priority failed: {exc}"
-    return ""
-
-
-@dataclass(frozen=True)
-class StreamStats:
-    """A snapshot of the streamer's statistics.
-
-    Attributes
-    ----------
-    state : str
-        ``"starting"``, ``"streaming"``, ``"paused"``, ``"idle"``, ``"disconnected"``,
-        ``"stopped"``, ``"refused"`` (the array is not the profile's) or ``"failed"`` (an
-        internal error ended the stream; the array was turned off).
-    status : str
-        One line for the user (what happened last, e.g. why the stream stopped).
-    requested_rate_hz, rate_hz : float
-        Rate the scene asks for and rate in use (capped by the link).
-    capped : bool
-        True when the link cannot carry the requested rate.
-    frames, bytes, errors : int
-        Frames and bytes written, and link errors.
-    late : int
-        Frames written more than 1 ms after their deadline.
-    skipped : int
-        Deadlines passed over after a stall of more than one frame (the trace stays on time).
-    achieved_rate_hz : float
-        Frames per second over the last second.
-    interval_error_p50_ms, interval_error_p99_ms : float
-        Median and 99th percentile of ``|interval - period|`` between successive frames at a
-        steady rate (last 8192 intervals).
-    elapsed_s : float
-        Seconds since the thread started.
-    realtime : bool
-        True when the output thread runs with real-time priority.
-    array : str
-        What the array said it is (its info), or why not ("unidentified: ...").
-    array_frames, array_dropped, array_watchdog_trips : int
-        The array's own counters from its last status answer (-1 before any): frames applied,
-        messages dropped, watchdog trips.
-    """
-
-    state: str = "stopped"
-    status: str = ""
-    requested_rate_hz: float = 0.0
-    rate_hz: float = 0.0
-    capped: bool = False
-    frames: int = 0
-    bytes: int = 0
-    errors: int = 0
-    late: int = 0
-    skipped: int = 0
-    achieved_rate_hz: float = 0.0
-    interval_error_p50_ms: float = 0.0
-    interval_error_p99_ms: float = 0.0
-    elapsed_s: float = 0.0
-    realtime: bool = False
-    array: str = ""
-    array_frames: int = -1
-    array_dropped: int = -1
-    array_watchdog_trips: int = -1
-
-    def summary(self) -> str:
-        """Multi-line human summary (what ``tactile stream`` prints at the end)."""
-        cap = " (capped by the link)" if self.capped else ""
-        return "\n".join(
-            [
-                f"state:           {self.state} - {self.status}",
-                f"rate:            {self.rate_hz:.1f} Hz "
-                f"(requested {self.requested_rate_hz:g} Hz){cap}",
-                f"achieved:        {self.achieved_rate_hz:.1f} Hz over the last second",
-                f"frames:          {self.frames} ({self.bytes} bytes) in {self.elapsed_s:.2f} s",
-                f"interval error:  p50 {self.interval_error_p50_ms:.3f} ms, "
-                f"p99 {self.interval_error_p99_ms:.3f} ms",
-                f"late (>1 ms):    {self.late}, skipped deadlines: {self.skipped}",
-                f"link errors:     {self.errors}",
-                f"priority:        {'real-time' if self.realtime else 'normal'}",
-                f"array:           {self.array or '-'}",
-                (
-                    f"array counters:  frames applied {self.array_frames}, messages dropped "
-                    f"{self.array_dropped}, watchdog trips {self.array_watchdog_trips}"
-                    if self.array_frames >= 0
-                    else "array counters:  not reported"
-                ),
-            ]
-        )
-
-
-class _Plan:
-    """What the output thread derived from one scene: frames, rate, period."""
-
-    def __init__(self, scene: Scene | None, profile: DeviceProfile, idle_rate_hz: float):
-        self.scene = scene
-        self.requested = scene.rate_hz if scene is not None else idle_rate_hz
-        self.active = scene is not None and scene.active
-        if self.active:
-            self.rate = min(scene.rate_hz, profile.max_rate_hz)
-            self.capped = scene.rate_hz > profile.max_rate_hz
-            self.live = scene.live(profile.grid, self.rate)
-        else:
-            self.rate = idle_rate_hz
-            self.capped = False
-            self.live = None
-        # Felt-amplitude correction: the drive is the motor response's inverse of the value.
-        self.inverse = (profile.drive_for1 if self.active and scene.felt_domain
-                        and profile.response is not None else None)  # fmt: skip
-        self.period = 1.0 / self.rate
-        # At any rate a frame goes out at least every KEEPALIVE_S (repeating the last one), so
-        # the array's 250 ms watchdog never trips while the host is alive.
-        self.tick = min(self.period, KEEPALIVE_S)
-        self.since = time.perf_counter()
-        self.precompute_started = False
-        self.last_k = None
-        self.last_levels = None
 
 
 class Streamer:
@@ -279,12 +145,7 @@ class Streamer:
         self._wake = threading.Event()
         self._stopping = threading.Event()
         self._thread: threading.Thread | None = None
-        self._lock = threading.Lock()
-        self._intervals = np.zeros(8192)
-        self._n_intervals = 0
-        self._recent: list[float] = []
-        self._stats = StreamStats(state="starting", status="not started")
-        self._counts = {"frames": 0, "bytes": 0, "errors": 0, "late": 0, "skipped": 0}
+        self._book = StatsBook()
         self._started_at = None
         self._saved_switch = None
         self.last_levels = np.zeros(self.profile.grid.shape, dtype=np.uint8)
@@ -293,12 +154,7 @@ class Streamer:
         """``(scene, trace_time_s)`` of the last frame written (time None while off), one
         tuple assigned at once so a reader on another thread sees a consistent pair."""
         self.last_seq = None
-        channel_of_cell = np.empty(self.profile.channels, dtype=np.intp)
-        channel_of_cell[self.profile.array.channel_index] = np.arange(self.profile.channels)
-        self._channel_of_cell = channel_of_cell.tolist()
-        self._cell_of_channel = self.profile.array.channel_index
-        self._offset = None if self.profile.offset is None else list(self.profile.offset)
-        self._gain = None if self.profile.gain is None else list(self.profile.gain)
+        self._channels = _ChannelLevels(self.profile)
 
     # --- control (any thread) ------------------------------------------------------------------
 
@@ -370,39 +226,15 @@ class Streamer:
     @property
     def stats(self) -> StreamStats:
         """A snapshot of the statistics."""
-        with self._lock:
-            stats = StreamStats(**{**self._stats.__dict__, **self._counts})
-            n = min(self._n_intervals, len(self._intervals))
-            errors = self._intervals[:n].copy()
-            recent = list(self._recent)
-        now = time.perf_counter()
-        recent = [t for t in recent if now - t <= 1.0]
-        p50, p99 = (np.percentile(errors, [50, 99]) * 1e3) if n else (0.0, 0.0)
-        elapsed = now - self._started_at if self._started_at and self.running else stats.elapsed_s
-        if len(recent) > 1:
-            achieved = (len(recent) - 1) / (recent[-1] - recent[0])
-        else:
-            achieved = 0.0
-        return StreamStats(
-            **{
-                **stats.__dict__,
-                "achieved_rate_hz": achieved,
-                "interval_error_p50_ms": float(p50),
-                "interval_error_p99_ms": float(p99),
-                "elapsed_s": elapsed,
-            }
-        )
+        return self._book.snapshot(self._started_at if self.running else None)
 
     # --- output thread -------------------------------------------------------------------------
 
     def _count(self, name: str, n: int = 1) -> None:
-        with self._lock:
-            self._counts[name] += n
+        self._book.count(name, n)
 
     def _set(self, **changes) -> None:
-        with self._lock:
-            old = self._stats
-            self._stats = StreamStats(**{**old.__dict__, **changes})
+        old = self._book.update(**changes)
         if self.on_status is not None and (
             changes.get("state", old.state) != old.state
             or changes.get("status", old.status) != old.status
@@ -429,43 +261,15 @@ class Streamer:
 
     def _levels(self, plan: _Plan, k: int, dither: Dither | None, lit_before: set) -> tuple:
         """Channel-ordered levels of frame ``k`` and the set of lit channels."""
-        n = self.profile.channels
-        levels = bytearray(n)
-        lit = set()
-        if plan.live is None:
-            return levels, lit
-        top = self.profile.levels - 1
-        offset, gain = self._offset, self._gain
-        channel_of_cell = self._channel_of_cell
-        inverse = plan.inverse
-        for cell, value in plan.live.entries(k):
-            if inverse is not None:
-                value = inverse(value)
-            if offset is not None:
-                value = min(max(offset[cell] + gain[cell] * value, 0.0), 1.0)
-            ch = channel_of_cell[cell]
-            level = dither.level1(ch, value) if dither is not None else quantize1(value, top + 1)
-            levels[ch] = level
-            lit.add(ch)
-        if dither is not None:
-            for ch in lit_before - lit:
-                dither.residual[ch] = 0.0
-        return levels, lit
+        return self._channels.levels(plan, k, dither, lit_before)
 
     def _write(self, seq: int, levels: bytes) -> float:
         data = encode_frame(seq, levels)
         self.link.write(data)
         now = time.perf_counter()
-        flat = np.zeros(self.profile.channels, dtype=np.uint8)
-        flat[self._cell_of_channel] = np.frombuffer(bytes(levels), dtype=np.uint8)
-        self.last_levels = flat.reshape(self.profile.grid.shape)
+        self.last_levels = self._channels.grid(levels)
         self.last_seq = seq & 0xFF
-        with self._lock:
-            self._counts["frames"] += 1
-            self._counts["bytes"] += len(data)
-            self._recent.append(now)
-            if len(self._recent) > 4 * 1024:
-                del self._recent[: len(self._recent) - 2048]
+        self._book.wrote(now, len(data))
         for tap in self.taps:
             tap(now, seq & 0xFF, bytes(levels))
         return now
@@ -511,27 +315,6 @@ class Streamer:
         else:
             self._set(array=info.describe())
         return True
-
-    def _record_interval(self, error_s: float) -> None:
-        with self._lock:
-            self._intervals[self._n_intervals % len(self._intervals)] = abs(error_s)
-            self._n_intervals += 1
-
-    def _describe(self, plan: _Plan) -> tuple[str, str]:
-        if plan.scene is None:
-            return "idle", f"idle: all off, keep-alive at {plan.rate:g} Hz"
-        if not plan.scene.playing:
-            return "paused", f"paused: all off, keep-alive at {plan.rate:g} Hz"
-        if plan.capped:
-            return "streaming", (
-                f"streaming {plan.scene.method} at {plan.rate:.0f} Hz: {plan.requested:g} Hz "
-                f"requested, the link carries {self.profile.max_rate_hz:.0f} frames/s "
-                f"({self.profile.baud} baud, {self.profile.frame_bytes} bytes per frame)"
-            )
-        note = f" ({self._priority_note})" if self._priority_note else ""
-        return "streaming", (
-            f"streaming {plan.scene.method} at {plan.rate:g} Hz to {self.link.description}{note}"
-        )
 
     def _run(self) -> None:
         _reduce_timer_slack()
@@ -584,7 +367,7 @@ class Streamer:
                         else None
                     )
                     lit = set()
-                    state, status = self._describe(plan)
+                    state, status = plan.describe(self.profile, self.link, self._priority_note)
                     self._set(
                         state=state,
                         status=status,
@@ -630,7 +413,7 @@ class Streamer:
                 if lateness > 1e-3:
                     self._count("late")
                 if last_sent is not None:
-                    self._record_interval(sent - last_sent - plan.tick)
+                    self._book.record_interval(sent - last_sent - plan.tick)
                 last_sent = sent
                 if plan.active:
                     trace_time += plan.tick
@@ -653,7 +436,7 @@ class Streamer:
     def _recover(self) -> bool:
         """After a link error: reconnect (True) or give up (False)."""
         if not self.reconnect:
-            self._set(state="stopped", status=f"stopped: {self._stats.status}")
+            self._set(state="stopped", status=f"stopped: {self._book.current.status}")
             return False
         while not self._stopping.wait(self.reconnect_interval_s):
             try:
@@ -683,7 +466,7 @@ class Streamer:
         except Exception:
             pass
         finally:
-            state, status = self._stats.state, self._stats.status
+            state, status = self._book.current.state, self._book.current.status
             if self._failure:
                 state, status = "failed", f"{self._failure}; all off"
             elif state != "refused":

@@ -1,0 +1,45 @@
+"""What the control boxes share: a spin box for one scene field, and the write-back guard."""
+
+from __future__ import annotations
+
+from PySide6 import QtWidgets
+
+
+def spin_box(lo, hi, step, decimals, suffix="") -> QtWidgets.QDoubleSpinBox:
+    """A spin box over ``lo..hi`` that commits on Enter or focus loss, not on every keystroke."""
+    box = QtWidgets.QDoubleSpinBox()
+    box.setRange(lo, hi)
+    box.setSingleStep(step)
+    box.setDecimals(decimals)
+    box.setKeyboardTracking(False)
+    if suffix:
+        box.setSuffix(suffix)
+    return box
+
+
+class SceneGroupWidget(QtWidgets.QGroupBox):
+    """A group of controls that writes scene fields to the state and shows the state's values.
+
+    While :meth:`refresh` shows the state's values, the widgets' change signals are not written
+    back (``_updating``).
+    """
+
+    def __init__(self, title: str, state, parent=None):
+        super().__init__(title, parent)
+        self.state = state
+        self._updating = False
+
+    def _set(self, **changes) -> None:
+        if not self._updating:
+            self.state.update(**changes)
+
+    def refresh(self, *_) -> None:
+        """Show the state's values (without writing them back)."""
+        self._updating = True
+        try:
+            self._show(self.state.scene)
+        finally:
+            self._updating = False
+
+    def _show(self, scene) -> None:  # each box shows its own fields
+        raise NotImplementedError

@@ -1,0 +1,73 @@
+"""The controls dock: the scene's boxes, one above the other."""
+
+from __future__ import annotations
+
+from PySide6 import QtCore, QtWidgets
+
+from tactile_core.rendering.methods import PAPER_METHODS
+
+from ..state import TunerState
+from .correction import CorrectionWidget
+from .method import MethodWidget
+from .playback import PlaybackWidget
+from .shape import ShapeWidget
+from .trace import TraceWidget
+
+
+class ControlsPanel(QtWidgets.QWidget):
+    """Widgets that write to :class:`TunerState` and follow it, in five boxes.
+
+    Attributes
+    ----------
+    playback : PlaybackWidget
+        Play/pause, restart, all off, the view mode, values in cells, draw mode.
+    method : MethodWidget
+        The method (keys 1-4, the others, a parameter).
+    correction : CorrectionWidget
+        mu and gamma, on drive or on felt amplitude.
+    shape : ShapeWidget
+        The shape and its coordinates.
+    trace : TraceWidget
+        Timing and frames.
+    """
+
+    draw_mode_toggled = QtCore.Signal(bool)
+    all_off_requested = QtCore.Signal()
+
+    def __init__(self, state: TunerState, parent=None):
+        super().__init__(parent)
+        self.state = state
+        layout = QtWidgets.QVBoxLayout(self)
+        self.playback = PlaybackWidget(state)
+        self.method = MethodWidget(state)
+        self.correction = CorrectionWidget(state)
+        self.shape = ShapeWidget(state)
+        self.trace = TraceWidget(state)
+        for box in (self.playback, self.method, self.correction, self.shape, self.trace):
+            layout.addWidget(box)
+        layout.addStretch(1)
+        self.playback.draw_mode_toggled.connect(self.draw_mode_toggled)
+        self.playback.all_off_requested.connect(self.all_off_requested)
+
+    def method_names(self) -> list[str]:
+        """The methods of the number keys, in key order (key 1 first): the paper's four."""
+        return list(PAPER_METHODS)
+
+    def set_felt_available(self, available: bool) -> None:
+        """'felt' (the view and the correction's domain) needs the device profile's motor
+        response curve; without one the view falls back to 'sent'."""
+        self.playback.set_felt_available(available)
+        if not available and self.state.view_mode == "felt":
+            self.state.set_view_mode("sent")
+        self.correction.set_felt_available(available)
+
+    def set_draw_mode(self, on: bool) -> None:
+        """Reflect draw mode: MM and IM are unavailable on free points, the shape is not
+        edited."""
+        self.method.set_draw_mode(on)
+        self.shape.set_draw_mode(on)
+        self.playback.set_draw_mode(on)
+
+    def set_method_hidden(self, hidden: bool) -> None:
+        """Blind A/B testing: hide which method is selected (and its parameter)."""
+        self.method.set_method_hidden(hidden)

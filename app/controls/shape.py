@@ -1,0 +1,106 @@
+"""The shape: line, circle or square, and its coordinates in grid units."""
+
+from __future__ import annotations
+
+from PySide6 import QtWidgets
+
+import tactile_core as tc
+
+from ..texts import tip
+from ._common import SceneGroupWidget, spin_box
+
+SHAPES = ("line", "circle", "square")
+FIELDS = {
+    "line": ("x0", "y0", "x1", "y1"),
+    "circle": ("centre x", "centre y", "radius"),
+    "square": ("centre x", "centre y", "edge"),
+}
+
+
+class ShapeWidget(SceneGroupWidget):
+    """A drop-down of the shapes and, per shape, a page of its coordinates."""
+
+    def __init__(self, state, parent=None):
+        super().__init__("Shape (grid units)", state, parent)
+        v = QtWidgets.QVBoxLayout(self)
+        self.shape_combo = QtWidgets.QComboBox()
+        self.shape_combo.addItems([s.capitalize() for s in SHAPES])
+        v.addWidget(self.shape_combo)
+        self.shape_stack = QtWidgets.QStackedWidget()
+        self.shape_fields = {}
+        for kind in SHAPES:
+            page = QtWidgets.QWidget()
+            form = QtWidgets.QFormLayout(page)
+            form.setContentsMargins(0, 0, 0, 0)
+            fields = []
+            for label in FIELDS[kind]:
+                lo = 0.0 if label in ("radius", "edge") else -10.0
+                spin = spin_box(lo, 20.0, 0.05, 3)
+                spin.setToolTip(tip(
+                    f"{label} in grid units (paper 2.1): 1 unit = one tactor pitch (18 mm on the "
+                    "palm array); tactors sit at the cells' centres, x + 0.5, y + 0.5"
+                ))  # fmt: skip
+                spin.valueChanged.connect(self._on_shape_fields_changed)
+                form.addRow(label, spin)
+                fields.append(spin)
+            self.shape_fields[kind] = fields
+            self.shape_stack.addWidget(page)
+        self.shape_combo.currentIndexChanged.connect(self._on_shape_combo_changed)
+        v.addWidget(self.shape_stack)
+        state.scene_changed.connect(self.refresh)
+        self.refresh()
+
+    def _on_shape_combo_changed(self, index: int) -> None:
+        if self._updating:
+            return
+        kind = SHAPES[index]
+        scene = self.state.scene
+        # Sensible defaults centred where the current shape is.
+        cx, cy = 2.5, 3.0
+        defaults = {
+            "line": tc.Line((0.5, 1.84), (4.5, 4.16)),
+            "circle": tc.Circle((cx, cy), 2.0),
+            "square": tc.Square((cx, 3.5), 4.0),
+        }
+        if scene.shape is None or type(scene.shape).__name__.lower() != kind:
+            self.state.update(shape=defaults[kind])
+
+    def _on_shape_fields_changed(self, _value=None) -> None:
+        if self._updating:
+            return
+        kind = SHAPES[self.shape_combo.currentIndex()]
+        values = [f.value() for f in self.shape_fields[kind]]
+        try:
+            if kind == "line":
+                shape = tc.Line(values[0:2], values[2:4])
+            elif kind == "circle":
+                shape = tc.Circle(values[0:2], values[2])
+            else:
+                shape = tc.Square(values[0:2], values[2])
+        except ValueError as exc:
+            self.state.error_raised.emit(str(exc))
+            return
+        self.state.update(shape=shape)
+
+    def set_draw_mode(self, on: bool) -> None:
+        """A free point has no shape to edit while draw mode is on."""
+        self.shape_combo.setEnabled(not on)
+        self.shape_stack.setEnabled(not on)
+
+    def _show(self, scene) -> None:
+        shape = scene.shape
+        if shape is None:
+            return
+        kind = type(shape).__name__.lower()
+        if kind not in SHAPES:
+            return
+        self.shape_combo.setCurrentIndex(SHAPES.index(kind))
+        self.shape_stack.setCurrentIndex(SHAPES.index(kind))
+        if kind == "line":
+            values = (*shape.p0, *shape.p1)
+        elif kind == "circle":
+            values = (*shape.center, shape.radius)
+        else:
+            values = (*shape.center, shape.edge)
+        for field, value in zip(self.shape_fields[kind], values):
+            field.setValue(value)

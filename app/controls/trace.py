@@ -1,0 +1,91 @@
+"""The trace and its frames: timing, frame rate, filter, dithering, emphasis and intensity."""
+
+from __future__ import annotations
+
+from PySide6 import QtWidgets
+
+from ..texts import tip
+from ._common import SceneGroupWidget, spin_box
+
+DIRECTIONS = ("forward", "reverse")
+
+
+class TraceWidget(SceneGroupWidget):
+    """How the point runs along the shape (duration, pause, direction, corner emphasis) and how
+    its frames are made (rate, filter, sub-samples, dithering, master intensity)."""
+
+    def __init__(self, state, parent=None):
+        super().__init__("Trace and frames", state, parent)
+        form = QtWidgets.QFormLayout(self)
+        self.duration_spin = spin_box(0.1, 60.0, 0.1, 2, " s")
+        self.pause_spin = spin_box(0.0, 30.0, 0.1, 2, " s")
+        self.direction_combo = QtWidgets.QComboBox()
+        self.direction_combo.addItems(["forward (counter-clockwise)", "reverse (clockwise)"])
+        self.rate_spin = spin_box(10.0, 1000.0, 10.0, 0, " Hz")
+        self.filter_combo = QtWidgets.QComboBox()
+        self.filter_combo.addItems(["point", "box"])
+        self.subsamples_spin = QtWidgets.QSpinBox()
+        self.subsamples_spin.setRange(1, 64)
+        self.subsamples_spin.setKeyboardTracking(False)
+        self.dither_check = QtWidgets.QCheckBox("temporal dithering")
+        tips = {
+            self.duration_spin: "Trace duration in seconds, t from 0 to 1 (paper 3.4.2: 2 s).",
+            self.pause_spin: "Seconds off between traces (paper 3.4.2 and 3.4.3: 0.5 s; "
+            "Experiment 3 retraces continuously: 0).",
+            self.direction_combo: "Forward follows f(t): counter-clockwise for circles and "
+            "squares (paper 3.4.2, 3.4.4); reverse runs t from 1 to 0.",
+            self.rate_spin: "Frames a second sent to the array, 10-1000 Hz (capped at what the "
+            "link carries: 311 at 115200 baud). Not the PWM carrier, about 300 Hz on the "
+            "paper's array (3.3).",
+            self.filter_combo: "point: each frame is the trace at the middle of its interval "
+            "(the paper's pipeline). box: the average of S sub-samples over the interval.",
+            self.subsamples_spin: "Sub-samples S of the box filter, 1-64.",
+            self.dither_check: "Error feedback per tactor, so averages finer than the device's "
+            "23 levels go out; off: plain rounding (the paper's pipeline).",
+        }
+        for widget, text in tips.items():
+            widget.setToolTip(tip(text))
+        self.emphasis_spin = spin_box(0.0, 0.9, 0.1, 2)
+        self.emphasis_spin.setToolTip(tip(
+            "Corner emphasis 0-0.9 (beyond the paper; its 4.3 suggests it): the point slows near "
+            "corners; 0.5 doubles the dwell; 0 = constant speed"
+        ))  # fmt: skip
+        self.gain_spin = spin_box(0.0, 1.0, 0.05, 2)
+        self.gain_spin.setToolTip(tip(
+            "Master intensity 0-1 (beyond the paper): scales the part above the threshold, "
+            "mu + gain (1 - mu) I^gamma, so no lit tactor drops below mu"
+        ))  # fmt: skip
+        form.addRow("duration", self.duration_spin)
+        form.addRow("pause", self.pause_spin)
+        form.addRow("direction", self.direction_combo)
+        form.addRow("frame rate", self.rate_spin)
+        form.addRow("filter", self.filter_combo)
+        form.addRow("box sub-samples", self.subsamples_spin)
+        form.addRow("", self.dither_check)
+        form.addRow("corner emphasis", self.emphasis_spin)
+        form.addRow("master intensity", self.gain_spin)
+        self.duration_spin.valueChanged.connect(lambda v: self._set(duration_s=v))
+        self.pause_spin.valueChanged.connect(lambda v: self._set(pause_s=v))
+        self.direction_combo.currentIndexChanged.connect(
+            lambda i: self._set(direction=DIRECTIONS[i])
+        )
+        self.rate_spin.valueChanged.connect(lambda v: self._set(rate_hz=v))
+        self.filter_combo.currentTextChanged.connect(lambda t: self._set(filter=t))
+        self.subsamples_spin.valueChanged.connect(lambda v: self._set(subsamples=v))
+        self.dither_check.toggled.connect(lambda on: self._set(dither=on))
+        self.emphasis_spin.valueChanged.connect(lambda v: self._set(emphasis=v))
+        self.gain_spin.valueChanged.connect(lambda v: self._set(gain=v))
+        state.scene_changed.connect(self.refresh)
+        self.refresh()
+
+    def _show(self, scene) -> None:
+        self.duration_spin.setValue(scene.duration_s)
+        self.pause_spin.setValue(scene.pause_s)
+        self.direction_combo.setCurrentIndex(0 if scene.direction == "forward" else 1)
+        self.rate_spin.setValue(scene.rate_hz)
+        self.filter_combo.setCurrentText(scene.filter)
+        self.subsamples_spin.setValue(scene.subsamples)
+        self.subsamples_spin.setEnabled(scene.filter == "box")
+        self.dither_check.setChecked(scene.dither)
+        self.emphasis_spin.setValue(scene.emphasis)
+        self.gain_spin.setValue(scene.gain)

@@ -1,0 +1,98 @@
+"""The device panel: ports, connect/disconnect, the device profile, the stream's status line."""
+
+from __future__ import annotations
+
+from PySide6 import QtCore, QtWidgets
+from serial.tools import list_ports
+
+from .device import DeviceController
+from .texts import tip
+
+
+class DevicePanel(QtWidgets.QWidget):
+    """Ports, connect/disconnect, the device profile, and the stream's status line."""
+
+    profile_requested = QtCore.Signal()
+
+    def __init__(self, device: DeviceController, parent=None):
+        super().__init__(parent)
+        self.device = device
+        layout = QtWidgets.QGridLayout(self)
+        self.port_combo = QtWidgets.QComboBox()
+        self.port_combo.setEditable(True)
+        self.port_combo.setMinimumWidth(260)
+        self.port_combo.lineEdit().setPlaceholderText(
+            "port or URL: /dev/ttyUSB0, COM3, socket://host:port"
+        )
+        self.refresh_button = QtWidgets.QPushButton("Refresh")
+        self.connect_button = QtWidgets.QPushButton("Connect")
+        self.connect_button.setObjectName("connect")
+        self.disconnect_button = QtWidgets.QPushButton("Disconnect")
+        self.disconnect_button.setObjectName("disconnect")
+        self.profile_button = QtWidgets.QPushButton("Profile...")
+        self.profile_label = QtWidgets.QLabel()
+        self.link_label = QtWidgets.QLabel()
+        self.status_label = QtWidgets.QLabel("starting")
+        self.status_label.setObjectName("status")
+        self.status_label.setWordWrap(True)
+        layout.addWidget(QtWidgets.QLabel("device"), 0, 0)
+        layout.addWidget(self.port_combo, 0, 1)
+        layout.addWidget(self.refresh_button, 0, 2)
+        layout.addWidget(self.connect_button, 0, 3)
+        layout.addWidget(self.disconnect_button, 0, 4)
+        layout.addWidget(QtWidgets.QLabel("profile"), 1, 0)
+        layout.addWidget(self.profile_label, 1, 1)
+        layout.addWidget(self.profile_button, 1, 2)
+        layout.addWidget(self.link_label, 1, 3, 1, 2)
+        layout.addWidget(self.status_label, 2, 0, 1, 5)
+        layout.setColumnStretch(1, 1)
+        self.port_combo.setToolTip(tip(
+            "A serial port or any pyserial URL (/dev/ttyUSB0, COM3, socket://host:port, "
+            "rfc2217://..., spy://...); sim for the built-in simulated array. Enter connects."
+        ))  # fmt: skip
+        self.connect_button.setToolTip(tip("Stream to the device; it is asked who it is first"))
+        self.profile_button.setToolTip(tip("Load a device profile (grid, levels, baud, channel "
+                                           "order, calibration, motor response)"))  # fmt: skip
+        self.port_combo.lineEdit().returnPressed.connect(self._on_connect_clicked)
+        self.refresh_button.clicked.connect(self.refresh_ports)
+        self.connect_button.clicked.connect(self._on_connect_clicked)
+        self.disconnect_button.clicked.connect(device.disconnect_device)
+        self.profile_button.clicked.connect(self.profile_requested.emit)
+        device.connection_changed.connect(self._on_device_connection_changed)
+        device.status_changed.connect(self.show_stats)
+        self._timer = QtCore.QTimer(self)
+        self._timer.timeout.connect(lambda: self.show_stats(device.stats))
+        self._timer.start(500)
+        self.refresh_ports()
+        self._on_device_connection_changed(device.description)
+
+    def refresh_ports(self) -> None:
+        """List serial ports (``serial.tools.list_ports``) and the simulated array."""
+        current = self.port_combo.currentText()
+        self.port_combo.clear()
+        self.port_combo.addItem("sim")
+        for port in sorted(list_ports.comports(), key=lambda p: p.device):
+            label = f"{port.device}"
+            self.port_combo.addItem(label)
+        if current:
+            self.port_combo.setCurrentText(current)
+
+    def _on_connect_clicked(self) -> None:
+        self.device.connect_device(self.port_combo.currentText())
+
+    def _on_device_connection_changed(self, description: str) -> None:
+        profile = self.device.profile
+        self.profile_label.setText(
+            f"{profile.name}: {profile.grid.cols} x {profile.grid.rows}, {profile.levels} levels, "
+            f"{profile.baud} baud (max {profile.max_rate_hz:.0f} frames/s)"
+        )
+        self.link_label.setText(f"<b>{description}</b>")
+        self.disconnect_button.setEnabled(not self.device.simulated)
+
+    def show_stats(self, stats) -> None:
+        """Status line: state, achieved rate, interval error, errors."""
+        self.status_label.setText(
+            f"[{stats.state}] {stats.status} | achieved {stats.achieved_rate_hz:.0f} Hz, "
+            f"interval error p99 {stats.interval_error_p99_ms:.2f} ms, late {stats.late}, "
+            f"errors {stats.errors}, {stats.frames} frames"
+        )

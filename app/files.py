@@ -1,0 +1,199 @@
+"""The tuner's files: presets (open, save, built-in), exports (curves, correction table), and
+device profiles (load one, save a calibrated one)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6 import QtCore
+
+from tactile_core.device.profile import ProfileError, find_profile, load_profile
+from tactile_core.files import export
+from tactile_core.files.presets import Preset, PresetError, load_preset, save_preset
+
+from . import dialogs
+from .views import cell_colors
+
+
+class FileActions(QtCore.QObject):
+    """Reads and writes the tuner's files; the File menu and the device panel call it.
+
+    It remembers which preset the scene came from (:attr:`preset_name`, :attr:`preset_notes`,
+    :attr:`preset_scene`), for the window's title and the next save. Problems become
+    :attr:`error_raised` messages; a file is never half-written (the core writes atomically).
+
+    Parameters
+    ----------
+    state : TunerState
+    device : DeviceController
+        The profile in use (its name goes into presets; its levels into tables).
+    parent : QWidget
+        The dialogs' parent (the main window).
+    """
+
+    error_raised = QtCore.Signal(str)
+    message_posted = QtCore.Signal(str, int)
+    """A status line and how long to show it (ms)."""
+    preset_loaded = QtCore.Signal()
+    """A preset replaced the scene (its name is now :attr:`preset_name`)."""
+
+    def __init__(self, state, device, parent):
+        super().__init__(parent)
+        self.state = state
+        self.device = device
+        self.preset_name = "Experiment 1 line"
+        self.preset_notes = ""
+        self.preset_scene = None
+        """The scene of the preset (or last session) the tuning came from, or None."""
+        self.curves = lambda: None
+        """The activation curves on show (the window connects the tune tab's)."""
+        self.before_load = lambda: None
+        """Called before a preset replaces the scene (the window leaves draw mode)."""
+
+    def set_preset(self, preset) -> None:
+        """Remember ``preset`` as where the scene came from."""
+        self.preset_name, self.preset_notes = preset.name, preset.notes
+        self.preset_scene = preset.scene
+
+    # --- presets -------------------------------------------------------------------------------
+
+    def load_preset_file(self, path) -> bool:
+        """Load a preset; on any problem show it and change nothing."""
+        try:
+            preset = load_preset(path)
+        except PresetError as exc:
+            self.error_raised.emit(str(exc))
+            return False
+        if preset.device_profile != self.device.profile.name:
+            try:  # by name among the bundled and the user's profiles, never a path
+                self.device.set_profile(find_profile(preset.device_profile))
+            except ProfileError as exc:
+                self.message_posted.emit(f"kept profile {self.device.profile.name}: {exc}", 10_000)
+        self.before_load()
+        self.state.set_scene(preset.scene.replace(epoch=self.state.scene.epoch + 1))
+        self.set_preset(preset)
+        self.preset_loaded.emit()
+        self.message_posted.emit(f"loaded preset {preset.name}", 5000)
+        return True
+
+    def save_preset_file(self, path, name=None, notes=None) -> bool:
+        """Save the current scene as a preset (atomically)."""
+        path = Path(path)
+        preset = Preset(
+            self.state.scene.replace(playing=True),
+            name=name or path.stem,
+            notes=self.preset_notes if notes is None else notes,
+            device_profile=self.device.profile.name,
+        )
+        try:
+            save_preset(preset, path)
+        except (OSError, ValueError) as exc:  # ValueError: a path refused before writing
+            self.error_raised.emit(f"could not save {path}: {exc}")
+            return False
+        self.message_posted.emit(f"saved preset to {path}", 5000)
+        return True
+
+    def ask_open_preset(self) -> None:
+        """Ask for a preset and load it."""
+        path = dialogs.open_path(self.parent(), "presets", "Open preset", ["Presets (*.json)"])
+        if path:
+            self.load_preset_file(path)
+
+    def ask_save_preset(self) -> None:
+        """Ask where to save the scene as a preset, and save it."""
+        name = f"{dialogs.tuning_tag(self.state.scene)}-{dialogs.today()}.json"
+        path = dialogs.save_path(self.parent(), "presets", "Save preset", name,
+                                 ["Presets (*.json)"])  # fmt: skip
+        if path:
+            self.save_preset_file(path)
+
+    # --- exports -------------------------------------------------------------------------------
+
+    def export_curves(self, path) -> bool:
+        """Activation curves of the current scene to .csv, .png or .svg."""
+        path = Path(path)
+        scene = self.state.scene
+        curves = self.curves()
+        try:
+            if path.suffix.lower() == ".csv":
+                export.write_curves_csv(path, curves)
+            elif path.suffix.lower() in (".png", ".svg"):
+                title = f"{scene.method} on {scene.shape.spec}, mu = {scene.mu:g}, "
+                title += f"gamma = {scene.gamma:g}"
+                export.plot_curves(path, curves, title=title, colors=cell_colors(curves.cells))
+            else:
+                self.error_raised.emit(
+                    f"curves export must end in .csv, .png or .svg, got {path.name}"
+                )
+                return False
+        except (OSError, ValueError) as exc:  # ValueError: a path refused before writing
+            self.error_raised.emit(f"could not write {path}: {exc}")
+            return False
+        self.message_posted.emit(f"exported curves to {path}", 5000)
+        return True
+
+    def export_lut(self, path) -> bool:
+        """The correction as a 256-entry table: .csv, or a C header (.h)."""
+        path = Path(path)
+        scene, levels = self.state.scene, self.device.profile.levels
+        try:
+            if path.suffix.lower() == ".csv":
+                export.write_lut_csv(path, scene.mu, scene.gamma, levels)
+            elif path.suffix.lower() == ".h":
+                export.write_lut_header(path, scene.mu, scene.gamma, levels)
+            else:
+                self.error_raised.emit(f"table export must end in .csv or .h, got {path.name}")
+                return False
+        except (OSError, ValueError) as exc:  # ValueError: a path refused before writing
+            self.error_raised.emit(f"could not write {path}: {exc}")
+            return False
+        self.message_posted.emit(f"exported correction table to {path}", 5000)
+        return True
+
+    def ask_export_curves(self) -> None:
+        """Ask where to export the activation curves (CSV, PNG or SVG), and export them."""
+        scene = self.state.scene
+        kind = type(scene.shape).__name__.lower() if scene.shape is not None else "none"
+        name = f"curves-{kind}-{dialogs.tuning_tag(scene)}-{dialogs.today()}.csv"
+        path = dialogs.save_path(self.parent(), "exports", "Export activation curves", name,
+                                 ["CSV (*.csv)", "PNG (*.png)", "SVG (*.svg)"])  # fmt: skip
+        if path:
+            self.export_curves(path)
+
+    def ask_export_lut(self) -> None:
+        """Ask where to export the correction table (CSV or C header), and export it."""
+        scene = self.state.scene
+        levels = self.device.profile.levels
+        name = f"lut-mu{scene.mu:.2f}-gamma{scene.gamma:.2f}-{levels}levels.h"
+        path = dialogs.save_path(self.parent(), "exports", "Export correction table", name,
+                                 ["C header (*.h)", "CSV (*.csv)"])  # fmt: skip
+        if path:
+            self.export_lut(path)
+
+    # --- device profiles -------------------------------------------------------------------------
+
+    def ask_open_profile(self) -> None:
+        """Ask for a device profile and use it."""
+        path = dialogs.open_path(self.parent(), "profiles", "Device profile",
+                                 ["Profiles (*.json)"])  # fmt: skip
+        if path:
+            try:
+                self.device.set_profile(load_profile(path))
+            except ProfileError as exc:
+                self.error_raised.emit(str(exc))
+
+    def save_calibrated_profile(self, path, calibration) -> bool:
+        """Save the device profile with a calibration's offsets and gains (and thresholds),
+        and use it."""
+        if calibration is None:
+            self.error_raised.emit("no calibration has finished yet")
+            return False
+        try:
+            profile = self.device.profile.with_calibration(*calibration)
+            profile.save(path)
+        except (ValueError, OSError) as exc:
+            self.error_raised.emit(f"could not save the calibrated profile: {exc}")
+            return False
+        self.device.set_profile(load_profile(path))
+        self.message_posted.emit(f"calibrated profile saved to {path} and in use", 10_000)
+        return True

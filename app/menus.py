@@ -1,0 +1,54 @@
+"""The tuner's menu bar: File, Array and View."""
+
+from __future__ import annotations
+
+from PySide6 import QtGui, QtWidgets
+
+from tactile_core.files.presets import builtin_presets
+
+
+def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, reset_layout,
+                lanes_check) -> QtWidgets.QMenu:  # fmt: skip
+    """Fill ``window``'s menu bar; returns the View menu.
+
+    Parameters
+    ----------
+    window : QMainWindow
+        Its menu bar gets the menus; its docks get a show/hide action each in the View menu.
+    files : FileActions
+        Presets and exports.
+    toggle_play, all_off, restart, start_tuning, reset_layout : callable
+        The Array and View menus' actions.
+    lanes_check : QCheckBox
+        The curves' lanes, mirrored by a checkable View action.
+    """
+    bar = window.menuBar()
+    menu = bar.addMenu("&File")
+    menu.addAction("Open preset...", files.ask_open_preset, QtGui.QKeySequence.StandardKey.Open)
+    menu.addAction("Save preset as...", files.ask_save_preset, QtGui.QKeySequence.StandardKey.Save)
+    builtins = menu.addMenu("Built-in presets")
+    for stem, path in builtin_presets().items():
+        builtins.addAction(stem, lambda p=path: files.load_preset_file(p))
+    menu.addSeparator()
+    menu.addAction("Export activation curves (CSV, PNG, SVG)...", files.ask_export_curves)
+    menu.addAction("Export correction table (CSV, C header)...", files.ask_export_lut)
+    menu.addSeparator()
+    menu.addAction("Quit", window.close, QtGui.QKeySequence.StandardKey.Quit)
+    menu = bar.addMenu("&Array")
+    menu.addAction("Play / pause\tSpace", toggle_play)
+    menu.addAction("All off\tEsc", all_off)
+    menu.addAction("Restart trace", restart)
+    menu.addSeparator()
+    menu.addAction("Tune the correction by feel...", start_tuning)
+    view = bar.addMenu("&View")
+    for dock in window.findChildren(QtWidgets.QDockWidget):
+        action = dock.toggleViewAction()
+        action.setText(f"{dock.windowTitle()} panel")
+        view.addAction(action)
+    lanes = view.addAction("Activation curves in lanes")
+    lanes.setCheckable(True)
+    lanes.toggled.connect(lanes_check.setChecked)
+    lanes_check.toggled.connect(lanes.setChecked)
+    view.addSeparator()
+    view.addAction("Reset layout", reset_layout)
+    return view

@@ -1,0 +1,25 @@
+"""Words the parts share: rich-text tooltips, and why draw mode takes only some methods."""
+
+from __future__ import annotations
+
+DRAW_HELP = (
+    "MM and IM pick one tactor per column (or row) of a stroke of the shape, so they need a "
+    "shape: a free point has no stroke. CT and AS depend on the point alone, as the paper "
+    "notes for its touchpad."
+)
+
+
+def tip(text: str) -> str:
+    """A tooltip that wraps (rich text) instead of one line as wide as the screen.
+
+    Parameters
+    ----------
+    text : str
+        The tooltip's plain text.
+
+    Returns
+    -------
+    str
+        ``text`` marked as rich text (``<qt>...</qt>``).
+    """
+    return f"<qt>{text}</qt>"

@@ -1,0 +1,138 @@
+"""What the hands do on the tune tab's plots: pulse a tactor, draw a free point, scrub."""
+
+from __future__ import annotations
+
+from PySide6 import QtCore
+
+import tactile_core as tc
+from tactile_core.rendering.methods import get_method
+
+from ..texts import DRAW_HELP
+
+
+class HeatmapGestures(QtCore.QObject):
+    """Clicks and drags on the heatmap and the curves, turned into scenes.
+
+    - A click on a cell pulses its tactor alone (0.3 s), Shift+click holds it; the scene before
+      comes back afterwards.
+    - Draw mode: dragging on the heatmap moves a free point (CT and AS only); leaving it puts
+      back the whole scene it changed.
+    - Dragging the curves' cursor pauses the array and leaves the views at that time
+      (:attr:`scrub_s`).
+
+    Parameters
+    ----------
+    state : TunerState
+    heatmap : HeatmapView
+    curves : CurvesView
+    """
+
+    draw_mode_changed = QtCore.Signal(bool)
+    message_posted = QtCore.Signal(str, int)
+    """A status line and how long to show it (ms)."""
+
+    def __init__(self, state, heatmap, curves, parent=None):
+        super().__init__(parent)
+        self.state = state
+        self.heatmap = heatmap
+        self.curves = curves
+        self.can_pulse = lambda: True
+        """Whether a click may pulse now (the window says no during a run or blind A/B)."""
+        self.scrub_s: float | None = None
+        """Trace time the cursor was dragged to (while paused), or None."""
+        self._pulse = None  # (scene before, held) while a tactor is pulsed from the heatmap
+        self._draw_backup = None
+        self._pulse_timer = QtCore.QTimer(self)
+        self._pulse_timer.setSingleShot(True)
+        self._pulse_timer.timeout.connect(lambda: self.end_pulse(restore=True))
+        heatmap.point_drawn.connect(self._on_heatmap_point_drawn)
+        heatmap.draw_released.connect(self._on_heatmap_draw_released)
+        heatmap.cell_clicked.connect(self.pulse_cell)
+        curves.scrubbed.connect(self._on_curves_scrubbed)
+        state.playing_changed.connect(self._on_state_playing_changed)
+
+    @property
+    def pulsing(self) -> bool:
+        """True while a tactor is pulsed or held."""
+        return self._pulse is not None
+
+    # --- pulses ------------------------------------------------------------------------------
+
+    def pulse_cell(self, col: int, row: int, hold: bool = False) -> None:
+        """Play one tactor alone at full drive: a 0.3 s pulse, or held (Shift+click) until the
+        next click, Space or Esc. The scene before it comes back afterwards."""
+        if not self.can_pulse() or self.heatmap.drawing:
+            return
+        held = self._pulse is not None and self._pulse[1]
+        self.end_pulse(restore=True)
+        if held:
+            return  # a click releases a held tactor
+        centre = (col + 0.5, row + 0.5)
+        backup = self.state.scene
+        self._pulse = (backup, hold)
+        self.state.set_scene(backup.replace(
+            shape=tc.Line(centre, centre), method="CT", mu=0.0, gamma=1.0, gain=1.0,
+            duration_s=0.3, pause_s=0.0, repeat=hold, playing=True, epoch=backup.epoch + 1,
+        ))  # fmt: skip
+        what = "holding" if hold else "pulsing"
+        self.message_posted.emit(
+            f"{what} tactor ({col},{row})" + (": click again or press Esc to release" if hold
+                                              else ""), 4000)  # fmt: skip
+        if not hold:
+            self._pulse_timer.start(400)
+
+    def end_pulse(self, restore: bool) -> None:
+        """Stop a pulse or a held tactor; ``restore`` puts the scene before it back."""
+        if self._pulse is None:
+            return
+        backup, _ = self._pulse
+        self._pulse = None
+        self._pulse_timer.stop()
+        if restore:
+            self.state.set_scene(backup.replace(epoch=self.state.scene.epoch + 1))
+
+    # --- scrubbing -----------------------------------------------------------------------------
+
+    def _on_curves_scrubbed(self, time_s: float) -> None:
+        """The cursor dragged: the array pauses; the views show the trace at that time."""
+        if self.state.scene.playing:
+            self.state.update(playing=False)
+        self.scrub_s = max(0.0, float(time_s))
+
+    def _on_state_playing_changed(self, playing: bool) -> None:
+        if playing:
+            self.scrub_s = None
+
+    # --- draw mode -----------------------------------------------------------------------------
+
+    def set_draw_mode(self, on: bool) -> None:
+        """Drag on the heatmap to move a free point (CT and AS only). Leaving draw mode puts back
+        the whole scene it changed (shape, method, pause, playing)."""
+        on = bool(on)
+        if on == self.heatmap.drawing:
+            return
+        if on:
+            self.end_pulse(restore=True)
+            self._draw_backup = self.state.scene
+            changes = {"pause_s": 0.0, "playing": False}
+            if get_method(self.state.scene.method).needs_shape:
+                changes["method"] = "AS"
+                self.message_posted.emit(f"draw mode uses AS: {DRAW_HELP}", 10_000)
+            centre = (self.heatmap.cols / 2, self.heatmap.rows / 2)
+            self.heatmap.set_drawing(True)
+            self.state.update(shape=tc.Line(centre, centre), **changes)
+            self.curves.clear_curves()  # a free point has no trace to plot
+        else:
+            self.heatmap.set_drawing(False)
+            backup, self._draw_backup = self._draw_backup, None
+            if backup is not None:
+                self.state.set_scene(backup.replace(epoch=self.state.scene.epoch + 1))
+        self.draw_mode_changed.emit(on)
+
+    def _on_heatmap_point_drawn(self, x: float, y: float) -> None:
+        x = min(max(x, 0.0), float(self.heatmap.cols))
+        y = min(max(y, 0.0), float(self.heatmap.rows))
+        self.state.update(shape=tc.Line((x, y), (x, y)), playing=True)
+
+    def _on_heatmap_draw_released(self) -> None:
+        self.state.update(playing=False)

@@ -1,0 +1,147 @@
+"""The tune tab's live frames: what the array gets now, on the heatmap, at about 60 Hz."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from PySide6 import QtCore
+
+import tactile_core as tc
+from tactile_core.rendering.methods import get_method, mark_unavailable
+from tactile_core.rendering.percept import felt_magnitude
+from tactile_core.rendering.rasterize import point_entries
+
+DISPLAY_HZ = 60
+
+
+class LiveDisplay(QtCore.QObject):
+    """A display timer on the GUI thread that reads the stream's latest frame time and shows
+    that instant on the heatmap (in the state's view mode) and as the curves' cursor.
+
+    The output thread (or process) never touches a widget; this timer's rate is independent of
+    the stream's frame rate.
+
+    Parameters
+    ----------
+    tune : TuneWidget
+        Its state, device, heatmap, curves and gestures; while its method is hidden (blind A/B)
+        nothing is shown.
+    """
+
+    frame_shown = QtCore.Signal(object, object, object)
+    """``(scene, t, phase_s)`` after each frame shown: the trace parameter and the time into
+    the period (None while off), for other views of the same instant."""
+    error_raised = QtCore.Signal(str)
+
+    def __init__(self, tune, parent=None):
+        super().__init__(parent)
+        self.tune = tune
+        self.state = tune.state
+        self.device = tune.device
+        self.tick_times: list[float] = []
+        """``time.perf_counter()`` of the recent ticks (for :meth:`display_rate`)."""
+        self._trace_cache = (None, None)
+        self.timer = QtCore.QTimer(self)
+        self.timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
+        self.timer.timeout.connect(self._on_timer_timeout)
+
+    def start(self) -> None:
+        """Show frames from now on."""
+        self.timer.start(round(1000 / DISPLAY_HZ))
+
+    def stop(self) -> None:
+        """Show no more frames (the window closes)."""
+        self.timer.stop()
+
+    def _trace(self, scene):
+        cached_scene, trace = self._trace_cache
+        if cached_scene is not scene:
+            trace = scene.trace() if scene.shape is not None else None
+            self._trace_cache = (scene, trace)
+        return trace
+
+    def _on_timer_timeout(self) -> None:
+        now = time.perf_counter()
+        self.tick_times.append(now)
+        if len(self.tick_times) > 4096:
+            del self.tick_times[:2048]
+        tune, scene = self.tune, self.state.scene
+        heatmap, scrub_s = tune.heatmap, tune.gestures.scrub_s
+        _, trace_time = self.device.streamer.last_frame
+        trace = self._trace(scene)
+        t = phase = None
+        if trace is not None and trace_time is not None and scene.playing:
+            t = trace.parameter1(trace_time)
+            phase = math.fmod(trace_time, trace.period_s) if trace.repeat else trace_time
+        elif trace is not None and scrub_s is not None and not scene.playing:
+            phase = min(scrub_s, trace.period_s)  # scrubbing: where the cursor was left
+            t = trace.parameter1(phase)
+        values, labels = self._values(scene, t)
+        if values is None:
+            return
+        if not tune.method_hidden:
+            heatmap.set_frame(values, labels)
+            point = None if t is None or heatmap.drawing else scene.shape.point(t)
+            if heatmap.drawing and scene.playing and scene.shape is not None:
+                point = scene.shape.point(0.0)
+            heatmap.set_point(point)
+            tune.curves.set_cursor(phase)
+            self.frame_shown.emit(scene, t, phase)
+
+    def _values(self, scene, t):
+        """The heatmap's values ``(rows, cols)`` and per-cell labels (or None) in the view mode;
+        None for the values when a plug-in failed."""
+        mode = self.state.view_mode
+        scrubbed = self.tune.gestures.scrub_s is not None and not scene.playing
+        if scrubbed and mode in ("sent", "felt"):
+            mode = "corrected"  # the array is paused while scrubbing: show what it would get
+        grid = self.device.profile.grid
+        show_levels = self.state.show_levels
+        labels = None
+        if mode in ("raw", "corrected", "predicted"):
+            values = np.zeros(grid.size)
+            if t is not None:
+                sample1 = get_method(scene.method).sample1
+                try:
+                    entries = point_entries(scene.shape, sample1, t, grid.cols, grid.rows)
+                except ValueError as exc:  # only a plug-in raises here (it is checked first)
+                    self._plugin_failed(scene, exc)
+                    return None, None
+                for i, v in entries:
+                    values[i] = v
+                if mode != "raw":
+                    values = tc.correct(values, scene.mu, scene.gamma, gain=scene.gain)
+                if mode == "predicted":
+                    values = felt_magnitude(values, scene.mu, 1.0 / (2.0 * scene.gamma))
+            values = values.reshape(grid.shape)
+            if show_levels:
+                labels = np.char.mod("%.2f", values)
+        else:
+            values = self.device.sent()
+            if mode == "felt":
+                felt = self.device.felt()
+                values = felt if felt is not None else values
+                if show_levels:
+                    labels = np.char.mod("%.2f", values)
+            elif show_levels:
+                labels = self.device.sent_levels()
+        return values, labels
+
+    def _plugin_failed(self, scene, exc) -> None:
+        """A plug-in method failed while playing: say so, list it as unavailable, and go back
+        to AS with the array paused (all off)."""
+        mark_unavailable(scene.method, str(exc))
+        self.error_raised.emit(f"{exc}; the plug-in is listed as unavailable, back to AS (paused)")
+        self.state.update(method="AS", playing=False)
+        self.state.plugins_changed.emit()
+
+    def display_rate(self) -> tuple[float, float]:
+        """Achieved display refresh rate (Hz) and p99 interval (ms) over the last second."""
+        times = np.array(self.tick_times)
+        times = times[times > times[-1] - 1.0] if len(times) else times
+        if len(times) < 3:
+            return 0.0, 0.0
+        intervals = np.diff(times)
+        return 1.0 / intervals.mean(), float(np.percentile(intervals, 99) * 1e3)

@@ -1,0 +1,206 @@
+"""The Tune tab: the heatmap beside the activation curves and the correction curve."""
+
+from __future__ import annotations
+
+from PySide6 import QtCore, QtWidgets
+
+from tactile_core.rendering.curves import activation_curves
+from tactile_core.rendering.percept import predict
+
+from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors
+from ..widgets import ElidedLabel
+from .gestures import HeatmapGestures
+from .live import LiveDisplay
+
+
+class TuneWidget(QtWidgets.QStackedWidget):
+    """The tune tab's views, or in their place a notice while they would give something away.
+
+    Page 0 holds the heatmap (live, :class:`LiveDisplay`) and, beside it, the activation curves
+    over one trace and the correction curve, redrawn when the scene changes (at most every 50
+    ms while a slider is dragged); page 1 a notice (:meth:`hide_views`).
+
+    Parameters
+    ----------
+    state : TunerState
+    device : DeviceController
+        The profile (grid, levels, motor response) and the stream's latest frame.
+
+    Attributes
+    ----------
+    gestures : HeatmapGestures
+        Pulses, draw mode and scrubbing.
+    live : LiveDisplay
+        The display timer.
+    shown_curves : ActivationCurves or None
+        The activation curves on show (None in the predicted view).
+    """
+
+    error_raised = QtCore.Signal(str)
+
+    def __init__(self, state, device, parent=None):
+        super().__init__(parent)
+        self.state = state
+        self.device = device
+        self.method_hidden = False
+        self.shown_curves = None
+        grid = device.profile.grid
+        self.heatmap = HeatmapView(grid.cols, grid.rows, title="Array")
+        self.heatmap.setObjectName("heatmap")
+        self.curves = CurvesView()
+        self.lanes_check = QtWidgets.QCheckBox("one lane per tactor")
+        self.lanes_check.setObjectName("lanes")
+        self.lanes_check.setToolTip(
+            "Activation curves in lanes, one row per tactor labelled (col,row): the sequence of a "
+            "bi-level method, whose curves all sit at 1, can be read (the paper's Figure 3)"
+        )
+        self.lanes_check.toggled.connect(self.curves.set_lanes)
+        self.correction = CorrectionView()
+        self.split = QtWidgets.QSplitter(QtCore.Qt.Orientation.Horizontal)
+        self.split.addWidget(self.heatmap)
+        self.split.addWidget(self._curves_column())
+        self.split.setStretchFactor(0, 0)
+        self.split.setStretchFactor(1, 1)
+        self.hidden_label = QtWidgets.QLabel()
+        self.hidden_label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        self.hidden_label.setWordWrap(True)
+        self.addWidget(self.split)
+        self.addWidget(self.hidden_label)
+
+        self.gestures = HeatmapGestures(state, self.heatmap, self.curves, self)
+        self.live = LiveDisplay(self, self)
+        self.live.error_raised.connect(self.error_raised)
+        # Scene changes arrive up to ~100 times a second while a slider is dragged: the array
+        # gets each one at once (DeviceController), the views are rebuilt at most every 50 ms.
+        self._views_timer = QtCore.QTimer(self)
+        self._views_timer.setSingleShot(True)
+        self._views_timer.setInterval(50)
+        self._views_timer.timeout.connect(self.refresh)
+        state.scene_changed.connect(self._on_state_scene_changed)
+        state.view_mode_changed.connect(self._on_state_view_mode_changed)
+        state.show_levels_changed.connect(self.heatmap.set_show_values)
+        self.heatmap.cell_hovered.connect(self.curves.highlight)
+        self.curves.curve_hovered.connect(self.heatmap.highlight)
+
+    def _curves_column(self) -> QtWidgets.QWidget:
+        """The curves with their bar (lanes, a hint) above the correction curve."""
+        curves_box = QtWidgets.QWidget()
+        box = QtWidgets.QVBoxLayout(curves_box)
+        box.setContentsMargins(0, 0, 0, 0)
+        bar = QtWidgets.QHBoxLayout()
+        hint = ElidedLabel("drag the cursor to scrub; hover for values; dashed: raw")
+        hint.setObjectName("curves_hint")
+        hint.setToolTip(
+            "Solid curves are corrected, dashed ones raw. Pause, then drag the dashed cursor to "
+            "show any instant of the trace on the heatmap; hover a curve or a heatmap cell to "
+            "read its tactor and value"
+        )
+        hint.setAlignment(QtCore.Qt.AlignmentFlag.AlignRight | QtCore.Qt.AlignmentFlag.AlignVCenter)
+        bar.addWidget(self.lanes_check)
+        bar.addWidget(hint, 1)
+        box.addLayout(bar)
+        box.addWidget(self.curves, 1)
+        right = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
+        right.addWidget(curves_box)
+        right.addWidget(self.correction)
+        right.setSizes([600, 360])
+        return right
+
+    # --- what is shown ---------------------------------------------------------------------------
+
+    def hide_views(self, text: str) -> None:
+        """Show ``text`` in place of the views."""
+        self.hidden_label.setText(text)
+        self.setCurrentIndex(1)
+
+    def show_views(self) -> None:
+        """Show the views again."""
+        self.setCurrentIndex(0)
+
+    def set_method_hidden(self, hidden: bool) -> None:
+        """Blind A/B: no live frames and no curve titles, which would give the method away."""
+        self.method_hidden = bool(hidden)
+
+    def fit_heatmap(self) -> None:
+        """Give the heatmap the width at which its square cells fill its height."""
+        total = sum(self.split.sizes())
+        if total <= 0:
+            return
+        want = self.heatmap.preferred_width(self.split.height())
+        right = self.split.widget(1).minimumSizeHint().width()
+        want = min(max(want, 220), round(total * 0.55), total - right)
+        self.split.setSizes([want, total - want])
+
+    # --- the scene's plots -----------------------------------------------------------------------
+
+    def _on_state_scene_changed(self, _scene) -> None:
+        if not self._views_timer.isActive():
+            self._views_timer.start()
+
+    def _on_state_view_mode_changed(self, _mode) -> None:
+        # The predicted view has its own curves and path: switching the mode redraws them.
+        if not self._views_timer.isActive():
+            self._views_timer.start()
+
+    def refresh(self) -> None:
+        """Redraw the correction curve, the activation curves and the heatmap's frames and
+        outline for the state's scene now."""
+        scene = self.state.scene
+        profile = self.device.profile
+        self.correction.set_params(scene.mu, scene.gamma, profile.levels, profile.response,
+                                   profile.drive_for if scene.felt_domain else None)  # fmt: skip
+        if scene.shape is None:
+            return
+        heatmap = self.heatmap
+        if heatmap.drawing or self.gestures.pulsing:
+            # A free point or a pulsed tactor has no trace worth plotting: no curves, no frames
+            self.curves.clear_curves()
+            heatmap.set_cell_frames({})
+            heatmap.set_outline(None)
+            return
+        if self.state.view_mode == "predicted":
+            self._show_predicted(scene)
+            return
+        heatmap.set_path(None)
+        curves = activation_curves(
+            scene.shape,
+            scene.method,
+            duration_s=scene.duration_s,
+            direction=scene.direction,
+            mu=scene.mu,
+            gamma=scene.gamma,
+            samples=400,
+        )
+        self.shown_curves = curves
+        colors = cell_colors(curves.cells)
+        self.curves.set_curves(curves, colors, scene.duration_s + scene.pause_s)
+        heatmap.set_cell_frames(colors)
+        heatmap.set_outline(None if heatmap.drawing else scene.shape.outline())
+        if not self.method_hidden:
+            self.curves.plotItem.setTitle(
+                f"{scene.method} activation, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
+            )
+
+    def _show_predicted(self, scene) -> None:
+        """The predicted view: the felt centroid's path on the heatmap, the felt intensity over
+        time in the curves view, the ripple and centroid error in its title."""
+        try:
+            percept = predict(scene.shape, scene.method, scene.mu, scene.gamma,
+                              grid=self.device.profile.grid, samples=400)  # fmt: skip
+        except ValueError as exc:
+            self.error_raised.emit(f"no prediction: {exc}")
+            return
+        times = percept.t * scene.duration_s
+        if scene.direction == "reverse":
+            times = times[::-1]
+        self.shown_curves = None
+        self.heatmap.set_cell_frames({})
+        self.heatmap.set_outline(scene.shape.outline())
+        self.heatmap.set_path(percept.centroid)
+        self.curves.set_series(times, percept.felt, scene.duration_s + scene.pause_s,
+                               "felt intensity M")  # fmt: skip
+        if not self.method_hidden:
+            self.curves.plotItem.setTitle(
+                f"{scene.method}: ripple {percept.ripple:.2f}, off {percept.mean_error_mm:.1f} "
+                f"mm (max {percept.max_error_mm:.1f})"
+            )

@@ -1,0 +1,45 @@
+"""What the plot views share: the tactors' colours and labels, and following the palette."""
+
+from __future__ import annotations
+
+import pyqtgraph as pg
+from PySide6 import QtCore
+
+from ..theme import TACTOR_COLORS
+
+pg.setConfigOptions(antialias=True, imageAxisOrder="row-major")
+
+PALETTE = TACTOR_COLORS
+
+
+def cell_colors(cells) -> dict:
+    """``{(col, row): colour}`` for tactors in order of activation (30 distinct colours)."""
+    return {cell: PALETTE[i % len(PALETTE)] for i, cell in enumerate(cells)}
+
+
+def cell_label(cell) -> str:
+    """``"(col,row)"``: how a tactor is named on the axes and in tooltips."""
+    return f"({cell[0]},{cell[1]})"
+
+
+def style_plot(plot: pg.PlotItem, colors: dict) -> None:
+    """Give a plot's axes and title the palette's foreground colour."""
+    fg = colors["foreground"]
+    for name in ("left", "bottom", "right", "top"):
+        axis = plot.getAxis(name)
+        axis.setPen(pg.mkPen(fg))
+        axis.setTextPen(pg.mkPen(fg))
+    plot.titleLabel.setAttr("color", fg.name())
+    plot.titleLabel.setText(plot.titleLabel.text)
+
+
+class PaletteMixin:
+    """Restyle when the application palette changes (light <-> dark)."""
+
+    _ready = False  # set once the view's items exist
+
+    def changeEvent(self, event):  # Qt override
+        kinds = (QtCore.QEvent.Type.PaletteChange, QtCore.QEvent.Type.ApplicationPaletteChange)
+        if self._ready and event.type() in kinds:
+            self.apply_palette()
+        super().changeEvent(event)

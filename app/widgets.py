@@ -1,0 +1,114 @@
+"""Small widgets the parts share: a label that elides, and a set of methods to compare."""
+
+from __future__ import annotations
+
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from tactile_core.rendering.methods import METHODS, get_method, method_names
+
+
+class ElidedLabel(QtWidgets.QLabel):
+    """A one-line label that shortens its text with an ellipsis instead of widening its panel.
+
+    The full text stays available as the tooltip.
+    """
+
+    def __init__(self, text: str, parent=None):
+        super().__init__(text, parent)
+        self.setToolTip(text)
+        self.setSizePolicy(
+            QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Preferred
+        )
+
+    def minimumSizeHint(self) -> QtCore.QSize:  # Qt override
+        return QtCore.QSize(0, super().minimumSizeHint().height())
+
+    def paintEvent(self, event) -> None:  # Qt override
+        painter = QtGui.QPainter(self)
+        text = self.fontMetrics().elidedText(
+            self.text(), QtCore.Qt.TextElideMode.ElideRight, self.contentsRect().width()
+        )
+        painter.drawText(self.contentsRect(), int(self.alignment()), text)
+
+
+class MethodSetWidget(QtWidgets.QWidget):
+    """A set of methods to compare, typed as specs (``AS EN RO:r=1.5``) or picked from a menu
+    of every registered method; a set outside ``low..high`` methods or with an unknown name is
+    refused with the reason shown, and the last good set stays."""
+
+    methods_changed = QtCore.Signal(list)
+
+    def __init__(self, methods, low: int, high: int, parent=None, label: str | None = "methods"):
+        super().__init__(parent)
+        self.low, self.high = low, high
+        self.methods = list(methods)
+        row = QtWidgets.QHBoxLayout(self)
+        row.setContentsMargins(0, 0, 0, 0)
+        if label:
+            row.addWidget(QtWidgets.QLabel(label))
+        self.edit = QtWidgets.QLineEdit(" ".join(self.methods))
+        self.edit.setObjectName("method_set")
+        self.edit.setToolTip(
+            f"{low} to {high} methods, separated by spaces; parameters as RO:r=1.5 or "
+            "GS:sigma=0.7. Enter applies."
+        )
+        self.edit.editingFinished.connect(self._on_edited)
+        row.addWidget(self.edit, 1)
+        self.pick = QtWidgets.QToolButton()
+        self.pick.setText("pick")
+        self.pick.setPopupMode(QtWidgets.QToolButton.ToolButtonPopupMode.InstantPopup)
+        self.menu = QtWidgets.QMenu(self.pick)
+        self.menu.aboutToShow.connect(self._fill_menu)
+        self.pick.setMenu(self.menu)
+        row.addWidget(self.pick)
+        self.problem = ElidedLabel("")  # a long refusal must not widen the window
+        self.problem.setObjectName("method_set_problem")
+        self.problem.setStyleSheet("color: #c62828")
+        self.problem.setVisible(False)
+        row.addWidget(self.problem)
+
+    def _fill_menu(self) -> None:
+        self.menu.clear()
+        chosen = {get_method(m).name for m in self.methods}
+        for name in method_names():
+            action = self.menu.addAction(f"{name}  {METHODS[name].title}")
+            action.setCheckable(True)
+            action.setChecked(name in chosen)
+            action.toggled.connect(lambda on, n=name: self._toggle(n, on))
+
+    def _toggle(self, name: str, on: bool) -> None:
+        kept = [m for m in self.methods if get_method(m).name != name]
+        self.apply([*kept, name] if on else kept)
+
+    def _on_edited(self) -> None:
+        self.apply(self.edit.text().split())
+
+    def refuse(self, message: str, keep=None) -> None:
+        """Show why a set was refused and show the set in use again (``keep``, by default
+        the last good one)."""
+        if keep is not None:
+            self.methods = list(keep)
+        self.problem.setText(message)
+        self.problem.setToolTip(message)
+        self.problem.setVisible(True)
+        self.problem.setMinimumWidth(120)
+        self.edit.setText(" ".join(self.methods))
+
+    def apply(self, specs) -> bool:
+        """Use ``specs`` if they are a valid set; otherwise show why and keep the last one."""
+        try:
+            methods = [get_method(s).spec for s in specs]
+            if not self.low <= len(methods) <= self.high:
+                raise ValueError(f"choose {self.low} to {self.high} methods, got {len(methods)}")
+            if len(set(methods)) != len(methods):
+                raise ValueError("each method once")
+        except ValueError as exc:
+            self.refuse(str(exc))
+            return False
+        self.problem.setText("")
+        self.problem.setVisible(False)
+        self.edit.setText(" ".join(methods))
+        if methods != self.methods:
+            self.methods = methods
+            self.methods_changed.emit(methods)
+        return True

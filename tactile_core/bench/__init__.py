@@ -1,0 +1,91 @@
+"""``tactile bench``: what rendering costs, and what speed buys in accuracy.
+
+Timings are the minimum over repeated runs (the least disturbed by other processes) of
+``time.perf_counter`` around many calls; they are reported, never asserted in tests.
+
+Inside, one module per part: ``_common`` (scenes, timer, :class:`Table`), ``_batch`` and
+``_live`` (the rendering cost), ``_accuracy`` (speed against accuracy), ``_device`` (the link
+into the emulator), ``_methods``, ``_staircase`` and ``_tuning``; :func:`run` picks the parts.
+"""
+
+from __future__ import annotations
+
+from importlib.metadata import entry_points
+
+# ``_name as _name``: helpers of the module before the split, still importable from here.
+from ._accuracy import _frame_metrics as _frame_metrics
+from ._accuracy import _reference as _reference
+from ._accuracy import accuracy_table
+from ._batch import batch_table, dense_area_sampling, naive_area_sampling
+from ._common import FILTERS, GAMMA, MU, RATES_HZ, SCENES, Table, best_time
+from ._common import _cycling as _cycling
+from ._device import _Busy as _Busy
+from ._device import _EmulatorProcess as _EmulatorProcess
+from ._device import device_tables
+from ._live import live_table
+from ._methods import methods_table
+from ._staircase import staircase_table
+from ._tuning import TUNING_OBSERVERS, TUNING_PLANS, tuning_table
+from ._tuning import _tuning_run as _tuning_run
+
+__all__ = [
+    "FILTERS",
+    "GAMMA",
+    "MU",
+    "RATES_HZ",
+    "SCENES",
+    "TUNING_OBSERVERS",
+    "TUNING_PLANS",
+    "Table",
+    "accuracy_table",
+    "batch_table",
+    "best_time",
+    "dense_area_sampling",
+    "device_tables",
+    "live_table",
+    "methods_table",
+    "naive_area_sampling",
+    "run",
+    "staircase_table",
+    "tuning_table",
+]
+
+
+def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
+    """Run the benchmark tables of ``part`` ("core", "methods", "device", "experiments",
+    "tuning", "gui" or "all"), printed as Markdown."""
+    tables = []
+
+    def show(table: Table) -> None:
+        out(table.markdown())
+        out("")
+        tables.append(table)
+
+    if part in ("core", "all"):
+        sizes = (2000, 20_000) if quick else (2000, 100_000)
+        show(batch_table(sizes))
+        show(live_table())
+        show(accuracy_table(quick=quick))
+    if part in ("methods", "all"):
+        show(methods_table(samples=501 if quick else 2001))
+    if part in ("device", "all"):
+        for table in device_tables(seconds=3.0 if quick else 10.0):
+            show(table)
+    if part in ("experiments", "all"):
+        show(staircase_table(tracks=300 if quick else 2000))
+    if part in ("tuning", "all"):
+        show(tuning_table(runs=20 if quick else 200))
+    if part in ("gui", "all"):
+        # The GUI's benchmark lives with the GUI (tactile_tuner), registered under the entry
+        # point group "tactile.bench": the core never imports Qt or the GUI package.
+        hooks = [ep for ep in entry_points(group="tactile.bench") if ep.name == "gui"]
+        if not hooks:
+            out("(GUI benchmark skipped: the tuner is not installed)")
+        for hook in hooks:
+            try:
+                run_gui = hook.load()
+            except ImportError as exc:
+                out(f"(GUI benchmark skipped: {exc})")
+                continue
+            tables += run_gui(quick=quick, out=out)
+    return tables

@@ -1,0 +1,59 @@
+"""The ``tactile`` command: render, stream, emulate, analyze, simulate, tune-correction, bench.
+
+Errors in arguments or files print ``tactile <command>: error: <what was wrong>`` on standard
+error and exit with status 2; no traceback for anything the user can fix.
+
+Inside: ``_parser`` builds the parser, ``_render`` holds render, stream and emulate,
+``_experiments`` analyze, simulate, tune-correction and bench, ``_common`` what they share;
+:func:`main` runs one. ``python -m tactile_core.cli`` runs it too (``__main__``).
+"""
+
+from __future__ import annotations
+
+import sys
+
+from ._common import UsageError
+
+# ``_name as _name``: helpers of the module before the split, still importable from here.
+from ._common import _add_scene_arguments as _add_scene_arguments
+from ._common import _install_stop_handlers as _install_stop_handlers
+from ._common import _scene as _scene
+from ._common import _seconds as _seconds
+from ._experiments import _print_tuning as _print_tuning
+from ._experiments import _tune_at_array as _tune_at_array
+from ._experiments import _tuning_plan as _tuning_plan
+from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
+from ._parser import build_parser
+from ._render import MAX_RENDER_FRAMES, cmd_emulate, cmd_render, cmd_stream
+
+__all__ = [
+    "MAX_RENDER_FRAMES",
+    "UsageError",
+    "build_parser",
+    "cmd_analyze",
+    "cmd_bench",
+    "cmd_emulate",
+    "cmd_render",
+    "cmd_simulate",
+    "cmd_stream",
+    "cmd_tune_correction",
+    "main",
+]
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``tactile`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except (ValueError, UsageError) as exc:
+        print(f"tactile {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # a disk that fills up, a folder that vanished mid-run
+        where = f" {exc.filename}" if getattr(exc, "filename", None) else ""
+        print(f"tactile {args.command}: error:{where} {exc.strerror or exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"tactile {args.command}: interrupted", file=sys.stderr)
+        return 130

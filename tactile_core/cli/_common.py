@@ -1,0 +1,76 @@
+"""What the commands share: the usage error, the scene arguments and their checks,
+``--seconds``, and the signals that stop a command quietly."""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import threading
+
+from .._shared import validate as _validate
+from ..rendering.correction import check_correction
+from ..rendering.geometry import Grid
+from ..rendering.methods import METHOD_NAMES, PEER_METHODS, get_method
+from ..rendering.shapes import parse_shape
+from ..rendering.trace import DIRECTIONS
+
+
+class UsageError(Exception):
+    """A problem with the command line or its files, reported without a traceback."""
+
+
+def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None:
+    p.add_argument(
+        "--shape",
+        required=True,
+        metavar="SHAPE",
+        help="line:X0,Y0,X1,Y1 | circle:CX,CY,R | square:CX,CY,EDGE (grid units)",
+    )
+    paper, peers = ", ".join(METHOD_NAMES), ", ".join(PEER_METHODS)
+    p.add_argument("--method", required=True, metavar="M",
+                   help=f"the paper's {paper}, the peers {peers} or a plug-in; parameters as "
+                   "RO:r=1.5 or GS:sigma=0.7")  # fmt: skip
+    p.add_argument("--mu", type=float, default=0.0, help="threshold in [0, 1] (default 0)")
+    p.add_argument("--gamma", type=float, default=1.0, help="gamma > 0 (default 1)")
+    p.add_argument(
+        "--duration", type=float, default=duration, help=f"seconds per trace (default {duration:g})"
+    )
+    p.add_argument("--direction", choices=DIRECTIONS, default="forward")
+    p.add_argument("--cols", type=int, default=5, help="grid columns (default 5)")
+    p.add_argument("--rows", type=int, default=6, help="grid rows (default 6)")
+
+
+def _scene(args):
+    """Validate the shared scene arguments; ValueError names what is wrong."""
+    shape = parse_shape(args.shape)
+    method = get_method(args.method).spec
+    mu, gamma = check_correction(args.mu, args.gamma)
+    _validate.duration("duration", args.duration)
+    for name in ("cols", "rows"):
+        _validate.integer(name, getattr(args, name), 1, 64)
+    grid = Grid(cols=args.cols, rows=args.rows)
+    return shape, method, mu, gamma, grid
+
+
+def _seconds(value, name="seconds"):
+    """``--seconds``: None (until stopped), or finite, > 0 and at most a week."""
+    if value is None:
+        return None
+    value = _validate.real(name, value)
+    if not 0 < value <= 7 * 86400:
+        raise ValueError(
+            f"{name} must be > 0 and at most a week (604800 s), got {_validate.shown(value)}"
+        )
+    return value
+
+
+def _install_stop_handlers(stop: threading.Event) -> None:
+    """Ctrl-C, SIGTERM and SIGHUP (the terminal closed) set ``stop``: the caller then turns the
+    array off and reports, quietly."""
+
+    def handler(signum, frame):
+        stop.set()
+
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), handler)

@@ -1,0 +1,145 @@
+"""The argument parser of ``tactile``: one sub-command per ``cmd_*`` function."""
+
+from __future__ import annotations
+
+import argparse
+
+from .._version import __version__
+from ._common import _add_scene_arguments
+from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
+from ._render import cmd_emulate, cmd_render, cmd_stream
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``tactile``."""
+    parser = argparse.ArgumentParser(
+        prog="tactile",
+        description="Rendering methods for low-resolution 2D vibrotactile arrays (CT, MM, AS, IM).",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+
+    p = sub.add_parser("render", help="write the frames of one trace to .csv or .npz")
+    _add_scene_arguments(p, duration=2.0)
+    p.add_argument("--rate", type=float, default=100.0, help="frames per second (default 100)")
+    p.add_argument("--out", required=True, help="output file, .csv or .npz")
+    p.set_defaults(func=cmd_render)
+
+    p = sub.add_parser("stream", help="stream a scene to a device without the GUI")
+    p.add_argument(
+        "--device",
+        required=True,
+        metavar="URL",
+        help="port or pyserial URL; 'sim' for the simulated array",
+    )
+    _add_scene_arguments(p, duration=2.0)
+    p.add_argument(
+        "--pause", type=float, default=0.5, help="seconds off between traces (default 0.5)"
+    )
+    p.add_argument("--rate", type=float, default=300.0, help="frames per second (default 300)")
+    p.add_argument(
+        "--seconds", type=float, default=None, help="stop after this long (default: Ctrl-C)"
+    )
+    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument(
+        "--filter",
+        choices=("point", "box"),
+        default="point",
+        help="temporal filter (default point: the paper's pipeline)",
+    )
+    p.add_argument("--subsamples", type=int, default=4, help="box filter sub-samples (default 4)")
+    dither = p.add_mutually_exclusive_group()
+    dither.add_argument(
+        "--dither", action="store_true", help="temporal dithering of the device levels"
+    )
+    dither.add_argument(
+        "--no-dither", action="store_true", help="plain rounding to device levels (the default)"
+    )
+    p.add_argument("--felt-amplitude", action="store_true",
+                   help="mu and gamma act on felt amplitude: send the drive that the profile's "
+                   "motor response curve turns into the corrected value")  # fmt: skip
+    p.add_argument("--record", default=None, help="record the frames sent to .csv or .npz")
+    p.add_argument("--reconnect", action="store_true", help="keep retrying after the link fails")
+    p.add_argument(
+        "--realtime", action="store_true", help="real-time priority (Linux; rtprio or root)"
+    )
+    p.set_defaults(func=cmd_stream)
+
+    p = sub.add_parser("emulate", help="run the device emulator on a pseudo-terminal")
+    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument("--rate", type=float, default=None, help="nominal rate for the interval error")
+    p.add_argument(
+        "--seconds", type=float, default=None, help="end after this long (default: Ctrl-C)"
+    )
+    p.add_argument("--log", default=None, help="write every received frame to this CSV")
+    p.add_argument("--json", default=None, help="write the report to this JSON file")
+    p.add_argument(
+        "--close-after",
+        type=float,
+        default=None,
+        help="close the device after this long (fault test)",
+    )
+    p.set_defaults(func=cmd_emulate)
+
+    p = sub.add_parser("analyze", help="the paper's tables and figures from a results folder")
+    p.add_argument("results", metavar="RESULTS_DIR")
+    p.add_argument(
+        "--paper-rounding",
+        action="store_true",
+        help="round each p to 3 decimals before x 6, as the paper's tables did",
+    )
+    p.set_defaults(func=cmd_analyze)
+
+    p = sub.add_parser("simulate", help="run the experiments with simulated participants")
+    p.add_argument("results", metavar="RESULTS_DIR")
+    p.add_argument("--participants", type=int, default=12)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument(
+        "--experiments", default="exp1,exp2,exp3", help="comma-separated (and calibration)"
+    )
+    p.add_argument("--methods", metavar="'M M ...'", default=None,
+                   help="the method set of Experiments 1 and 3, e.g. 'AS EN RO:r=1.5' "
+                   "(default: the paper's four)")  # fmt: skip
+    p.set_defaults(func=cmd_simulate)
+
+    p = sub.add_parser(
+        "tune-correction",
+        help="measure mu and gamma by feel (a participant at an array, or simulated)",
+        description="Two-interval forced choices find the drive one tactor is just felt at "
+        "(mu) and the gamma at which a point between tactors feels as strong as one on a "
+        "tactor. --simulate runs it against the simulated participant of the contract.",
+    )
+    p.add_argument("--simulate", action="store_true", help="the simulated participant")
+    p.add_argument("--threshold", type=float, default=None, help="simulated TH in [0, 0.95]")
+    p.add_argument("--exponent", type=float, default=None, help="simulated K in [0.1, 10]")
+    p.add_argument("--threshold-sd", type=float, default=0.02,
+                   help="simulated threshold spread, drive units (default 0.02)")  # fmt: skip
+    p.add_argument("--weber", type=float, default=0.15,
+                   help="simulated magnitude noise, log units (default 0.15)")  # fmt: skip
+    p.add_argument("--lapse", type=float, default=0.03,
+                   help="simulated lapse rate (default 0.03)")  # fmt: skip
+    p.add_argument("--seed", type=int, default=0, help="seeds the procedure (and simulation)")
+    p.add_argument("--device", metavar="URL", default=None, help="port or URL; 'sim' for the "
+                   "simulated array")  # fmt: skip
+    p.add_argument("--participant", metavar="ID", default=None)
+    p.add_argument("--results", metavar="DIR", default=None, help="results folder")
+    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument("--trials-per-tactor", type=int, default=20, help="threshold trials per "
+                   "tactor, 5 tactors (default 20)")  # fmt: skip
+    p.add_argument("--trials-per-place", type=int, default=40,
+                   help="constancy trials at each of 2 places (default 40)")  # fmt: skip
+    p.add_argument("--corner-trials", type=int, default=12,
+                   help="constancy trials at the cell corner, the check (default 12)")  # fmt: skip
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.set_defaults(func=cmd_tune_correction)
+
+    p = sub.add_parser("bench", help="print the speed/accuracy tables")
+    p.add_argument(
+        "--part",
+        choices=("core", "methods", "device", "gui", "experiments", "tuning", "all"),
+        default="all",
+    )
+    p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")
+    p.set_defaults(func=cmd_bench)
+    return parser

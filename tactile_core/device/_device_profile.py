@@ -1,0 +1,218 @@
+"""The device profile: a physical array and its link, as one immutable value."""
+
+from __future__ import annotations
+
+import bisect
+import dataclasses
+import hashlib
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .._shared.jsonfile import write_json_atomic
+from ..rendering.geometry import ArraySpec, Grid
+from ._profile_json import FORMAT, VERSION, profile_fields
+from .wire import frame_length
+
+
+@dataclass(frozen=True)
+class DeviceProfile:
+    """A physical array and its link.
+
+    Attributes
+    ----------
+    name : str
+    array : ArraySpec
+        Grid, pitch, levels and channel order.
+    baud : int
+        Serial link speed in bit/s (8N1: 10 bits per byte).
+    response : tuple of (tuple of float, tuple of float) or None
+        ``(drive, output)`` of the motor response curve, if known.
+    offset, gain : tuple of float, length rows * cols, or None
+        Per-tactor calibration in flat cell order (``row * cols + col``).
+    threshold : tuple of float or None
+        The detection thresholds the calibration was computed from (informational).
+    description : str
+    path : str or None
+        Where the profile was loaded from.
+    file_sha256 : str or None
+        SHA-256 of the bytes of that file (None for a profile built or changed in memory).
+    """
+
+    name: str
+    array: ArraySpec
+    baud: int = 115200
+    response: tuple | None = None
+    offset: tuple | None = None
+    gain: tuple | None = None
+    threshold: tuple | None = None
+    description: str = ""
+    path: str | None = field(default=None, compare=False)
+    file_sha256: str | None = field(default=None, compare=False)
+
+    @property
+    def grid(self) -> Grid:
+        """The tactor grid."""
+        return self.array.grid
+
+    @property
+    def levels(self) -> int:
+        """Number of device levels."""
+        return self.array.levels
+
+    @property
+    def channels(self) -> int:
+        """Number of channels (one per tactor)."""
+        return self.array.grid.size
+
+    @property
+    def frame_bytes(self) -> int:
+        """Bytes on the wire per frame (36 for 30 channels)."""
+        return frame_length(self.channels)
+
+    @property
+    def max_rate_hz(self) -> float:
+        """Frames per second the link carries: ``baud / 10 / frame_bytes`` (320 for the palm)."""
+        return self.baud / 10.0 / self.frame_bytes
+
+    @property
+    def calibrated(self) -> bool:
+        """True when the profile carries per-tactor calibration."""
+        return self.offset is not None
+
+    def felt(self, drive) -> np.ndarray:
+        """Motor output for drive fractions in [0, 1] (the drive itself without a curve)."""
+        drive = np.asarray(drive, dtype=np.float64)
+        if self.response is None:
+            return drive
+        return np.interp(drive, *self.response)
+
+    def drive_for(self, felt) -> np.ndarray:
+        """The inverse of the motor response: the least drive whose output reaches ``felt``.
+
+        Parameters
+        ----------
+        felt : array_like of float, any shape
+            Wanted motor output in [0, 1] (0 stays 0: off).
+
+        Returns
+        -------
+        ndarray of float64, same shape
+            Drive fractions in [0, 1]; ``felt`` itself without a response curve. Where the
+            curve is flat (a motor that starts only above some drive) the drive jumps to the
+            end of the flat part; above the curve's largest output, full drive.
+        """
+        felt = np.asarray(felt, dtype=np.float64)
+        if self.response is None:
+            return felt
+        drive, output = (np.asarray(v) for v in self.response)
+        i = np.clip(np.searchsorted(output, felt, side="left"), 1, len(output) - 1)
+        lo, hi = output[i - 1], output[i]
+        span = np.where(hi > lo, hi - lo, 1.0)
+        d = drive[i - 1] + (felt - lo) / span * (drive[i] - drive[i - 1])
+        d = np.where(felt > output[-1], 1.0, np.clip(d, 0.0, 1.0))
+        return np.where(felt > 0.0, d, 0.0)
+
+    def drive_for1(self, felt: float) -> float:
+        """Scalar :meth:`drive_for` with plain Python numbers (the streamer's live path)."""
+        if self.response is None or felt <= 0.0:
+            return felt if self.response is None else 0.0
+        drive, output = self.response
+        if felt > output[-1]:
+            return 1.0
+        i = min(max(bisect.bisect_left(output, felt), 1), len(output) - 1)
+        lo, hi = output[i - 1], output[i]
+        if hi <= lo:
+            return min(max(drive[i], 0.0), 1.0)
+        d = drive[i - 1] + (felt - lo) / (hi - lo) * (drive[i] - drive[i - 1])
+        return min(max(d, 0.0), 1.0)
+
+    def calibrate(self, flat_frame) -> np.ndarray:
+        """Apply per-tactor calibration to a frame in flat cell order, ``(..., size)``."""
+        values = np.asarray(flat_frame, dtype=np.float64)
+        if self.offset is None:
+            return values
+        adjusted = np.clip(np.asarray(self.offset) + np.asarray(self.gain) * values, 0.0, 1.0)
+        return np.where(values > 0.0, adjusted, 0.0)
+
+    def to_dict(self) -> dict:
+        """The JSON form of the profile."""
+        grid = self.grid
+        identity = self.array.channels == tuple(range(grid.size))
+        data = {
+            "format": FORMAT,
+            "version": VERSION,
+            "name": self.name,
+            "description": self.description,
+            "columns": grid.cols,
+            "rows": grid.rows,
+            "pitch_mm": self.array.pitch_mm,
+            "levels": self.levels,
+            "baud": self.baud,
+            "channel_order": "row-major" if identity else list(self.array.channels),
+        }
+        if self.response is not None:
+            data["response"] = {"drive": list(self.response[0]), "output": list(self.response[1])}
+        if self.offset is not None:
+            data["calibration"] = {"offset": list(self.offset), "gain": list(self.gain)}
+            if self.threshold is not None:
+                data["calibration"]["threshold"] = list(self.threshold)
+        return data
+
+    @property
+    def sha256(self) -> str:
+        """SHA-256 of the profile's bytes: of its file if it is as loaded, else of its JSON form
+        (sorted keys, compact)."""
+        if self.file_sha256 is not None:
+            return self.file_sha256
+        text = json.dumps(self.to_dict(), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+    def record(self) -> dict:
+        """What an experiment session records of the profile: name, SHA-256 (of the file's
+        bytes, or of the JSON form if it was built or changed in memory), path, the
+        calibration applied."""
+        calibration = None
+        if self.offset is not None:
+            calibration = {"offset": list(self.offset), "gain": list(self.gain)}
+        return {
+            "name": self.name,
+            "sha256": self.sha256,
+            "sha256_of": "file" if self.file_sha256 is not None else "json",
+            "path": self.path,
+            "levels": self.levels,
+            "columns": self.grid.cols,
+            "rows": self.grid.rows,
+            "calibration": calibration,
+        }
+
+    def without_calibration(self) -> DeviceProfile:
+        """A copy with no per-tactor calibration (no longer the file it came from)."""
+        return dataclasses.replace(
+            self, offset=None, gain=None, threshold=None, path=None, file_sha256=None
+        )
+
+    def save(self, path) -> Path:
+        """Write the profile as JSON, atomically (temporary file, then rename)."""
+        return write_json_atomic(path, self.to_dict())
+
+    def with_calibration(self, offset, gain, threshold=None) -> DeviceProfile:
+        """A copy with per-tactor calibration (validated like a loaded file)."""
+        data = self.to_dict()
+        data["calibration"] = {"offset": list(map(float, offset)), "gain": list(map(float, gain))}
+        if threshold is not None:
+            data["calibration"]["threshold"] = list(map(float, threshold))
+        return profile_from_dict(data, source=self.path or self.name)
+
+
+def profile_from_dict(data, source: str = "profile") -> DeviceProfile:
+    """Validate a profile's JSON object and build a :class:`DeviceProfile`.
+
+    Raises
+    ------
+    ProfileError
+        Naming ``source``, the field and the problem.
+    """
+    return DeviceProfile(**profile_fields(data, source))

@@ -1,0 +1,220 @@
+"""The JSON form of a device profile: its format's constants and the check of every field.
+
+:func:`profile_fields` turns a profile's JSON object (described in :mod:`.profile`) into the
+fields of a :class:`~tactile_core.device.profile.DeviceProfile`, or raises
+:class:`ProfileError` naming the source, the field and the problem.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from .._shared import validate as _validate
+from ..rendering.geometry import ArraySpec, Grid
+
+FORMAT = "tactile-device-profile"
+VERSION = 1
+NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
+"""A profile's name: what presets and sessions refer to it by, and what the firmware reports."""
+MIN_BAUD, MAX_BAUD = 9600, 4_000_000
+"""Link speeds a profile may give: at 9600 baud the palm array still gets 25 frames a second."""
+
+
+class ProfileError(ValueError):
+    """A device profile that cannot be used; the message names the field and the problem."""
+
+
+def _field(data, key, source, *, required=True, default=None):
+    if key not in data:
+        if required:
+            raise ProfileError(f"{source}: field '{key}' is missing")
+        return default
+    return data[key]
+
+
+def _integer(value, key, source, lo, hi=None):
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ProfileError(
+            f"{source}: field '{key}' must be an integer, got {_validate.shown(value)}"
+        )
+    if value < lo or (hi is not None and value > hi):
+        bound = f"{lo}..{hi}" if hi is not None else f">= {lo}"
+        raise ProfileError(f"{source}: field '{key}' must be {bound}, got {_validate.shown(value)}")
+    return value
+
+
+def _number(value, key, source):
+    try:
+        return _validate.real(key, value)
+    except ValueError:
+        raise ProfileError(
+            f"{source}: field '{key}' must be a finite number, got {_validate.shown(value)}"
+        ) from None
+
+
+def _numbers(value, key, source, size=None, grid=None):
+    """A flat list of JSON numbers; with ``grid`` also a table of ``rows`` lists of ``cols``
+    numbers, row 0 (the bottom row) first."""
+    if grid is not None and isinstance(value, list) and value and isinstance(value[0], list):
+        rows, cols = grid
+        if len(value) != rows or not all(isinstance(r, list) and len(r) == cols for r in value):
+            shape = [len(r) if isinstance(r, list) else "?" for r in value][:8]
+            raise ProfileError(
+                f"{source}: field '{key}' as a table must be {rows} rows of {cols} values "
+                f"(row 0 at the bottom first), got {len(value)} rows of {shape}"
+            )
+        value = [x for row in value for x in row]
+    if not isinstance(value, list):
+        raise ProfileError(
+            f"{source}: field '{key}' must be a list of numbers, got {_validate.shown(value)}"
+        )
+    if size is not None and len(value) != size:
+        raise ProfileError(f"{source}: field '{key}' must hold {size} values, got {len(value)}")
+    if len(value) > 4096:
+        raise ProfileError(f"{source}: field '{key}' holds {len(value)} values, at most 4096")
+    return np.array([_number(v, f"{key}[{i}]", source) for i, v in enumerate(value)])
+
+
+def profile_fields(data, source: str = "profile") -> dict:
+    """Validate a profile's JSON object: the keyword arguments of a :class:`DeviceProfile`.
+
+    Returns
+    -------
+    dict
+        ``name``, ``array`` (:class:`ArraySpec`), ``baud``, ``response``, ``offset``, ``gain``,
+        ``threshold``, ``description`` and ``path`` (None), checked and as the class holds them.
+
+    Raises
+    ------
+    ProfileError
+        Naming ``source``, the field and the problem.
+    """
+    if not isinstance(data, dict):
+        raise ProfileError(
+            f"{source}: a device profile must be a JSON object, got {type(data).__name__}"
+        )
+    if data.get("format") != FORMAT:
+        raise ProfileError(
+            f"{source}: field 'format' must be {FORMAT!r}, "
+            f"got {_validate.shown(data.get('format'))}"
+        )
+    version = _integer(_field(data, "version", source), "version", source, 1)
+    if version > VERSION:
+        raise ProfileError(
+            f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
+        )
+    name = _field(data, "name", source, required=False, default=Path(source).stem)
+    if not isinstance(name, str) or not NAME.fullmatch(name):
+        raise ProfileError(
+            f"{source}: field 'name' must be 1-64 letters, digits, '_', '.' or '-', "
+            f"got {_validate.shown(name)}"
+        )
+    description = _field(data, "description", source, required=False, default="")
+    if not isinstance(description, str) or len(description) > 2000:
+        raise ProfileError(f"{source}: field 'description' must be a string of <= 2000 chars")
+    cols = _integer(_field(data, "columns", source), "columns", source, 1, 64)
+    rows = _integer(_field(data, "rows", source), "rows", source, 1, 64)
+    if cols * rows > 255:
+        raise ProfileError(
+            f"{source}: fields 'columns' x 'rows' must be at most 255 channels, got {cols * rows}"
+        )
+    pitch = _number(_field(data, "pitch_mm", source), "pitch_mm", source)
+    if pitch <= 0:
+        raise ProfileError(f"{source}: field 'pitch_mm' must be > 0, got {_validate.shown(pitch)}")
+    levels = _integer(_field(data, "levels", source), "levels", source, 2, 256)
+    baud = _integer(
+        _field(data, "baud", source, required=False, default=115200),
+        "baud",
+        source,
+        MIN_BAUD,
+        MAX_BAUD,
+    )
+    order = _field(data, "channel_order", source, required=False, default="row-major")
+    size = cols * rows
+    if order == "row-major":
+        channels = tuple(range(size))
+    elif order == "column-major":
+        channels = tuple(r * cols + c for c in range(cols) for r in range(rows))
+    elif isinstance(order, list):
+        channels = tuple(
+            _integer(v, f"channel_order[{i}]", source, 0, size - 1) for i, v in enumerate(order)
+        )
+        if sorted(channels) != list(range(size)):
+            raise ProfileError(
+                f"{source}: field 'channel_order' must list each of the {size} cells once "
+                f"(flat index row * columns + col)"
+            )
+    else:
+        raise ProfileError(
+            f"{source}: field 'channel_order' must be 'row-major', 'column-major' or a list, "
+            f"got {_validate.shown(order)}"
+        )
+    array = ArraySpec(Grid(cols=cols, rows=rows), pitch_mm=pitch, levels=levels, channels=channels)
+
+    response = None
+    if data.get("response") is not None:
+        curve = data["response"]
+        if not isinstance(curve, dict):
+            raise ProfileError(
+                f"{source}: field 'response' must be an object with 'drive' and 'output'"
+            )
+        drive = _numbers(_field(curve, "drive", f"{source}: response"), "response.drive", source)
+        output = _numbers(_field(curve, "output", f"{source}: response"), "response.output", source)
+        if len(drive) < 2 or len(drive) != len(output):
+            raise ProfileError(
+                f"{source}: fields 'response.drive' and 'response.output' must have the same "
+                f"length (>= 2), got {len(drive)} and {len(output)}"
+            )
+        if drive[0] != 0.0 or drive[-1] != 1.0 or np.any(np.diff(drive) <= 0):
+            raise ProfileError(
+                f"{source}: field 'response.drive' must increase strictly from 0 to 1"
+            )
+        if np.any(output < 0) or np.any(output > 1) or np.any(np.diff(output) < 0):
+            raise ProfileError(
+                f"{source}: field 'response.output' must be non-decreasing within [0, 1]"
+            )
+        response = (tuple(drive.tolist()), tuple(output.tolist()))
+
+    offset = gain = threshold = None
+    if data.get("calibration") is not None:
+        cal = data["calibration"]
+        if not isinstance(cal, dict):
+            raise ProfileError(
+                f"{source}: field 'calibration' must be an object with 'offset' and 'gain'"
+            )
+        table = (rows, cols)
+        offset = _numbers(
+            _field(cal, "offset", f"{source}: calibration"), "calibration.offset", source, size,
+            table,
+        )  # fmt: skip
+        gain = _numbers(
+            _field(cal, "gain", f"{source}: calibration"), "calibration.gain", source, size, table
+        )
+        if np.any(np.abs(offset) > 1):
+            raise ProfileError(
+                f"{source}: field 'calibration.offset' values must be within [-1, 1]"
+            )
+        if np.any(gain <= 0) or np.any(gain > 10):
+            raise ProfileError(f"{source}: field 'calibration.gain' values must be within (0, 10]")
+        offset, gain = tuple(offset.tolist()), tuple(gain.tolist())
+        if cal.get("threshold") is not None:
+            threshold = _numbers(cal["threshold"], "calibration.threshold", source, size, table)
+            if np.any(threshold < 0) or np.any(threshold > 1):
+                raise ProfileError(
+                    f"{source}: field 'calibration.threshold' values must be within [0, 1]"
+                )
+            threshold = tuple(threshold.tolist())
+    return dict(
+        name=name,
+        array=array,
+        baud=baud,
+        response=response,
+        offset=offset,
+        gain=gain,
+        threshold=threshold,
+        description=description,
+        path=None,
+    )

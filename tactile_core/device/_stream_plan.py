@@ -1,0 +1,146 @@
+"""What the streamer's output thread works from: the plan of a scene, and device levels.
+
+:class:`_Plan` holds what one scene sets: its live frames, rate, period and keep-alive tick, and
+the stream's state and status under it. :class:`_ChannelLevels` turns a frame into device
+levels in channel order (calibrated, quantised). The two functions ask the operating system for
+punctual wake-ups (timer slack) and real-time priority.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import sys
+import time
+
+import numpy as np
+
+from ..rendering.correction import Dither, quantize1
+from ..rendering.scene import Scene
+from .profile import DeviceProfile
+from .wire import KEEPALIVE_S
+
+
+def _reduce_timer_slack() -> None:
+    """Linux: wake this thread within ~1 us of the requested time instead of ~50 us."""
+    if sys.platform.startswith("linux"):
+        try:
+            ctypes.CDLL(None).prctl(29, 1000, 0, 0, 0)  # PR_SET_TIMERSLACK, 1 us
+        except (OSError, AttributeError):
+            pass
+
+
+def _raise_priority() -> str:
+    """Try to give the calling thread real-time priority (SCHED_FIFO 10); say what happened.
+
+    Linux grants it to root or to users with an ``rtprio`` limit (``ulimit -r``, or
+    ``/etc/security/limits.conf``). The output thread sleeps most of each frame and spins at most
+    ``spin_s``, so it cannot starve the machine.
+    """
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(10))
+    except AttributeError:
+        return "real-time priority is not available on this system"
+    except PermissionError:
+        return "real-time priority not permitted (raise the rtprio limit: ulimit -r 10)"
+    except OSError as exc:
+        return f"real-time priority failed: {exc}"
+    return ""
+
+
+class _Plan:
+    """What the output thread derived from one scene: frames, rate, period."""
+
+    def __init__(self, scene: Scene | None, profile: DeviceProfile, idle_rate_hz: float):
+        self.scene = scene
+        self.requested = scene.rate_hz if scene is not None else idle_rate_hz
+        self.active = scene is not None and scene.active
+        if self.active:
+            self.rate = min(scene.rate_hz, profile.max_rate_hz)
+            self.capped = scene.rate_hz > profile.max_rate_hz
+            self.live = scene.live(profile.grid, self.rate)
+        else:
+            self.rate = idle_rate_hz
+            self.capped = False
+            self.live = None
+        # Felt-amplitude correction: the drive is the motor response's inverse of the value.
+        self.inverse = (profile.drive_for1 if self.active and scene.felt_domain
+                        and profile.response is not None else None)  # fmt: skip
+        self.period = 1.0 / self.rate
+        # At any rate a frame goes out at least every KEEPALIVE_S (repeating the last one), so
+        # the array's 250 ms watchdog never trips while the host is alive.
+        self.tick = min(self.period, KEEPALIVE_S)
+        self.since = time.perf_counter()
+        self.precompute_started = False
+        self.last_k = None
+        self.last_levels = None
+
+    def describe(self, profile: DeviceProfile, link, priority_note: str) -> tuple[str, str]:
+        """State and status line of the stream under this plan, to ``link`` (its
+        ``description`` names it) with the note on the thread's priority, if any."""
+        if self.scene is None:
+            return "idle", f"idle: all off, keep-alive at {self.rate:g} Hz"
+        if not self.scene.playing:
+            return "paused", f"paused: all off, keep-alive at {self.rate:g} Hz"
+        if self.capped:
+            return "streaming", (
+                f"streaming {self.scene.method} at {self.rate:.0f} Hz: {self.requested:g} Hz "
+                f"requested, the link carries {profile.max_rate_hz:.0f} frames/s "
+                f"({profile.baud} baud, {profile.frame_bytes} bytes per frame)"
+            )
+        note = f" ({priority_note})" if priority_note else ""
+        return "streaming", (
+            f"streaming {self.scene.method} at {self.rate:g} Hz to {link.description}{note}"
+        )
+
+
+class _ChannelLevels:
+    """A frame as device levels in channel order, and back on the grid for display.
+
+    Per lit tactor of a plan's frame: the inverse of the motor response (felt-amplitude
+    correction, if the plan has one), the profile's calibration ``clip(offset + gain * I, 0,
+    1)``, then quantisation to the profile's levels, by rounding or by temporal dithering per
+    channel.
+    """
+
+    def __init__(self, profile: DeviceProfile):
+        self.profile = profile
+        channel_of_cell = np.empty(profile.channels, dtype=np.intp)
+        channel_of_cell[profile.array.channel_index] = np.arange(profile.channels)
+        self._channel_of_cell = channel_of_cell.tolist()
+        self._cell_of_channel = profile.array.channel_index
+        self._offset = None if profile.offset is None else list(profile.offset)
+        self._gain = None if profile.gain is None else list(profile.gain)
+
+    def levels(self, plan: _Plan, k: int, dither: Dither | None, lit_before: set) -> tuple:
+        """Levels of frame ``k`` of ``plan``: a ``bytearray`` with one level per channel, and
+        the set of lit channels. Dithering forgets the residual of a channel that went dark
+        since ``lit_before``."""
+        n = self.profile.channels
+        levels = bytearray(n)
+        lit = set()
+        if plan.live is None:
+            return levels, lit
+        top = self.profile.levels - 1
+        offset, gain = self._offset, self._gain
+        channel_of_cell = self._channel_of_cell
+        inverse = plan.inverse
+        for cell, value in plan.live.entries(k):
+            if inverse is not None:
+                value = inverse(value)
+            if offset is not None:
+                value = min(max(offset[cell] + gain[cell] * value, 0.0), 1.0)
+            ch = channel_of_cell[cell]
+            level = dither.level1(ch, value) if dither is not None else quantize1(value, top + 1)
+            levels[ch] = level
+            lit.add(ch)
+        if dither is not None:
+            for ch in lit_before - lit:
+                dither.residual[ch] = 0.0
+        return levels, lit
+
+    def grid(self, levels: bytes) -> np.ndarray:
+        """Channel-ordered ``levels`` on the grid: ``(rows, cols)`` uint8, for display."""
+        flat = np.zeros(self.profile.channels, dtype=np.uint8)
+        flat[self._cell_of_channel] = np.frombuffer(bytes(levels), dtype=np.uint8)
+        return flat.reshape(self.profile.grid.shape)

@@ -1,0 +1,170 @@
+"""The streamer's statistics: the snapshot a reader gets, and the book the thread keeps.
+
+The output thread counts into a :class:`StatsBook` under its lock; any thread asks for a
+:class:`StreamStats`, an immutable snapshot (a frozen dataclass), which is what crosses threads
+and, pickled, the pipe from the stream process.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class StreamStats:
+    """A snapshot of the streamer's statistics.
+
+    Attributes
+    ----------
+    state : str
+        ``"starting"``, ``"streaming"``, ``"paused"``, ``"idle"``, ``"disconnected"``,
+        ``"stopped"``, ``"refused"`` (the array is not the profile's) or ``"failed"`` (an
+        internal error ended the stream; the array was turned off).
+    status : str
+        One line for the user (what happened last, e.g. why the stream stopped).
+    requested_rate_hz, rate_hz : float
+        Rate the scene asks for and rate in use (capped by the link).
+    capped : bool
+        True when the link cannot carry the requested rate.
+    frames, bytes, errors : int
+        Frames and bytes written, and link errors.
+    late : int
+        Frames written more than 1 ms after their deadline.
+    skipped : int
+        Deadlines passed over after a stall of more than one frame (the trace stays on time).
+    achieved_rate_hz : float
+        Frames per second over the last second.
+    interval_error_p50_ms, interval_error_p99_ms : float
+        Median and 99th percentile of ``|interval - period|`` between successive frames at a
+        steady rate (last 8192 intervals).
+    elapsed_s : float
+        Seconds since the thread started.
+    realtime : bool
+        True when the output thread runs with real-time priority.
+    array : str
+        What the array said it is (its info), or why not ("unidentified: ...").
+    array_frames, array_dropped, array_watchdog_trips : int
+        The array's own counters from its last status answer (-1 before any): frames applied,
+        messages dropped, watchdog trips.
+    """
+
+    state: str = "stopped"
+    status: str = ""
+    requested_rate_hz: float = 0.0
+    rate_hz: float = 0.0
+    capped: bool = False
+    frames: int = 0
+    bytes: int = 0
+    errors: int = 0
+    late: int = 0
+    skipped: int = 0
+    achieved_rate_hz: float = 0.0
+    interval_error_p50_ms: float = 0.0
+    interval_error_p99_ms: float = 0.0
+    elapsed_s: float = 0.0
+    realtime: bool = False
+    array: str = ""
+    array_frames: int = -1
+    array_dropped: int = -1
+    array_watchdog_trips: int = -1
+
+    def summary(self) -> str:
+        """Multi-line human summary (what ``tactile stream`` prints at the end)."""
+        cap = " (capped by the link)" if self.capped else ""
+        return "\n".join(
+            [
+                f"state:           {self.state} - {self.status}",
+                f"rate:            {self.rate_hz:.1f} Hz "
+                f"(requested {self.requested_rate_hz:g} Hz){cap}",
+                f"achieved:        {self.achieved_rate_hz:.1f} Hz over the last second",
+                f"frames:          {self.frames} ({self.bytes} bytes) in {self.elapsed_s:.2f} s",
+                f"interval error:  p50 {self.interval_error_p50_ms:.3f} ms, "
+                f"p99 {self.interval_error_p99_ms:.3f} ms",
+                f"late (>1 ms):    {self.late}, skipped deadlines: {self.skipped}",
+                f"link errors:     {self.errors}",
+                f"priority:        {'real-time' if self.realtime else 'normal'}",
+                f"array:           {self.array or '-'}",
+                (
+                    f"array counters:  frames applied {self.array_frames}, messages dropped "
+                    f"{self.array_dropped}, watchdog trips {self.array_watchdog_trips}"
+                    if self.array_frames >= 0
+                    else "array counters:  not reported"
+                ),
+            ]
+        )
+
+
+class StatsBook:
+    """The output thread's running statistics, under one lock: written by the output thread,
+    read from any.
+
+    Holds the current :class:`StreamStats` fields (state, status, ...), the counters (frames,
+    bytes, errors, late, skipped), the write times of the recent frames (for the achieved rate)
+    and the last 8192 interval errors (for their percentiles).
+    """
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._intervals = np.zeros(8192)
+        self._n_intervals = 0
+        self._recent: list[float] = []
+        self.current = StreamStats(state="starting", status="not started")
+        """The fields set with :meth:`update` (the counters and rates are not kept here)."""
+        self._counts = {"frames": 0, "bytes": 0, "errors": 0, "late": 0, "skipped": 0}
+
+    def count(self, name: str, n: int = 1) -> None:
+        """Add ``n`` to the counter ``name``."""
+        with self._lock:
+            self._counts[name] += n
+
+    def update(self, **changes) -> StreamStats:
+        """Change fields of :attr:`current`; returns the value before."""
+        with self._lock:
+            old = self.current
+            self.current = StreamStats(**{**old.__dict__, **changes})
+        return old
+
+    def wrote(self, now_s: float, n_bytes: int) -> None:
+        """One frame of ``n_bytes`` bytes went out at ``now_s`` (perf_counter seconds)."""
+        with self._lock:
+            self._counts["frames"] += 1
+            self._counts["bytes"] += n_bytes
+            self._recent.append(now_s)
+            if len(self._recent) > 4 * 1024:
+                del self._recent[: len(self._recent) - 2048]
+
+    def record_interval(self, error_s: float) -> None:
+        """One interval between successive frames, ``error_s`` off the period."""
+        with self._lock:
+            self._intervals[self._n_intervals % len(self._intervals)] = abs(error_s)
+            self._n_intervals += 1
+
+    def snapshot(self, running_since_s: float | None) -> StreamStats:
+        """A :class:`StreamStats` of everything; ``elapsed_s`` counts from ``running_since_s``
+        (perf_counter seconds) while the thread runs, else it is the last one set."""
+        with self._lock:
+            stats = StreamStats(**{**self.current.__dict__, **self._counts})
+            n = min(self._n_intervals, len(self._intervals))
+            errors = self._intervals[:n].copy()
+            recent = list(self._recent)
+        now = time.perf_counter()
+        recent = [t for t in recent if now - t <= 1.0]
+        p50, p99 = (np.percentile(errors, [50, 99]) * 1e3) if n else (0.0, 0.0)
+        elapsed = now - running_since_s if running_since_s else stats.elapsed_s
+        if len(recent) > 1:
+            achieved = (len(recent) - 1) / (recent[-1] - recent[0])
+        else:
+            achieved = 0.0
+        return StreamStats(
+            **{
+                **stats.__dict__,
+                "achieved_rate_hz": achieved,
+                "interval_error_p50_ms": float(p50),
+                "interval_error_p99_ms": float(p99),
+                "elapsed_s": elapsed,
+            }
+        )

@@ -1,0 +1,69 @@
+"""Fixtures and helpers of the Experiments tab's GUI tests (test_tuner_experiments.py and
+test_tuner_console.py): a window whose console is set up and answers yes, short gaps, keys."""
+
+import csv
+
+import pytest
+
+
+@pytest.fixture(autouse=True)
+def quick_runs(qt_settings, monkeypatch):
+    import tactile_tuner.experiments.trials
+
+    monkeypatch.setattr(
+        tactile_tuner.experiments.trials, "GAP_S", 0.01
+    )  # no pause between questions in tests
+
+
+@pytest.fixture
+def window(qtbot, tmp_path):
+    from tactile_tuner.window import MainWindow
+
+    win = MainWindow(restore=False)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    panel = win.experiments
+    panel.setup.folder_edit.setText(str(tmp_path / "results"))
+    panel.setup.participant_edit.setText("P01")
+    panel.confirm = lambda title, text: True  # the experimenter says yes
+    win.tabs.setCurrentWidget(panel)
+    yield win
+    panel.stop()
+    win.close()
+
+
+def choose(panel, name):
+    panel.setup.experiment_combo.setCurrentIndex(panel.setup.experiment_combo.findData(name))
+
+
+def press(qtbot, win, key, text=""):
+    qtbot.keyClick(win.experiments.participant_window.prompt, key)
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def wait_trial(qtbot, panel, kind):
+    qtbot.waitUntil(
+        lambda: panel.runner is not None and panel.runner.current is not None
+        and panel.runner.current.kind == kind and not panel.trials.gap_timer.isActive(),
+        timeout=3000,
+    )  # fmt: skip
+
+
+@pytest.fixture
+def quick_tuning(monkeypatch):
+    import functools
+
+    import tactile_tuner.experiments.trials
+    from tactile_core.experiments import RUNNERS
+    from tactile_core.experiments.tuning import CorrectionTuning, TuningPlan
+
+    monkeypatch.setattr(tactile_tuner.experiments.trials, "INTERVAL_S", 0.03)
+    monkeypatch.setattr(tactile_tuner.experiments.trials, "INTERVAL_GAP_S", 0.02)
+    monkeypatch.setitem(
+        RUNNERS, "correction", functools.partial(CorrectionTuning, plan=TuningPlan(12, 16, 4))
+    )
