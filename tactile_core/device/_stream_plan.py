@@ -51,13 +51,15 @@ def _raise_priority() -> str:
 class _Plan:
     """What the output thread derived from one scene: frames, rate, period."""
 
-    def __init__(self, scene: Scene | None, profile: DeviceProfile, idle_rate_hz: float):
+    def __init__(self, scene: Scene | None, profile: DeviceProfile, idle_rate_hz: float,
+                 max_rate_hz: float | None = None):  # fmt: skip
         self.scene = scene
         self.requested = scene.rate_hz if scene is not None else idle_rate_hz
         self.active = scene is not None and scene.active
+        self.max_rate = profile.max_rate_hz if max_rate_hz is None else max_rate_hz
         if self.active:
-            self.rate = min(scene.rate_hz, profile.max_rate_hz)
-            self.capped = scene.rate_hz > profile.max_rate_hz
+            self.rate = min(scene.rate_hz, self.max_rate)
+            self.capped = scene.rate_hz > self.max_rate
             self.live = scene.live(profile.grid, self.rate)
         else:
             self.rate = idle_rate_hz
@@ -85,8 +87,8 @@ class _Plan:
         if self.capped:
             return "streaming", (
                 f"streaming {self.scene.method} at {self.rate:.0f} Hz: {self.requested:g} Hz "
-                f"requested, the link carries {profile.max_rate_hz:.0f} frames/s "
-                f"({profile.baud} baud, {profile.frame_bytes} bytes per frame)"
+                f"requested, the link carries {self.max_rate:.0f} frames/s "
+                f"({profile.baud} baud, {profile.baud / 10 / self.max_rate:.0f} bytes per frame)"
             )
         note = f" ({priority_note})" if priority_note else ""
         return "streaming", (

@@ -50,6 +50,17 @@ class StreamStats:
     array_frames, array_dropped, array_watchdog_trips : int
         The array's own counters from its last status answer (-1 before any): frames applied,
         messages dropped, watchdog trips.
+    scheduled : bool
+        True while frames go out timed, to be played ``lead_ms`` after their deadline on the
+        array's clock (an array with the scheduled-frame extension, and a lead).
+    lead_ms, clock_error_ms : float
+        The lead in use (0 for frames played on arrival) and the expected error of the host's
+        reading of the array's clock.
+    schedule : str
+        One line on how frames are timed, or why they are not.
+    array_late, array_full : int
+        The array's scheduling counters from its last clock answer (-1 before any): timed frames
+        played after their time, and dropped for a full queue.
     """
 
     state: str = "stopped"
@@ -71,6 +82,12 @@ class StreamStats:
     array_frames: int = -1
     array_dropped: int = -1
     array_watchdog_trips: int = -1
+    scheduled: bool = False
+    lead_ms: float = 0.0
+    clock_error_ms: float = float("inf")
+    schedule: str = ""
+    array_late: int = -1
+    array_full: int = -1
 
     def summary(self) -> str:
         """Multi-line human summary (what ``tactile stream`` prints at the end)."""
@@ -93,6 +110,12 @@ class StreamStats:
                     f"{self.array_dropped}, watchdog trips {self.array_watchdog_trips}"
                     if self.array_frames >= 0
                     else "array counters:  not reported"
+                ),
+                f"timing:          {self.schedule or '-'}",
+                (
+                    f"array schedule:  late {self.array_late}, queue full {self.array_full}"
+                    if self.array_late >= 0
+                    else "array schedule:  not reported"
                 ),
             ]
         )

@@ -14,9 +14,17 @@ zero frames at ``idle_rate_hz`` (>= 10 Hz) so the array's 250 ms watchdog never 
 host is alive. The requested rate is capped at what the link carries (``baud / 10 / frame
 bytes``: 320 Hz for the palm array at 115200 baud), and the status says so.
 
+With a lead (``lead_s`` > 0) and an array that announces scheduled frames, each frame goes out
+timed: to be played ``lead_s`` after its deadline on the array's own clock, which the host keeps
+from clock exchanges. The host's scheduler then only has to get each frame there within the
+lead; the array's timer decides when it reaches the motors. Pausing, all-off and the final
+frame stay frames for now (they also drop what is scheduled). An array without the extension is
+driven with frames for now, and the status says so.
+
 Here is the thread; its statistics (:class:`StreamStats` and the book it is read from) live in
-``_stream_stats``, and what it derives from a scene (rate, period, device levels) in
-``_stream_plan``.
+``_stream_stats``, what it derives from a scene (rate, period, device levels) in
+``_stream_plan``, and what it says to the array besides frames (hello, counters, the clock) in
+``_stream_talk``.
 """
 
 from __future__ import annotations
@@ -35,9 +43,10 @@ from ..rendering.correction import Dither
 from ..rendering.scene import Scene, check_scene
 from ._stream_plan import _ChannelLevels, _Plan, _raise_priority, _reduce_timer_slack
 from ._stream_stats import StatsBook, StreamStats
-from .link import LinkError, identify
+from ._stream_talk import ArrayTalk
+from .link import LinkError
 from .profile import DeviceProfile, default_profile
-from .wire import Info, MessageReader, Status, encode_frame, encode_query
+from .wire import Info, Status, encode_frame, encode_timed
 
 __all__ = ["StreamStats", "Streamer"]
 
@@ -63,8 +72,10 @@ class Streamer:
     scene : Scene, optional
         Initial scene; idle (all off) if None.
     taps : sequence of callables, optional
-        Called after each successful write as ``tap(time_s, seq, levels)``: monotonic time,
-        sequence number and the channel-ordered levels (``bytes``). The recorder is one.
+        Called after each successful write as ``tap(time_s, seq, levels)``: the frame's time
+        (``time.perf_counter`` seconds: when it was written, or for a timed frame when the array
+        is to play it), sequence number and the channel-ordered levels (``bytes``). The
+        recorder is one.
     on_status : callable, optional
         Called as ``on_status(stats)`` from the output thread whenever the state or status
         changes (a GUI must hand it to its own thread).
@@ -85,6 +96,10 @@ class Streamer:
         On connecting (and reconnecting), send a hello and check the array's info against the
         profile: a mismatch refuses to stream (state ``"refused"``); no answer within 0.5 s is
         an array that does not identify itself, which is driven anyway and reported so.
+    lead_s : float
+        Send frames this far ahead, timed to be played at their deadline plus ``lead_s`` on the
+        array's clock (0 to 0.5 s; 0: frames for now). Needs ``identify`` and an array that
+        announces scheduled frames; others get frames for now.
 
     Examples
     --------
@@ -112,9 +127,12 @@ class Streamer:
         switch_interval_s: float | None = 0.0005,
         realtime: bool = False,
         identify: bool = True,
+        lead_s: float = 0.0,
     ):
         if not 10.0 <= idle_rate_hz <= 1000.0:
             raise ValueError(f"idle_rate_hz must be within [10, 1000], got {idle_rate_hz!r}")
+        if not (isinstance(lead_s, int | float) and 0.0 <= lead_s <= 0.5):
+            raise ValueError(f"lead_s must be within [0, 0.5] seconds, got {lead_s!r}")
         self.link = link
         self.profile = profile or default_profile()
         self._scene = scene
@@ -127,20 +145,14 @@ class Streamer:
         self.switch_interval_s = switch_interval_s
         self.realtime = realtime
         self.identify = identify
-        self.array_info: Info | None = None
-        """The array's answer to the hello (None: not asked, or no answer)."""
-        self.array_status: Status | None = None
-        """The array's last status answer."""
-        self._replies = MessageReader(accept=(Info, Status))
+        self.lead_s = float(lead_s) if identify else 0.0
+        self._talk = ArrayTalk(link, self.profile, lead_s=self.lead_s, update=self._set)
         self.identified = threading.Event()
         """Set once the hello is answered or given up on (or the thread ended): the stream's
         duration counts from here."""
         self._failure = ""
         self.failure_traceback = ""
         """The traceback of an internal error in the output thread (its status says what)."""
-        self._query_seq = 0
-        self._query_wanted = threading.Event()
-        self._status_arrived = threading.Condition()
         self._priority_note = ""
         self._wake = threading.Event()
         self._stopping = threading.Event()
@@ -211,17 +223,28 @@ class Streamer:
         scene = self._scene
         self.set_scene(None if scene is None else scene.replace(playing=False))
 
+    @property
+    def array_info(self) -> Info | None:
+        """The array's answer to the hello (None: not asked, or no answer)."""
+        return self._talk.info
+
+    @property
+    def array_status(self) -> Status | None:
+        """The array's last status answer."""
+        return self._talk.status
+
     def query_status(self, timeout_s: float = 0.5) -> Status | None:
         """Ask the array for its counters (the output thread sends the query after its next
         frame) and wait up to ``timeout_s`` for the answer; None if none came."""
-        with self._status_arrived:
-            before = self.array_status
-            self._query_wanted.set()
+        talk = self._talk
+        with talk.status_arrived:
+            before = talk.status
+            talk.query_wanted.set()
             self._wake.set()
-            self._status_arrived.wait_for(
-                lambda: self.array_status is not before or not self.running, timeout_s
+            talk.status_arrived.wait_for(
+                lambda: talk.status is not before or not self.running, timeout_s
             )
-            return self.array_status if self.array_status is not before else None
+            return talk.status if talk.status is not before else None
 
     @property
     def stats(self) -> StreamStats:
@@ -263,57 +286,29 @@ class Streamer:
         """Channel-ordered levels of frame ``k`` and the set of lit channels."""
         return self._channels.levels(plan, k, dither, lit_before)
 
-    def _write(self, seq: int, levels: bytes) -> float:
-        data = encode_frame(seq, levels)
+    def _write(self, seq: int, levels: bytes, at: tuple | None = None) -> float:
+        """Write a frame; ``at = (array_us, host_s)`` makes it a timed frame played at
+        ``array_us`` on the array's clock (``host_s`` on the host's). The time written."""
+        if at is None:
+            data = encode_frame(seq, levels)
+        else:
+            data = encode_timed(seq, at[0], levels)
         self.link.write(data)
         now = time.perf_counter()
         self.last_levels = self._channels.grid(levels)
         self.last_seq = seq & 0xFF
         self._book.wrote(now, len(data))
         for tap in self.taps:
-            tap(now, seq & 0xFF, bytes(levels))
+            tap(now if at is None else at[1], seq & 0xFF, bytes(levels))
         return now
 
-    def _poll_replies(self) -> None:
-        """Read what the array sent (info and status answers) without waiting."""
-        data = self.link.read()
-        if not data:
-            return
-        for msg in self._replies.feed(data):
-            if isinstance(msg, Status):
-                with self._status_arrived:
-                    self.array_status = msg
-                    self._status_arrived.notify_all()
-                self._set(
-                    array_frames=msg.frames_applied,
-                    array_dropped=msg.dropped,
-                    array_watchdog_trips=msg.watchdog_trips,
-                )
-
-    def _send_query(self) -> None:
-        self._query_seq = (self._query_seq + 1) & 0xFF
-        self.link.write(encode_query(self._query_seq))
-
     def _identify(self) -> bool:
-        """Hello and check; False (state refused) when the array is not the profile's."""
+        """Hello and check (False: refused), then learn the array's clock for a lead."""
         if not self.identify:
             return True
-        self._set(state="starting", status=f"identifying the array on {self.link.description}")
-        info, problem = identify(self.link, self.profile)
-        self.array_info = info
-        if problem:
-            self._set(state="refused", status=problem, array=info.describe())
+        if not self._talk.hello():
             return False
-        if info is None:
-            self._set(
-                array=(
-                    "unidentified: no answer to hello within 0.5 s; driven as "
-                    f"{self.profile.name} ({self.profile.grid.cols} x {self.profile.grid.rows}, "
-                    f"{self.profile.levels} levels)"
-                )
-            )
-        else:
-            self._set(array=info.describe())
+        self._talk.start_schedule()
         return True
 
     def _run(self) -> None:
@@ -343,10 +338,11 @@ class Streamer:
             while not self._stopping.is_set():
                 scene = self._scene
                 if plan is None or scene is not plan.scene:
+                    top = self._talk.max_rate_hz
                     try:
-                        new = _Plan(scene, self.profile, self.idle_rate_hz)
+                        new = _Plan(scene, self.profile, self.idle_rate_hz, top)
                     except ValueError as exc:  # cannot render this scene: go idle, say why
-                        new = _Plan(None, self.profile, self.idle_rate_hz)
+                        new = _Plan(None, self.profile, self.idle_rate_hz, top)
                         self._set(status=f"scene rejected: {exc}")
                     restart = (
                         plan is None
@@ -394,12 +390,13 @@ class Streamer:
                     plan.last_k, plan.last_levels = k, levels
                 levels = plan.last_levels
                 try:
-                    sent = self._write(seq, levels)
+                    at = None
+                    if plan.active and self._talk.scheduled:  # pausing and all-off are for now
+                        self._talk.before_frame(deadline)
+                        at = (self._talk.at_us(deadline + self.lead_s), deadline + self.lead_s)
+                    sent = self._write(seq, levels, at)
                     self.last_frame = (plan.scene, k / plan.rate if plan.active else None)
-                    if self._query_wanted.is_set():
-                        self._query_wanted.clear()
-                        self._send_query()
-                    self._poll_replies()
+                    self._talk.after_frame()
                 except LinkError as exc:
                     self._count("errors")
                     self._set(state="disconnected", status=str(exc))
@@ -453,13 +450,13 @@ class Streamer:
     def _all_off_final(self, seq: int) -> None:
         zeros = bytes(self.profile.channels)
         try:
-            self._write(seq, zeros)
+            self._write(seq, zeros)  # a frame for now: also drops what is scheduled
             if self.array_info is not None:  # an array that answers: read its counters
-                self._send_query()
+                self._talk.send_query()
                 deadline = time.perf_counter() + 0.3
                 seen = self.array_status
                 while time.perf_counter() < deadline and self.array_status is seen:
-                    self._poll_replies()
+                    self._talk.poll()
                     time.sleep(0.002)
         except LinkError:
             pass  # the link is gone: the array's watchdog turns it off within 250 ms
@@ -474,5 +471,5 @@ class Streamer:
                 state = "stopped"
             self._set(state=state, status=status, elapsed_s=time.perf_counter() - self._started_at)
             self.identified.set()
-            with self._status_arrived:
-                self._status_arrived.notify_all()
+            with self._talk.status_arrived:
+                self._talk.status_arrived.notify_all()
