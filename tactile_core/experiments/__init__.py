@@ -1,5 +1,12 @@
 """Running, simulating and analysing the paper's experiments (section 3), and calibration.
 
+The sub-packages, each importing only those before it in this list: ``results`` (a participant's
+session and results files), ``runners`` (the experiments and the calibration as runners),
+``tuning`` (measuring mu and gamma by feel, itself a runner) and ``analysis`` (the paper's tables
+and figures); beside them ``stats``, ``staircase`` and ``participants`` (simulated ones).
+``_correction_record`` (a participant's measured correction on disk) is read by the runners and
+written by the tuning.
+
 >>> import tactile_core as tc
 >>> sc = tc.Staircase(start=2.0, down=0.685, up=1.46, n_down=2, n_up=1)
 >>> sc.level
