@@ -60,11 +60,18 @@ def frame(seq, levels):
     return wire(bytes((0x46, seq, len(levels))) + bytes(levels))
 
 
+def packed(levels, bits=5):
+    """Levels as a string of '0'/'1', ``bits`` each, most significant first, zero-padded."""
+    text = "".join(format(v, f"0{bits}b") for v in levels)
+    text += "0" * (-len(text) % 8)
+    return bytes(int(text[i : i + 8], 2) for i in range(0, len(text), 8))
+
+
 def timed(seq, at_us, levels):
-    """A timed frame: played at ``at_us`` on the array's clock (u32, big-endian)."""
-    return wire(
-        bytes((0x54, seq)) + at_us.to_bytes(4, "big") + bytes((len(levels),)) + bytes(levels)
-    )
+    """A timed frame: played at ``at_us`` on the array's clock (u32, big-endian), its levels
+    packed at 5 bits (the palm array's 23 levels)."""
+    head = bytes((0x54, seq)) + at_us.to_bytes(4, "big") + bytes((len(levels),))
+    return wire(head + packed(levels))
 
 
 def clock(seq):
@@ -355,6 +362,11 @@ VECTORS += [
         "a timed level of 23 is out of range",
         [("feed", timed(1, 0, [*RAMP[:29], 23]))],
         dropped_by={"range": 1},
+    ),
+    _vector(
+        "a timed frame with its levels unpacked (a byte each) is the wrong length",
+        [("feed", wire(bytes((0x54, 1, 0, 0, 0, 0, 30)) + bytes(RAMP)))],
+        dropped_by={"length": 1},
     ),
     _vector(
         "a clock request with a byte too many",

@@ -65,6 +65,17 @@ void tp_init(tp_state *s, const tp_config *cfg)
     s->cfg = *cfg;
     s->channels = (uint16_t)cfg->cols * cfg->rows;
     s->scheduled = s->channels <= TP_QUEUE_CHANNELS;
+    s->bits = 1;
+    while ((1u << s->bits) < cfg->levels)
+        s->bits++;
+}
+
+/* Level c of a bit string of levels `bits` wide, most significant bit first. */
+static uint8_t unpack(const uint8_t *data, uint16_t c, uint8_t bits)
+{
+    uint16_t at = (uint16_t)(c * bits);
+    uint16_t two = (uint16_t)((data[at >> 3] << 8) | data[(at >> 3) + 1]);
+    return (uint8_t)((two >> (16 - bits - (at & 7))) & ((1u << bits) - 1));
 }
 
 const tp_timed *tp_head(const tp_state *s)
@@ -144,10 +155,11 @@ static int handle(tp_state *s, uint32_t now_us)
         return TP_APPLIED;
     }
     if (type == TP_TIMED && s->scheduled) {
-        if (body < 7 || body != p[6] + 7 || p[6] != s->channels)
+        if (body < 7 || body != 7 + (p[6] * s->bits + 7) / 8 || p[6] != s->channels)
             return drop(s, TP_DROP_LENGTH);
+        p[n - 2] = 0; /* the CRC's place: the last level may read one byte past the levels */
         for (int c = 0; c < p[6]; c++)
-            if (p[7 + c] >= s->cfg.levels)
+            if (unpack(p + 7, (uint16_t)c, s->bits) >= s->cfg.levels)
                 return drop(s, TP_DROP_RANGE);
         s->armed = 1; /* a valid frame feeds the watchdog when it arrives, not when it plays */
         s->last_valid_us = now_us;
@@ -158,7 +170,8 @@ static int handle(tp_state *s, uint32_t now_us)
         tp_timed *t = &s->queue[(s->q_head + s->q_count) % TP_QUEUE];
         t->at_us = ((uint32_t)p[2] << 24) | ((uint32_t)p[3] << 16) | ((uint32_t)p[4] << 8) | p[5];
         t->seq = seq;
-        memcpy(t->levels, p + 7, p[6]);
+        for (int c = 0; c < p[6]; c++)
+            t->levels[c] = unpack(p + 7, (uint16_t)c, s->bits);
         s->q_count++;
         return TP_QUEUED;
     }

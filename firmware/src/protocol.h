@@ -61,6 +61,7 @@ typedef struct {
     tp_config cfg;
     uint16_t channels;
     uint8_t scheduled; /* the extension is on (channels fit the queue) */
+    uint8_t bits;      /* bits a level takes in a timed frame: enough for levels - 1 */
     uint8_t buf[TP_MAX_MESSAGE];
     uint16_t len;
     uint8_t overflow;

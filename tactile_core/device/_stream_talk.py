@@ -23,6 +23,7 @@ from .wire import (
     encode_clock,
     encode_query,
     frame_length,
+    level_bits,
 )
 
 SYNC_BURST = 8
@@ -125,8 +126,9 @@ class ArrayTalk:
     @property
     def max_rate_hz(self) -> float:
         """Frames a second the link carries, timed or not."""
-        return self.profile.baud / 10.0 / frame_length(self.profile.channels,
-                                                       timed=self.scheduled)  # fmt: skip
+        bits = level_bits(self.profile.levels)
+        wire_bytes = frame_length(self.profile.channels, timed=self.scheduled, bits=bits)
+        return self.profile.baud / 10.0 / wire_bytes
 
     # --- on the output thread, per frame -------------------------------------------------------
 

@@ -46,7 +46,7 @@ from ._stream_stats import StatsBook, StreamStats
 from ._stream_talk import ArrayTalk
 from .link import LinkError
 from .profile import DeviceProfile, default_profile
-from .wire import Info, Status, encode_frame, encode_timed
+from .wire import Info, Status, encode_frame, encode_timed, level_bits
 
 __all__ = ["StreamStats", "Streamer"]
 
@@ -167,6 +167,7 @@ class Streamer:
         tuple assigned at once so a reader on another thread sees a consistent pair."""
         self.last_seq = None
         self._channels = _ChannelLevels(self.profile)
+        self._bits = level_bits(self.profile.levels)
 
     # --- control (any thread) ------------------------------------------------------------------
 
@@ -292,7 +293,7 @@ class Streamer:
         if at is None:
             data = encode_frame(seq, levels)
         else:
-            data = encode_timed(seq, at[0], levels)
+            data = encode_timed(seq, at[0], levels, self._bits)
         self.link.write(data)
         now = time.perf_counter()
         self.last_levels = self._channels.grid(levels)
