@@ -8,6 +8,8 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 import pytest
 from hypothesis import HealthCheck, settings
 
+from .emulator_support import Emulator
+
 settings.register_profile(
     "default",
     deadline=None,
@@ -49,3 +51,17 @@ def qt_settings(tmp_path):
         str(tmp_path / "settings"),
     )
     return tmp_path / "settings"
+
+
+@pytest.fixture
+def emulator(tmp_path):
+    emulators = []
+
+    def start(*args):
+        emu = Emulator(tmp_path, *args)
+        emulators.append(emu)
+        return emu
+
+    yield start
+    for emu in emulators:
+        emu.kill()

@@ -95,7 +95,7 @@ def test_firmware_plays_every_frame_tactile_stream_sends(sim, tmp_path):
     # have), so the simulated line carries 289 palm frames a second rather than 318.
     proc = subprocess.run(
         [*CLI, "stream", "--device", sim.path, "--shape", "circle:2.5,3,2", "--method", "AS",
-         "--mu", "0.33", "--gamma", "0.7", "--rate", "250", "--seconds", "2.0"],
+         "--mu", "0.33", "--gamma", "0.7", "--rate", "250", "--seconds", "2.0", "--lead-ms", "0"],
         capture_output=True, text=True, timeout=60,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr
@@ -157,7 +157,7 @@ def test_firmware_watchdog_turns_everything_off_after_250_ms(sim):
     # A stream killed without a word (SIGKILL): no all-off frame; the array's watchdog acts.
     proc = subprocess.Popen(
         [*CLI, "stream", "--device", sim.path, "--shape", "line:2.5,3.5,2.5,3.5", "--method",
-         "CT", "--rate", "100", "--seconds", "30"],
+         "CT", "--rate", "100", "--seconds", "30", "--lead-ms", "0"],
         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
     )  # fmt: skip
     time.sleep(2.0)

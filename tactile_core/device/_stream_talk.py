@@ -26,6 +26,10 @@ from .wire import (
     level_bits,
 )
 
+DEFAULT_LEAD_MS = 20.0
+"""The lead a stream uses unless told otherwise (``--lead-ms``, the tuner's setting, a preset's
+``lead_ms``): from the lead table in docs/benchmarks.md, the shortest lead that kept every timed
+frame on time with both host cores busy."""
 SYNC_BURST = 8
 """Clock exchanges before the first timed frame."""
 SYNC_EVERY_S = 0.25
@@ -201,4 +205,4 @@ class ArrayTalk:
         )
 
 
-__all__ = ["SYNC_BURST", "SYNC_EVERY_S", "ArrayTalk"]
+__all__ = ["DEFAULT_LEAD_MS", "SYNC_BURST", "SYNC_EVERY_S", "ArrayTalk"]

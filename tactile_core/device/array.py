@@ -83,6 +83,8 @@ class ArrayModel:
         self.watchdog_trips = 0
         self.late = 0
         self.full = 0
+        self.flushed = 0
+        """Timed frames dropped unplayed: by a frame for now, or by the watchdog."""
         self.queue: deque[Timed] = deque()
         self.last_valid: float | None = None
         self.last_seq: int | None = None
@@ -129,6 +131,7 @@ class ArrayModel:
         replies = bytearray()
         for msg in self.reader.feed(data):
             if isinstance(msg, Frame):
+                self.flushed += len(self.queue)
                 self.queue.clear()  # a frame for now drops what is scheduled
                 self._apply(msg, now)
                 frames.append(msg)
@@ -185,6 +188,7 @@ class ArrayModel:
             self.watchdog_trips += 1
         self.levels = bytes(self.channels)
         self.last_valid = None
+        self.flushed += len(self.queue)
         self.queue.clear()
         return tripped
 

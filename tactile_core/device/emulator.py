@@ -38,12 +38,15 @@ class Emulator:
         The emulated array (channels, levels, channel order); the palm array by default.
     expected_rate_hz : float, optional
         Nominal frame rate for the interval error; the median interval if not given.
+    scheduled : bool
+        Speak the scheduled-frame extension (False: a plain format 2 array).
     """
 
-    def __init__(self, profile: DeviceProfile | None = None, expected_rate_hz: float | None = None):
+    def __init__(self, profile: DeviceProfile | None = None, expected_rate_hz: float | None = None,
+                 *, scheduled: bool = True):  # fmt: skip
         self.profile = profile or default_profile()
         self.expected_rate_hz = expected_rate_hz
-        self.model = ArrayModel(self.profile)
+        self.model = ArrayModel(self.profile, scheduled=scheduled)
         self.reader = self.model.reader
         self.master = self.slave = None
         self.path = None
@@ -191,6 +194,7 @@ class Emulator:
             "watchdog_trips": self.watchdog_trips,
             "timed_late": self.model.late,
             "timed_full": self.model.full,
+            "timed_flushed": self.model.flushed,
             "play_lag_p99_ms": (
                 float(np.percentile(self.play_lag, 99) * 1e3) if self.play_lag else 0.0
             ),
@@ -211,7 +215,8 @@ class Emulator:
             f"(nominal {r['nominal_period_ms']:.3f} ms)",
             f"dropped messages: {r['dropped']} ({bad}); sequence gaps: {r['seq_gaps']}",
             f"watchdog trips: {r['watchdog_trips']}",
-            f"timed frames: late {r['timed_late']}, queue full {r['timed_full']}, played "
+            f"timed frames: late {r['timed_late']}, queue full {r['timed_full']}, dropped "
+            f"unplayed {r['timed_flushed']}, played "
             f"p99 {r['play_lag_p99_ms']:.3f} ms after their time",
             f"status counters: frames applied {r['frames_applied']}, messages dropped "
             f"{r['dropped']}, watchdog trips {r['watchdog_trips']}",
