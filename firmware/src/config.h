@@ -14,13 +14,14 @@
 #define PWM_SLOTS (ARRAY_LEVELS - 1)      /* 22 slots a period */
 #define PWM_HZ 303                        /* 6666.7 / 22 = 303.03 */
 
-/* Timed frames: compare match B is armed once a frame's time is less than ARM_WINDOW_US away
- * (the counter wraps every 32.768 ms); a frame less than ARM_MARGIN_US away plays at once. The
- * match fires ONSET_LEAD_COUNTS (half microseconds) early: from the match to the write of PORTA
- * the interrupt takes 41 cycles (2.56 us: its entry, six register saves, the slot's row),
- * counted on the machine code by tests/test_firmware_schedule.py. */
+/* Timed frames: the queue's head is built and armed once its time is less than ARM_WINDOW_US
+ * away; compare match B is set for it no later than ARM_MARGIN_COUNTS (half microseconds)
+ * before its time, else it plays at once. The match fires ONSET_LEAD_COUNTS early: from the
+ * match to the write of PORTA the interrupt takes about 41 cycles (2.5 us: its entry, a few
+ * register saves, the slot's row), counted on the machine code by
+ * tests/test_firmware_schedule.py. */
 #define ARM_WINDOW_US 16000
-#define ARM_MARGIN_US 8
+#define ARM_MARGIN_COUNTS 12
 #define ONSET_LEAD_COUNTS 5
 
 #define UART_UBRR 16 /* with U2X0: 16 MHz / 8 / 17 = 117,647 baud (115200 + 2.1 %) */

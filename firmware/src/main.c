@@ -3,18 +3,18 @@
  * format 2 on UART0 at 115200 baud and drives 30 vibration motors by software PWM at 303 Hz with
  * 23 levels. Plain C with avr-libc; no Arduino core.
  *
- * - Timer1 runs free at 2 MHz (clk / 8) and is the array's clock: overflows every 32.768 ms,
- *   counted, give a microsecond clock that wraps every 71.6 minutes (clock_us).
- * - Compare match A steps through the 22 slots of a PWM period every 300 counts (150 us,
- *   6666.7 Hz), writing four ports from a precomputed table (pwm.c). A frame for now (type 'F')
- *   waits for the end of the period: a period never mixes two frames (three tables: playing,
- *   waiting, being built).
+ * - Timer1 counts at 2 MHz (clk / 8) from 0 to 299 (CTC), a PWM slot of 150 us: compare match A
+ *   at the end of each slot (6666.7 Hz) counts the slots and steps through the 22 slots of a
+ *   PWM period, writing four ports from a precomputed table (pwm.c). The slot count and the
+ *   counter are the array's clock: microseconds = slots * 150 + counter / 2, wrapping at 2^32
+ *   (71.6 minutes; clock_us). A frame for now (type 'F') waits for the end of the period: a
+ *   period never mixes two frames (three tables: playing, waiting, being built).
  * - Compare match B plays a timed frame (type 'T') at its time: the moment the counter reaches
- *   the frame's time its table takes over, from the slot the period is in (the period runs on
- *   undisturbed, so every duty stays level / 22 on average; only the period the frame starts in
- *   mixes the two frames, at the frame's time). The frame's table is built ahead of time into a
- *   fourth table; the match is armed once the time is less than 16 ms away (half the counter's
- *   period, so never ambiguous). A frame whose time has passed plays at once, counted late.
+ *   the frame's time in the frame's slot, its table takes over, from the slot the period is in
+ *   (the period runs on undisturbed, so every duty stays level / 22 on average; only the period
+ *   the frame starts in mixes the two frames, at the frame's time). The frame's table is built
+ *   ahead of time into a fourth table and armed for its slot; compare match A sets the match
+ *   when that slot begins. A frame whose time has passed plays at once, counted late.
  * - UART0 receive and transmit run from interrupts through ring buffers; the receive interrupt
  *   stamps every message delimiter with the clock (the clock exchange's arrival time). The main
  *   loop feeds received bytes to the parser (protocol.c) and sleeps when there is nothing to do.
@@ -43,59 +43,38 @@
 static uint8_t tables[4][PWM_SLOTS * PORTS];
 static volatile uint8_t playing = 0, waiting = NONE, armed = NONE;
 static volatile uint8_t slot = PWM_SLOTS - 1; /* the slot being played */
-static volatile uint32_t overflows;    /* Timer1 overflows: 32,768 us each */
+static volatile uint32_t ticks;        /* slots since the timer started: 150 us each */
 static volatile uint8_t onset;         /* compare match B played the armed frame */
 static const uint8_t *volatile armed_table; /* tables[armed], for compare match B */
+static volatile uint32_t armed_tick;   /* the slot the armed frame plays in ... */
+static volatile uint16_t armed_counts; /* ... and where in it (counts, 0..299) */
 static uint8_t built = NONE;           /* the table holding the queue's head, if built */
 
 static volatile uint8_t rx_buf[256], tx_buf[128];
 static volatile uint8_t rx_head, rx_tail, tx_head, tx_tail;
-#define STAMPS 32 /* arrival times of the delimiters waiting in rx_buf: counter, overflows */
-static volatile uint16_t stamp_counts[STAMPS], stamp_high[STAMPS];
+#define STAMPS 32 /* arrival times of the delimiters waiting in rx_buf: counter, slot count */
+static volatile uint16_t stamp_counts[STAMPS];
+static volatile uint32_t stamp_ticks[STAMPS];
 static volatile uint8_t stamp_head, stamp_tail;
 
-/* The clock in microseconds; call with interrupts off. An overflow that happened but has not
- * been counted yet (its flag is set and the counter has wrapped) is counted here. */
-static uint32_t clock_at(uint16_t *counts_out)
+/* The slot count and the counter now; call with interrupts off. A slot that ended but has not
+ * been counted yet (its compare flag is set and the counter restarted) is counted here. */
+static uint32_t ticks_at(uint16_t *counts_out)
 {
     uint16_t counts = TCNT1;
-    uint32_t high = overflows;
-    if ((TIFR1 & _BV(TOV1)) && counts < 0x8000)
-        high++;
+    uint32_t t = ticks;
+    if ((TIFR1 & _BV(OCF1A)) && counts < TIMER_TICK / 2)
+        t++;
     *counts_out = counts;
-    return (high << 15) + (counts >> 1);
-}
-
-static uint32_t clock_us_locked(void)
-{
-    uint16_t counts;
-    return clock_at(&counts);
+    return t;
 }
 
 static uint32_t clock_us(void)
 {
-    uint32_t us;
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { us = clock_us_locked(); }
-    return us;
-}
-
-ISR(TIMER1_OVF_vect) { overflows++; }
-
-ISR(TIMER1_COMPA_vect)
-{
-    OCR1A += TIMER_TICK;
-    if (++slot == PWM_SLOTS) {
-        slot = 0;
-        if (waiting != NONE) { /* only between periods: a period never mixes two frames */
-            playing = waiting;
-            waiting = NONE;
-        }
-    }
-    const uint8_t *row = tables[playing] + slot * PORTS;
-    PORTA = row[0];
-    PORTC = row[1];
-    PORTL = row[2];
-    PORTK = row[3];
+    uint16_t counts;
+    uint32_t t;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { t = ticks_at(&counts); }
+    return t * (TIMER_TICK / 2) + (counts >> 1);
 }
 
 /* The armed table takes over in the slot being played. Interrupts are off (compare match B, or
@@ -115,6 +94,32 @@ static inline __attribute__((always_inline)) void play_armed(void)
     onset = 1;
 }
 
+ISR(TIMER1_COMPA_vect)
+{
+    ticks++;
+    if (++slot == PWM_SLOTS) {
+        slot = 0;
+        if (waiting != NONE) { /* only between periods: a period never mixes two frames */
+            playing = waiting;
+            waiting = NONE;
+        }
+    }
+    const uint8_t *row = tables[playing] + slot * PORTS;
+    PORTA = row[0];
+    PORTC = row[1];
+    PORTL = row[2];
+    PORTK = row[3];
+    if (armed != NONE && ticks == armed_tick) { /* the armed frame plays in this slot */
+        if (armed_counts > TCNT1 + ARM_MARGIN_COUNTS) {
+            OCR1B = armed_counts;
+            TIFR1 = _BV(OCF1B);
+            TIMSK1 |= _BV(OCIE1B);
+        } else {
+            play_armed(); /* at the slot's very start: now */
+        }
+    }
+}
+
 ISR(TIMER1_COMPB_vect) { play_armed(); }
 
 /* Receive: the counter first (the delimiter's arrival, a fixed number of cycles after it), then
@@ -123,9 +128,9 @@ ISR(USART0_RX_vect)
 {
     uint16_t counts = TCNT1;
     uint8_t byte = UDR0;
-    uint16_t high = (uint16_t)overflows;
-    if ((TIFR1 & _BV(TOV1)) && counts < 0x8000)
-        high++;
+    uint32_t t = ticks;
+    if ((TIFR1 & _BV(OCF1A)) && counts < TIMER_TICK / 2)
+        t++;
     sei();
     uint8_t next = (uint8_t)(rx_head + 1);
     if (next == rx_tail)
@@ -135,7 +140,7 @@ ISR(USART0_RX_vect)
         if ((uint8_t)(stamp_head - stamp_tail) == STAMPS)
             return; /* no room for its arrival time: dropped like any byte of a full buffer */
         stamp_counts[at] = counts;
-        stamp_high[at] = high;
+        stamp_ticks[at] = t;
         stamp_head++;
     }
     rx_buf[rx_head] = byte;
@@ -146,10 +151,8 @@ ISR(USART0_RX_vect)
 static uint32_t pop_stamp(void)
 {
     uint8_t at = stamp_tail % STAMPS;
-    uint32_t high_now = clock_us() >> 15; /* overflows now (mod 2^17), < 65536 after the stamp */
-    uint32_t high = high_now - (uint16_t)((uint16_t)high_now - stamp_high[at]);
     stamp_tail++;
-    return (high << 15) + (stamp_counts[at] >> 1);
+    return stamp_ticks[at] * (TIMER_TICK / 2) + (stamp_counts[at] >> 1);
 }
 
 ISR(USART0_UDRE_vect)
@@ -223,18 +226,25 @@ static void schedule(tp_state *state)
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         uint16_t counts;
-        int32_t ahead = (int32_t)(head->at_us - clock_at(&counts));
+        uint32_t now_tick = ticks_at(&counts);
+        /* from the start of the slot being played to the frame's time, in microseconds */
+        int32_t ahead = (int32_t)(head->at_us - now_tick * (TIMER_TICK / 2));
         armed = built;
         armed_table = tables[built];
-        if (ahead > ARM_MARGIN_US) { /* counts are half microseconds */
-            OCR1B = (uint16_t)((counts & ~1u) + 2u * (uint16_t)ahead - ONSET_LEAD_COUNTS);
+        uint16_t at_counts = (uint16_t)(2 * (ahead % (TIMER_TICK / 2)));
+        if (ahead >= TIMER_TICK / 2) { /* a later slot: compare match A arms it there */
+            armed_tick = now_tick + (uint32_t)(ahead / (TIMER_TICK / 2));
+            armed_counts = at_counts > ONSET_LEAD_COUNTS ? at_counts - ONSET_LEAD_COUNTS : 0;
+        } else if (ahead >= 0 && at_counts > counts + ONSET_LEAD_COUNTS + ARM_MARGIN_COUNTS) {
+            OCR1B = at_counts - ONSET_LEAD_COUNTS; /* later in this slot */
             TIFR1 = _BV(OCF1B);
             TIMSK1 |= _BV(OCIE1B);
+            armed_tick = now_tick - 1; /* compare match A leaves it alone */
         } else { /* due now, or past: play at once */
             play_armed();
             onset = 0;
             at_once = 1;
-            late = ahead < 0;
+            late = ahead < 0 || at_counts < counts;
         }
     }
     if (at_once) {
@@ -272,9 +282,9 @@ int main(void)
     UCSR0B = _BV(RXEN0) | _BV(TXEN0) | _BV(RXCIE0);
 
     TCCR1A = 0;
-    OCR1A = TIMER_TICK; /* the first slot of the first period */
-    TIMSK1 = _BV(OCIE1A) | _BV(TOIE1);
-    TCCR1B = _BV(CS11); /* normal mode (free running), clk / 8: the clock starts here */
+    OCR1A = TIMER_TICK - 1; /* CTC: 300 counts a slot */
+    TIMSK1 = _BV(OCIE1A);
+    TCCR1B = _BV(WGM12) | _BV(CS11); /* CTC, clk / 8: the clock starts here */
 
     static tp_state state;
     static const tp_config config = {ARRAY_COLS, ARRAY_ROWS, ARRAY_LEVELS, WATCHDOG_MS, PWM_HZ,
