@@ -65,3 +65,22 @@ def emulator(tmp_path):
     yield start
     for emu in emulators:
         emu.kill()
+
+
+@pytest.fixture(scope="session")
+def firmware(tmp_path_factory):
+    """The reference firmware's ELF and the simavr harness, built once."""
+    from .firmware_support import build, require
+
+    require("elf")
+    require("sim")
+    out = tmp_path_factory.mktemp("firmware")
+    return build("all", out), build("sim", out)
+
+
+@pytest.fixture
+def sim(firmware, tmp_path):
+    """The firmware running in simavr on a pseudo-terminal."""
+    from .firmware_support import simulation
+
+    yield from simulation(firmware, tmp_path)

@@ -2,7 +2,6 @@
 UART0 bridged to a pseudo-terminal and paced to the wall clock; ``tactile stream`` drives it; the
 harness logs every pin edge in simulated cycles, and the tests read what the motors got."""
 
-import importlib.util
 import os
 import signal
 import subprocess
@@ -10,71 +9,15 @@ import sys
 import time
 
 import numpy as np
-import pytest
 
 from tactile_core.device.link import SerialLink, identify
 from tactile_core.device.profile import default_profile
 from tactile_core.device.wire import MessageReader, Status, encode_frame, encode_query
 
-from .firmware_support import FIRMWARE, build, require
+from .firmware_support import pinlog
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
 MS = 16_000  # cycles
-
-
-def _pinlog():
-    spec = importlib.util.spec_from_file_location("pinlog", FIRMWARE / "sim" / "pinlog.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["pinlog"] = module  # dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
-
-
-pinlog = _pinlog()
-
-
-@pytest.fixture(scope="module")
-def firmware(tmp_path_factory):
-    require("elf")
-    require("sim")
-    out = tmp_path_factory.mktemp("firmware")
-    return build("all", out), build("sim", out)
-
-
-class Simulation:
-    """The harness running the firmware; ``finish()`` stops it and reads its log."""
-
-    def __init__(self, firmware, tmp_path, seconds=60):
-        elf, harness = firmware
-        self.log_path = tmp_path / "pins.log"
-        self.proc = subprocess.Popen(
-            [str(harness), str(elf), str(self.log_path), str(seconds)],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.DEVNULL,
-            text=True,
-        )
-        self.path = ""
-        for line in self.proc.stdout:  # simavr's loader prints its own lines first
-            if line.startswith("pty: "):
-                self.path = line.split(None, 1)[1].strip()
-                break
-        assert self.path.startswith("/dev/"), "the harness did not open its pseudo-terminal"
-
-    def finish(self):
-        self.proc.send_signal(signal.SIGTERM)
-        self.proc.wait(timeout=10)
-        self.proc.stdout.close()
-        return pinlog.PinLog.read(self.log_path)
-
-
-@pytest.fixture
-def sim(firmware, tmp_path):
-    simulation = Simulation(firmware, tmp_path)
-    yield simulation
-    if simulation.proc.poll() is None:
-        simulation.proc.kill()
-        simulation.proc.wait()
-        simulation.proc.stdout.close()
 
 
 def test_firmware_answers_hello_with_the_profiles_array(sim):

@@ -207,13 +207,23 @@ static void show(const uint8_t *levels)
  * it at once when its time has passed. One frame is armed at a time. */
 static void schedule(tp_state *state)
 {
-    if (onset) {
-        ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { onset = 0; }
+    uint8_t played, busy;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        played = onset;
+        onset = 0;
+    }
+    if (played) { /* the armed frame started: off the queue */
         built = NONE;
         tp_played(state, 0);
     }
     const tp_timed *head = tp_head(state);
-    if (head == NULL || armed != NONE)
+    if (head == NULL)
+        return;
+    /* Armed, or played by an interrupt since the check above (then the next call pops it): a
+     * frame is never armed twice. */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { busy = armed != NONE || onset; }
+    if (busy)
         return;
     if ((int32_t)(head->at_us - clock_us()) > ARM_WINDOW_US)
         return;
