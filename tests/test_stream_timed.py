@@ -143,6 +143,7 @@ def test_a_lead_changes_when_a_frame_plays_not_what_it_plays(sim_streamer):
     onsets = [(t, msg) for t, msg, late in sim.model.onsets if not late]
     assert len(onsets) > 50
     times = np.array([t for t, _ in onsets])
-    # Scheduled at the frame period on the array's clock: intervals of 10 ms, to the few
-    # microseconds by which each clock exchange moves the host's estimate of the offset.
-    assert np.allclose(np.diff(times), 0.01, atol=1e-5)
+    # Scheduled at the frame period on the array's clock: intervals of 10 ms, to the few tens of
+    # microseconds by which a clock exchange can move the host's estimate of the offset.
+    intervals = np.diff(times)
+    assert np.median(np.abs(intervals - 0.01)) < 5e-6 and np.allclose(intervals, 0.01, atol=1e-4)

@@ -378,9 +378,9 @@ def onset_errors(log: PinLog, frames: list[TimedFrame], origin: float, *, window
 
     At its time a timed frame's table takes over in the PWM slot being played. The pins show it
     when that slot's row differs from the row of the frame before; the change is the port write
-    nearest to the frame's time (within ``window_us``, else NaN: it did not show). Frames whose time falls within
-    ``tick_guard_us`` of a slot boundary (where the slot interrupt writes too) and frames whose
-    onset changes no pin are reported as None.
+    nearest to the frame's time (within ``window_us``, else NaN: it did not show). Frames whose
+    time falls within ``tick_guard_us`` of a slot boundary (where the slot interrupt writes too)
+    and frames whose onset changes no pin are reported as None.
     """
     edges = np.array([c for c, _, _ in log.edges], dtype=np.float64)
     out = []

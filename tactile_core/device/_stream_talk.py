@@ -188,8 +188,8 @@ class ArrayTalk:
 
     def _ask_clock(self) -> int:
         self._clock_seq = (self._clock_seq + 1) & 0xFF
+        self._clock_sent[self._clock_seq] = time.perf_counter()  # the request leaves now
         self.link.write(encode_clock(self._clock_seq))
-        self._clock_sent[self._clock_seq] = time.perf_counter()
         return self._clock_seq
 
     def _report_clock(self) -> None:
