@@ -9,6 +9,7 @@ punctual wake-ups (timer slack) and real-time priority.
 from __future__ import annotations
 
 import ctypes
+import math
 import os
 import sys
 import time
@@ -52,7 +53,7 @@ class _Plan:
     """What the output thread derived from one scene: frames, rate, period."""
 
     def __init__(self, scene: Scene | None, profile: DeviceProfile, idle_rate_hz: float,
-                 max_rate_hz: float | None = None):  # fmt: skip
+                 max_rate_hz: float | None = None, now_s: float | None = None):  # fmt: skip
         self.scene = scene
         self.requested = scene.rate_hz if scene is not None else idle_rate_hz
         self.active = scene is not None and scene.active
@@ -70,9 +71,10 @@ class _Plan:
                         and profile.response is not None else None)  # fmt: skip
         self.period = 1.0 / self.rate
         # At any rate a frame goes out at least every KEEPALIVE_S (repeating the last one), so
-        # the array's 250 ms watchdog never trips while the host is alive.
-        self.tick = min(self.period, KEEPALIVE_S)
-        self.since = time.perf_counter()
+        # the array's 250 ms watchdog never trips while the host is alive; the ticks divide
+        # the period, so that each new frame still goes out on its own deadline.
+        self.tick = self.period / math.ceil(self.period / KEEPALIVE_S - 1e-9)
+        self.since = time.perf_counter() if now_s is None else now_s
         self.precompute_started = False
         self.last_k = None
         self.last_levels = None

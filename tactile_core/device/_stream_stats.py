@@ -166,15 +166,16 @@ class StatsBook:
             self._intervals[self._n_intervals % len(self._intervals)] = abs(error_s)
             self._n_intervals += 1
 
-    def snapshot(self, running_since_s: float | None) -> StreamStats:
-        """A :class:`StreamStats` of everything; ``elapsed_s`` counts from ``running_since_s``
-        (perf_counter seconds) while the thread runs, else it is the last one set."""
+    def snapshot(self, running_since_s: float | None, now_s: float | None = None) -> StreamStats:
+        """A :class:`StreamStats` of everything at ``now_s`` (the stream's clock, seconds;
+        ``time.perf_counter`` if not given); ``elapsed_s`` counts from ``running_since_s`` while
+        the thread runs, else it is the last one set."""
         with self._lock:
             stats = StreamStats(**{**self.current.__dict__, **self._counts})
             n = min(self._n_intervals, len(self._intervals))
             errors = self._intervals[:n].copy()
             recent = list(self._recent)
-        now = time.perf_counter()
+        now = time.perf_counter() if now_s is None else now_s
         recent = [t for t in recent if now - t <= 1.0]
         p50, p99 = (np.percentile(errors, [50, 99]) * 1e3) if n else (0.0, 0.0)
         elapsed = now - running_since_s if running_since_s else stats.elapsed_s

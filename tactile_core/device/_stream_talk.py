@@ -11,7 +11,6 @@ would carry that frame's transmission in its delay).
 from __future__ import annotations
 
 import threading
-import time
 
 from .clock import ArrayClock
 from .link import identify
@@ -51,10 +50,15 @@ class ArrayTalk:
         How far ahead timed frames are sent; 0 sends frames for now.
     update : callable
         ``update(**stats)``: the streamer's statistics setter.
+    clock : HostClock, optional
+        The streamer's clock.
     """
 
-    def __init__(self, link, profile, *, lead_s: float, update):
+    def __init__(self, link, profile, *, lead_s: float, update, clock=None):
+        from .host_clock import HostClock
+
         self.link = link
+        self._clock = clock or HostClock()
         self.profile = profile
         self.lead_s = lead_s
         self._update = update
@@ -111,10 +115,10 @@ class ArrayTalk:
             return
         for _ in range(SYNC_BURST):
             seq = self._ask_clock()
-            deadline = time.perf_counter() + SYNC_TIMEOUT_S
-            while seq in self._clock_sent and time.perf_counter() < deadline:
+            deadline = self._clock.now() + SYNC_TIMEOUT_S
+            while seq in self._clock_sent and self._clock.now() < deadline:
                 self.poll()
-                time.sleep(0.0005)
+                self._clock.sleep(0.0005)
             self._clock_sent.pop(seq, None)
         if not self.clock.synced:
             self._update(
@@ -124,7 +128,7 @@ class ArrayTalk:
             )
             return
         self.scheduled = True
-        self._next_sync = time.perf_counter() + SYNC_EVERY_S
+        self._next_sync = self._clock.now() + SYNC_EVERY_S
         self._report_clock()
 
     @property
@@ -167,7 +171,7 @@ class ArrayTalk:
         data = self.link.read()
         if not data:
             return
-        now = time.perf_counter()
+        now = self._clock.now()
         for msg in self._reader.feed(data):
             if isinstance(msg, Status):
                 with self.status_arrived:
@@ -188,7 +192,7 @@ class ArrayTalk:
 
     def _ask_clock(self) -> int:
         self._clock_seq = (self._clock_seq + 1) & 0xFF
-        self._clock_sent[self._clock_seq] = time.perf_counter()  # the request leaves now
+        self._clock_sent[self._clock_seq] = self._clock.now()  # the request leaves now
         self.link.write(encode_clock(self._clock_seq))
         return self._clock_seq
 

@@ -17,8 +17,10 @@ CLOCK_WRAP = 1 << 32
 DELIMITER = b"\x00"
 WATCHDOG_S = 0.25
 """The array turns every tactor off when no valid frame has arrived for this long."""
-KEEPALIVE_S = 0.1
-"""While connected the host sends a frame at least this often, whatever the requested rate."""
+KEEPALIVE_S = 0.06
+"""While connected the host sends a frame at least this often, whatever the requested rate: the
+contract promises one at least every 100 ms, and 60 ms leaves 40 ms for the host's scheduler,
+the link and the receiver before that promise breaks at the array."""
 HELLO_TIMEOUT_S = 0.5
 """An array that has not answered a hello within this long does not identify itself."""
 MAX_MESSAGE = 300

@@ -33,7 +33,6 @@ import atexit
 import math
 import sys
 import threading
-import time
 import traceback
 import weakref
 
@@ -44,6 +43,7 @@ from ..rendering.scene import Scene, check_scene
 from ._stream_plan import _ChannelLevels, _Plan, _raise_priority, _reduce_timer_slack
 from ._stream_stats import StatsBook, StreamStats
 from ._stream_talk import ArrayTalk
+from .host_clock import HostClock
 from .link import LinkError
 from .profile import DeviceProfile, default_profile
 from .wire import Info, Status, encode_frame, encode_timed, level_bits
@@ -100,6 +100,9 @@ class Streamer:
         Send frames this far ahead, timed to be played at their deadline plus ``lead_s`` on the
         array's clock (0 to 0.5 s; 0: frames for now). Needs ``identify`` and an array that
         announces scheduled frames; others get frames for now.
+    clock : HostClock, optional
+        The clock deadlines are kept on (``time.perf_counter`` by default; a
+        :class:`~.host_clock.VirtualClock` makes a stream's timing exact in tests).
 
     Examples
     --------
@@ -128,6 +131,7 @@ class Streamer:
         realtime: bool = False,
         identify: bool = True,
         lead_s: float = 0.0,
+        clock: HostClock | None = None,
     ):
         if not 10.0 <= idle_rate_hz <= 1000.0:
             raise ValueError(f"idle_rate_hz must be within [10, 1000], got {idle_rate_hz!r}")
@@ -146,7 +150,9 @@ class Streamer:
         self.realtime = realtime
         self.identify = identify
         self.lead_s = float(lead_s) if identify else 0.0
-        self._talk = ArrayTalk(link, self.profile, lead_s=self.lead_s, update=self._set)
+        self.clock = clock or HostClock()
+        self._talk = ArrayTalk(link, self.profile, lead_s=self.lead_s, update=self._set,
+                               clock=self.clock)  # fmt: skip
         self.identified = threading.Event()
         """Set once the hello is answered or given up on (or the thread ended): the stream's
         duration counts from here."""
@@ -250,7 +256,7 @@ class Streamer:
     @property
     def stats(self) -> StreamStats:
         """A snapshot of the statistics."""
-        return self._book.snapshot(self._started_at if self.running else None)
+        return self._book.snapshot(self._started_at if self.running else None, self.clock.now())
 
     # --- output thread -------------------------------------------------------------------------
 
@@ -270,17 +276,17 @@ class Streamer:
 
     def _wait_until(self, deadline: float) -> bool:
         """Sleep until ``deadline`` (perf_counter seconds); True if woken by a scene change."""
+        clock = self.clock
         while True:
-            remaining = deadline - time.perf_counter()
+            remaining = deadline - clock.now()
             if remaining <= 0.0:
                 return False
             if remaining > self.spin_s:
-                if self._wake.wait(remaining - self.spin_s):
+                if clock.wait(self._wake, remaining - self.spin_s):
                     self._wake.clear()
                     return True
             else:
-                while time.perf_counter() < deadline:
-                    pass
+                clock.spin_until(deadline)
                 return False
 
     def _levels(self, plan: _Plan, k: int, dither: Dither | None, lit_before: set) -> tuple:
@@ -295,7 +301,7 @@ class Streamer:
         else:
             data = encode_timed(seq, at[0], levels, self._bits)
         self.link.write(data)
-        now = time.perf_counter()
+        now = self.clock.now()
         self.last_levels = self._channels.grid(levels)
         self.last_seq = seq & 0xFF
         self._book.wrote(now, len(data))
@@ -317,7 +323,7 @@ class Streamer:
         if self.realtime:
             self._priority_note = _raise_priority()
             self._set(realtime=not self._priority_note)
-        self._started_at = time.perf_counter()
+        self._started_at = self.clock.now()
         seq = 0
         plan = None
         dither = None
@@ -334,16 +340,16 @@ class Streamer:
                     return
             finally:
                 self.identified.set()
-            deadline = time.perf_counter()
+            deadline = self.clock.now()
             last_sent = None
             while not self._stopping.is_set():
                 scene = self._scene
                 if plan is None or scene is not plan.scene:
                     top = self._talk.max_rate_hz
                     try:
-                        new = _Plan(scene, self.profile, self.idle_rate_hz, top)
+                        new = _Plan(scene, self.profile, self.idle_rate_hz, top, self.clock.now())
                     except ValueError as exc:  # cannot render this scene: go idle, say why
-                        new = _Plan(None, self.profile, self.idle_rate_hz, top)
+                        new = _Plan(None, self.profile, self.idle_rate_hz, top, self.clock.now())
                         self._set(status=f"scene rejected: {exc}")
                     restart = (
                         plan is None
@@ -374,8 +380,8 @@ class Streamer:
                     )
                     last_sent = None
                     if immediate:
-                        deadline = time.perf_counter()
-                stable = time.perf_counter() - plan.since > 0.2
+                        deadline = self.clock.now()
+                stable = self.clock.now() - plan.since > 0.2
                 if plan.live is not None and not plan.precompute_started and stable:
                     plan.precompute_started = True  # the scene settled: tabulate its cycle
                     plan.live.precompute(background=True)
@@ -403,7 +409,7 @@ class Streamer:
                     self._set(state="disconnected", status=str(exc))
                     if not self._recover():
                         return
-                    deadline = time.perf_counter()
+                    deadline = self.clock.now()
                     last_sent = None
                     continue
                 seq += 1
@@ -416,7 +422,7 @@ class Streamer:
                 if plan.active:
                     trace_time += plan.tick
                 deadline += plan.tick
-                behind = time.perf_counter() - deadline
+                behind = self.clock.now() - deadline
                 if behind > plan.tick:  # stalled: skip missed deadlines, keep trace time
                     missed = math.floor(behind / plan.tick)
                     deadline += missed * plan.tick
@@ -436,7 +442,7 @@ class Streamer:
         if not self.reconnect:
             self._set(state="stopped", status=f"stopped: {self._book.current.status}")
             return False
-        while not self._stopping.wait(self.reconnect_interval_s):
+        while not self.clock.wait(self._stopping, self.reconnect_interval_s):
             try:
                 self.link.reopen()
                 if not self._identify():
@@ -454,11 +460,11 @@ class Streamer:
             self._write(seq, zeros)  # a frame for now: also drops what is scheduled
             if self.array_info is not None:  # an array that answers: read its counters
                 self._talk.send_query()
-                deadline = time.perf_counter() + 0.3
+                deadline = self.clock.now() + 0.3
                 seen = self.array_status
-                while time.perf_counter() < deadline and self.array_status is seen:
+                while self.clock.now() < deadline and self.array_status is seen:
                     self._talk.poll()
-                    time.sleep(0.002)
+                    self.clock.sleep(0.002)
         except LinkError:
             pass  # the link is gone: the array's watchdog turns it off within 250 ms
         except Exception:
@@ -470,7 +476,7 @@ class Streamer:
             elif state != "refused":
                 status = status if state == "stopped" else "stopped: all off"
                 state = "stopped"
-            self._set(state=state, status=status, elapsed_s=time.perf_counter() - self._started_at)
+            self._set(state=state, status=status, elapsed_s=self.clock.now() - self._started_at)
             self.identified.set()
             with self._talk.status_arrived:
                 self._talk.status_arrived.notify_all()
