@@ -147,3 +147,21 @@ def test_a_lead_changes_when_a_frame_plays_not_what_it_plays(sim_streamer):
     # microseconds by which a clock exchange can move the host's estimate of the offset.
     intervals = np.diff(times)
     assert np.median(np.abs(intervals - 0.01)) < 5e-6 and np.allclose(intervals, 0.01, atol=1e-4)
+
+
+def test_a_preset_keeps_its_lead_and_refuses_a_bad_one(tmp_path):
+    from tactile_core.files.presets import Preset, PresetError, load_preset, save_preset
+
+    preset = Preset(Scene(tc.Circle((2.5, 3.0), 2.0), "IM"), name="with a lead", lead_ms=35.0)
+    path = save_preset(preset, tmp_path / "lead.json")
+    assert load_preset(path).lead_ms == 35.0
+    data = preset.to_dict()
+    del data["lead_ms"]  # a preset of 0.1: the default
+    (tmp_path / "old.json").write_text(__import__("json").dumps(data))
+    assert load_preset(tmp_path / "old.json").lead_ms == 20.0
+    for bad, says in ((-1, "lead_ms"), (501, "lead_ms"), ("20", "lead_ms"), (None, "lead_ms"),
+                      (True, "lead_ms"), (float("nan"), "NaN")):  # fmt: skip
+        data["lead_ms"] = bad
+        (tmp_path / "bad.json").write_text(__import__("json").dumps(data, allow_nan=True))
+        with pytest.raises(PresetError, match=says):
+            load_preset(tmp_path / "bad.json")
