@@ -32,6 +32,16 @@ class DevicePanel(QtWidgets.QWidget):
         self.profile_button = QtWidgets.QPushButton("Profile...")
         self.profile_label = QtWidgets.QLabel()
         self.link_label = QtWidgets.QLabel()
+        self.lead_spin = QtWidgets.QDoubleSpinBox()
+        self.lead_spin.setObjectName("lead")
+        self.lead_spin.setRange(0.0, 500.0)
+        self.lead_spin.setSingleStep(5.0)
+        self.lead_spin.setDecimals(0)
+        self.lead_spin.setSuffix(" ms")
+        self.lead_spin.setKeyboardTracking(False)  # one reopen when the value is committed
+        self.lead_spin.setValue(device.lead_ms)
+        self.timing_label = QtWidgets.QLabel()
+        self.timing_label.setObjectName("timing")
         self.status_label = QtWidgets.QLabel("starting")
         self.status_label.setObjectName("status")
         self.status_label.setWordWrap(True)
@@ -44,7 +54,10 @@ class DevicePanel(QtWidgets.QWidget):
         layout.addWidget(self.profile_label, 1, 1)
         layout.addWidget(self.profile_button, 1, 2)
         layout.addWidget(self.link_label, 1, 3, 1, 2)
-        layout.addWidget(self.status_label, 2, 0, 1, 5)
+        layout.addWidget(QtWidgets.QLabel("lead"), 2, 0)
+        layout.addWidget(self.lead_spin, 2, 1)
+        layout.addWidget(self.timing_label, 2, 2, 1, 3)
+        layout.addWidget(self.status_label, 3, 0, 1, 5)
         layout.setColumnStretch(1, 1)
         self.port_combo.setToolTip(tip(
             "A serial port or any pyserial URL (/dev/ttyUSB0, COM3, socket://host:port, "
@@ -53,6 +66,13 @@ class DevicePanel(QtWidgets.QWidget):
         self.connect_button.setToolTip(tip("Stream to the device; it is asked who it is first"))
         self.profile_button.setToolTip(tip("Load a device profile (grid, levels, baud, channel "
                                            "order, calibration, motor response)"))  # fmt: skip
+        self.lead_spin.setToolTip(tip(
+            "Send frames this far ahead, to be played at their time by the array's own clock "
+            "(arrays with scheduled frames; others play frames on arrival). Longer: the host's "
+            "stutters never reach the skin; shorter: a change is felt sooner. 20 ms kept every "
+            "frame on time with both cores busy (docs: Benchmarks, the lead against latency)"
+        ))  # fmt: skip
+        self.lead_spin.valueChanged.connect(self._on_lead_changed)
         self.port_combo.lineEdit().returnPressed.connect(self._on_connect_clicked)
         self.refresh_button.clicked.connect(self.refresh_ports)
         self.connect_button.clicked.connect(self._on_connect_clicked)
@@ -77,6 +97,12 @@ class DevicePanel(QtWidgets.QWidget):
         if current:
             self.port_combo.setCurrentText(current)
 
+    def _on_lead_changed(self, value: float) -> None:
+        if not self.device.set_lead(value):
+            self.lead_spin.blockSignals(True)
+            self.lead_spin.setValue(self.device.lead_ms)
+            self.lead_spin.blockSignals(False)
+
     def _on_connect_clicked(self) -> None:
         self.device.connect_device(self.port_combo.currentText())
 
@@ -88,9 +114,13 @@ class DevicePanel(QtWidgets.QWidget):
         )
         self.link_label.setText(f"<b>{description}</b>")
         self.disconnect_button.setEnabled(not self.device.simulated)
+        self.lead_spin.blockSignals(True)  # a preset may have set another lead
+        self.lead_spin.setValue(self.device.lead_ms)
+        self.lead_spin.blockSignals(False)
 
     def show_stats(self, stats) -> None:
-        """Status line: state, achieved rate, interval error, errors."""
+        """Status line: state, achieved rate, interval error, errors; and how frames are timed."""
+        self.timing_label.setText(stats.schedule)
         self.status_label.setText(
             f"[{stats.state}] {stats.status} | achieved {stats.achieved_rate_hz:.0f} Hz, "
             f"interval error p99 {stats.interval_error_p99_ms:.2f} ms, late {stats.late}, "

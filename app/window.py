@@ -89,7 +89,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.last_error = ""
         start = preset if preset is not None else (self._restored_preset() if restore else None)
         self.state = TunerState(start.scene if start is not None else None)
-        self.device = DeviceController(self.state, profile, process=process, realtime=realtime)
+        lead = {} if start is None else {"lead_ms": start.lead_ms}
+        self.device = DeviceController(self.state, profile, process=process, realtime=realtime,
+                                       **lead)  # fmt: skip
         self.files = FileActions(self.state, self.device, self)
         if start is not None:
             self.files.set_preset(start)
@@ -418,7 +420,8 @@ class MainWindow(QtWidgets.QMainWindow):
         tuning scene saved when it started is remembered, never a trial's."""
         scene = self.experiments.saved_scene or self.state.scene
         files = self.files
-        preset = Preset(scene, files.preset_name, files.preset_notes, self.device.profile.name)
+        preset = Preset(scene, files.preset_name, files.preset_notes, self.device.profile.name,
+                        self.device.lead_ms)  # fmt: skip
         self.settings.setValue("scene", json.dumps(preset.to_dict()))
         self.settings.setValue("geometry", self.saveGeometry())
         self.settings.setValue("windowState", self.saveState())

@@ -165,3 +165,21 @@ def test_a_preset_keeps_its_lead_and_refuses_a_bad_one(tmp_path):
         (tmp_path / "bad.json").write_text(__import__("json").dumps(data, allow_nan=True))
         with pytest.raises(PresetError, match=says):
             load_preset(tmp_path / "bad.json")
+
+
+def test_the_tuner_sets_the_lead_and_a_preset_carries_it(qtbot, tmp_path):
+    from tactile_tuner.window import MainWindow
+
+    window = MainWindow(restore=False, process=False)
+    qtbot.addWidget(window)
+    panel = window.device_panel
+    assert panel.lead_spin.value() == 20.0 and window.device.lead_ms == 20.0
+    panel.lead_spin.setValue(35.0)  # as a committed edit does
+    qtbot.waitUntil(lambda: window.device.stats.lead_ms == 35.0, timeout=20_000)
+    assert "35 ms ahead" in panel.timing_label.text() or window.device.stats.scheduled
+    assert window.files.save_preset_file(tmp_path / "p.json")
+    panel.lead_spin.setValue(0.0)
+    qtbot.waitUntil(lambda: not window.device.stats.scheduled, timeout=20_000)
+    assert window.files.load_preset_file(tmp_path / "p.json")
+    assert window.device.lead_ms == 35.0 and panel.lead_spin.value() == 35.0
+    window.close()
