@@ -37,6 +37,11 @@
 #define CHANNELS (ARRAY_COLS * ARRAY_ROWS)
 #define PORTS PIN_PORTS
 #define NONE 0xFF
+/* A compare value past TOP: compare match B never happens, so its flag is never set while no
+ * frame is armed, and arming needs no write to TIFR1. (Clearing OCF1B by writing TIFR1 would do
+ * on the ATmega2560, but simavr 1.6 clears every pending timer flag on such a write, a pending
+ * compare match A included: the slot was then never counted, and the clock fell behind.) */
+#define NEVER 0xFFFF
 
 /* Four tables: the one the timer plays, one waiting for the next period (a frame for now), one
  * holding the next timed frame (armed on compare match B), one being built. */
@@ -91,6 +96,7 @@ static inline __attribute__((always_inline)) void play_armed(void)
     armed = NONE;
     waiting = NONE;
     TIMSK1 &= (uint8_t)~_BV(OCIE1B);
+    OCR1B = NEVER; /* no match, so no stale flag, until the next frame is armed */
     onset = 1;
 }
 
@@ -112,7 +118,6 @@ ISR(TIMER1_COMPA_vect)
     if (armed != NONE && ticks == armed_tick) { /* the armed frame plays in this slot */
         if (armed_counts > TCNT1 + ARM_MARGIN_COUNTS) {
             OCR1B = armed_counts;
-            TIFR1 = _BV(OCF1B);
             TIMSK1 |= _BV(OCIE1B);
         } else {
             play_armed(); /* at the slot's very start: now */
@@ -194,6 +199,7 @@ static void show(const uint8_t *levels)
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         TIMSK1 &= (uint8_t)~_BV(OCIE1B);
+        OCR1B = NEVER;
         armed = NONE;
     }
     built = NONE;
@@ -232,29 +238,40 @@ static void schedule(tp_state *state)
         pwm_build(head->levels, CHANNELS, PINS, PORTS, PWM_SLOTS, tables[t]);
         built = t;
     }
+    /* Where the frame's time falls: its slot and the count within it. The divisions take
+     * hundreds of cycles, so they are done here, against a slot read just before, and not
+     * between reading the counter and setting the compare. */
+    uint16_t counts;
+    uint32_t tick0;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { tick0 = ticks_at(&counts); }
+    int32_t ahead = (int32_t)(head->at_us - tick0 * (TIMER_TICK / 2)); /* from slot tick0 */
+    int32_t q = ahead / (TIMER_TICK / 2), r = ahead - q * (TIMER_TICK / 2);
+    if (r < 0) { /* floor division: a time in an earlier slot */
+        q--;
+        r += TIMER_TICK / 2;
+    }
+    uint32_t at_tick = tick0 + (uint32_t)q;
+    uint16_t at_counts = (uint16_t)(2 * r);
+    uint16_t lead_counts = at_counts > ONSET_LEAD_COUNTS ? at_counts - ONSET_LEAD_COUNTS : 0;
     uint8_t at_once = 0, late = 0;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        uint16_t counts;
         uint32_t now_tick = ticks_at(&counts);
-        /* from the start of the slot being played to the frame's time, in microseconds */
-        int32_t ahead = (int32_t)(head->at_us - now_tick * (TIMER_TICK / 2));
+        int32_t slots = (int32_t)(at_tick - now_tick);
         armed = built;
         armed_table = tables[built];
-        uint16_t at_counts = (uint16_t)(2 * (ahead % (TIMER_TICK / 2)));
-        if (ahead >= TIMER_TICK / 2) { /* a later slot: compare match A arms it there */
-            armed_tick = now_tick + (uint32_t)(ahead / (TIMER_TICK / 2));
-            armed_counts = at_counts > ONSET_LEAD_COUNTS ? at_counts - ONSET_LEAD_COUNTS : 0;
-        } else if (ahead >= 0 && at_counts > counts + ONSET_LEAD_COUNTS + ARM_MARGIN_COUNTS) {
-            OCR1B = at_counts - ONSET_LEAD_COUNTS; /* later in this slot */
-            TIFR1 = _BV(OCF1B);
+        if (slots > 0) { /* a later slot: compare match A arms it there */
+            armed_tick = at_tick;
+            armed_counts = lead_counts;
+        } else if (slots == 0 && lead_counts > counts + ARM_MARGIN_COUNTS) {
+            OCR1B = lead_counts; /* later in this slot */
             TIMSK1 |= _BV(OCIE1B);
             armed_tick = now_tick - 1; /* compare match A leaves it alone */
         } else { /* due now, or past: play at once */
             play_armed();
             onset = 0;
             at_once = 1;
-            late = ahead < 0 || at_counts < counts;
+            late = slots < 0 || at_counts < counts;
         }
     }
     if (at_once) {
@@ -273,6 +290,7 @@ static void all_off_now(void)
         waiting = NONE;
         armed = NONE;
         TIMSK1 &= (uint8_t)~_BV(OCIE1B);
+        OCR1B = NEVER;
         PORTA = PORTC = PORTL = PORTK = 0;
     }
     built = NONE;
@@ -293,6 +311,7 @@ int main(void)
 
     TCCR1A = 0;
     OCR1A = TIMER_TICK - 1; /* CTC: 300 counts a slot */
+    OCR1B = NEVER;
     TIMSK1 = _BV(OCIE1A);
     TCCR1B = _BV(WGM12) | _BV(CS11); /* CTC, clk / 8: the clock starts here */
 
