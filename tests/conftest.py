@@ -4,6 +4,11 @@ import os
 import threading
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+# One BLAS thread in this process and every process it starts, before numpy is imported: the
+# suite's fits are small, and OpenBLAS's extra threads busy-wait (with a CPU hog beside the
+# suite they made the analysis tests 19 times slower; tactile_core/_shared/threads.py).
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import pytest
 from hypothesis import HealthCheck, settings
