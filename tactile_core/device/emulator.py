@@ -75,7 +75,12 @@ class Emulator:
         return self.path
 
     def close(self) -> None:
-        """Close both ends: a client writing then gets an I/O error."""
+        """Close both ends: a client writing then gets an I/O error. The array's own timing
+        (timed frames, the watchdog) is brought up to date first."""
+        if self.started is not None:
+            now = time.monotonic()
+            self._log(self.model.advance(now), now)
+            self._watchdog(now)
         for fd in (self.master, self.slave):
             if fd is not None:
                 try:
@@ -120,8 +125,11 @@ class Emulator:
                 pass  # no client: the answer is lost, as on a real line
 
     def _watchdog(self, now: float) -> None:
+        last = self.model.last_valid
         if self.model.watchdog(now):
-            self.events.append((now, "watchdog"))
+            # logged at the moment the array's watchdog fires, not when this loop (which the
+            # host may have kept waiting) noticed: the firmware checks every microsecond
+            self.events.append((last + self.model.watchdog_s, "watchdog"))
 
     def run(self, should_stop, seconds: float | None = None, close_after: float | None = None):
         """Receive until ``should_stop()`` is true or ``seconds`` have passed.
