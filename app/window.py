@@ -81,7 +81,7 @@ class MainWindow(QtWidgets.QMainWindow):
     """
 
     def __init__(
-        self, device_url=None, profile=None, preset=None, restore=True, process=True, realtime=False
+        self, device_url=None, profile=None, preset=None, restore=True, process=True, realtime=True
     ):
         super().__init__()
         self.setWindowTitle("tactile-tuner")
