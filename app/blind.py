@@ -20,6 +20,20 @@ from .widgets import MethodSetWidget
 RATINGS = ("quality", "smoothness", "thickness")
 
 
+def default_autosave_dir() -> Path:
+    """Where blind sessions are autosaved: ``blind-ab`` in the application's data folder."""
+    location = QtCore.QStandardPaths.StandardLocation.AppDataLocation
+    return Path(QtCore.QStandardPaths.writableLocation(location) or Path.home()) / "blind-ab"
+
+
+def shuffled(methods, seed: int) -> list[str]:
+    """The methods on keys 1-N of a session with ``seed`` (what *Start* does, and how an
+    autosave's mapping is recovered from its ``methods`` and ``seed`` columns)."""
+    mapping = list(methods)
+    random.Random(seed).shuffle(mapping)
+    return mapping
+
+
 class BlindPanel(QtWidgets.QWidget):
     """Blind A/B on the array (the paper's Experiment 1 preparation stage).
 
@@ -27,8 +41,12 @@ class BlindPanel(QtWidgets.QWidget):
     which it is. Each key the rater felt gets 0-100 ratings of quality, smoothness and
     thickness; a rating starts empty (not rated), never at a value that could pass for one.
     Reveal and Save need every felt key rated. The saved file records which keys were felt and
-    for how long; a key never played is saved as not rated. The mapping stays hidden until
-    Reveal.
+    for how long (until Reveal); a key never played is saved as not rated. The mapping stays
+    hidden until Reveal.
+
+    Ratings are autosaved as they are entered (:attr:`autosave_path`, with the method column
+    empty until Reveal); Start over a session with unsaved ratings, and *Cancel session*, ask
+    first (:attr:`confirm`). Cancelling puts back the scene from before the session.
     """
 
     blind_changed = QtCore.Signal(bool)
@@ -47,6 +65,15 @@ class BlindPanel(QtWidgets.QWidget):
         self.session = ""
         self.felt_s: list[float] = []
         self._since: float | None = None
+        self.confirm = lambda title, text: dialogs.confirm(self, title, text)
+        """Asks yes or no before ratings are discarded (tests answer it themselves)."""
+        self.autosave_dir = default_autosave_dir()
+        self.autosave_path: Path | None = None
+        """The session's autosave (None before a session or after its ratings were saved)."""
+        self.unsaved = False
+        """True once a rating was entered that no Save has written yet."""
+        self._scene_before = None
+        self._resetting = False
         layout = QtWidgets.QVBoxLayout(self)
         intro = QtWidgets.QLabel(
             "Start shuffles the methods onto number keys. Press a key to feel its method on the "
@@ -64,7 +91,13 @@ class BlindPanel(QtWidgets.QWidget):
         self.reveal_button = QtWidgets.QPushButton("Reveal")
         self.reveal_button.setObjectName("blind_reveal")
         self.save_button = QtWidgets.QPushButton("Save ratings...")
-        for b in (self.start_button, self.reveal_button, self.save_button):
+        self.cancel_button = QtWidgets.QPushButton("Cancel session")
+        self.cancel_button.setObjectName("blind_cancel")
+        self.cancel_button.setToolTip(
+            "End the session without rating everything: the scene from before it comes back; "
+            "the ratings entered stay in the autosave"
+        )
+        for b in (self.start_button, self.reveal_button, self.save_button, self.cancel_button):
             buttons.addWidget(b)
         buttons.addStretch(1)
         layout.addLayout(buttons)
@@ -83,6 +116,7 @@ class BlindPanel(QtWidgets.QWidget):
         self.start_button.clicked.connect(lambda: self.start())
         self.reveal_button.clicked.connect(self.reveal)
         self.save_button.clicked.connect(self._on_save_clicked)
+        self.cancel_button.clicked.connect(lambda: self.cancel())
         state.playing_changed.connect(lambda _: self._account())
         self._enable(False)
 
@@ -111,6 +145,7 @@ class BlindPanel(QtWidgets.QWidget):
                 spin.setValue(self.NOT_RATED)
                 spin.setObjectName(f"blind_{name}_{k + 1}")
                 spin.setToolTip(f"{name} of key {k + 1}, 0-100 (empty until you rate it)")
+                spin.valueChanged.connect(self._on_rating_spin_changed)
                 self.table.addWidget(spin, 1 + k, 2 + j)
                 spins.append(spin)
             felt = QtWidgets.QLabel("-")
@@ -130,6 +165,9 @@ class BlindPanel(QtWidgets.QWidget):
             raise ValueError(f"blind A/B needs 2 to 8 distinct methods, got {methods}")
         if self.active:
             raise ValueError("blind A/B is running: reveal it before changing the methods")
+        if self.unsaved:
+            raise ValueError("the session's ratings are not saved: save them or cancel the "
+                             "session before changing the methods")  # fmt: skip
         self.methods = methods
         self.chooser.methods = list(methods)
         self.chooser.edit.setText(" ".join(methods))
@@ -153,9 +191,15 @@ class BlindPanel(QtWidgets.QWidget):
             b.setEnabled(on)
         self.reveal_button.setEnabled(on and not self.revealed)
         self.save_button.setEnabled(on)
+        self.cancel_button.setEnabled(on)
+        self.chooser.setEnabled(not (on and not self.revealed))
 
     def _account(self) -> None:
-        """Add the time since the last event to the key being felt (while playing)."""
+        """Add the time since the last event to the key being felt (while playing, before
+        Reveal: what is felt after the mapping is known is not blind)."""
+        if self.revealed:
+            self._since = None
+            return
         now = time.monotonic()
         if self._since is not None and self.current_key is not None:
             self.felt_s[self.current_key - 1] += now - self._since
@@ -163,16 +207,28 @@ class BlindPanel(QtWidgets.QWidget):
             self.felt_labels[k].setText(f"{self.felt_s[k]:.1f} s")
         self._since = now if self.state.scene.playing and self.mapping else None
 
-    def start(self, seed: int | None = None) -> None:
-        """Shuffle the methods onto keys 1-N and hide the mapping."""
+    def start(self, seed: int | None = None) -> bool:
+        """Shuffle the methods onto keys 1-N and hide the mapping; over a session with unsaved
+        ratings, only once :attr:`confirm` says yes (False otherwise)."""
+        if self.unsaved and not self.confirm(
+            "Start a new blind session",
+            f"The ratings of this session are not saved{self._where()}.\n\nDiscard them and "
+            "shuffle again?",
+        ):
+            return False
+        if not self.active:
+            self._scene_before = self.state.scene
         self.seed = random.SystemRandom().randrange(2**31) if seed is None else seed
-        self.mapping = list(self.methods)
-        random.Random(self.seed).shuffle(self.mapping)
+        self.mapping = shuffled(self.methods, self.seed)
         self.revealed = False
+        self.unsaved = False
         self.current_key = None
         self._since = None
         self.felt_s = [0.0] * len(self.mapping)
         self.session = dt.datetime.now().isoformat(timespec="seconds")
+        stamp = self.session.replace(":", "")
+        self.autosave_path = self.autosave_dir / f"blind-ab-{stamp}-seed{self.seed}.csv"
+        self._resetting = True
         for label in self.method_labels:
             label.setText("?")
         for spins in self.rating_spins:
@@ -182,10 +238,75 @@ class BlindPanel(QtWidgets.QWidget):
             label.setText("-")
         for b in self.key_buttons:
             b.setChecked(False)
+        self._resetting = False
         self._enable(True)
         self.status.setText(f"blind: press 1-{len(self.mapping)} to switch methods")
         self.blind_changed.emit(True)
         self.select_key(1)
+        return True
+
+    def cancel(self) -> bool:
+        """End the session without rating everything (asking first when ratings are unsaved):
+        the scene from before it comes back, paused; the ratings stay in the autosave."""
+        if not self.mapping:
+            return False
+        if self.unsaved and not self.confirm(
+            "Cancel the blind session",
+            f"The ratings of this session are not saved{self._where()}.\n\nCancel the session?",
+        ):
+            return False
+        was_blind = self.active
+        self._account()
+        if self.unsaved:
+            self._autosave()
+        where = self._where() if self.unsaved else ""
+        before, self._scene_before = self._scene_before, None
+        if before is not None and was_blind:
+            self.state.set_scene(before.replace(playing=False, epoch=self.state.scene.epoch + 1))
+        self.mapping, self.current_key, self.revealed, self.unsaved = [], None, False, False
+        self._resetting = True
+        for label in self.method_labels:
+            label.setText("?")
+        for spins in self.rating_spins:
+            for spin in spins:
+                spin.setValue(self.NOT_RATED)
+        for b in self.key_buttons:
+            b.setChecked(False)
+        self._resetting = False
+        self._enable(False)
+        self.status.setText("cancelled" + (f": the unsaved ratings are kept{where}" if where
+                                           else ""))  # fmt: skip
+        if was_blind:
+            self.blind_changed.emit(False)
+        return True
+
+    def _where(self) -> str:
+        return f" (autosaved in {self.autosave_path})" if self.autosave_path else ""
+
+    def _on_rating_spin_changed(self, _value: int) -> None:
+        if self._resetting or not self.mapping:
+            return
+        self.unsaved = True
+        self._autosave()
+
+    def _autosave(self) -> None:
+        """Write the session as it stands (the method column empty until Reveal; the seed and
+        the ``methods`` column recover the mapping, :func:`shuffled`)."""
+        if self.autosave_path is None or not self.mapping:
+            return
+        rows = self.ratings()
+        for row in rows:
+            if not self.revealed:
+                row["method"] = ""
+            row["methods"] = " ".join(self.methods)
+        try:
+            self.autosave_path.parent.mkdir(parents=True, exist_ok=True)
+            with atomic_file(self.autosave_path) as f:
+                writer = csv.DictWriter(f, fieldnames=list(rows[0]), lineterminator="\n")
+                writer.writeheader()
+                writer.writerows(rows)
+        except (OSError, ValueError) as exc:
+            self.status.setText(f"could not autosave the ratings: {exc}")
 
     def select_key(self, key: int) -> None:
         """Play the method behind ``key`` (1-N)."""
@@ -197,6 +318,8 @@ class BlindPanel(QtWidgets.QWidget):
             b.setChecked(i == key - 1)
         self.state.update(method=self.mapping[key - 1], playing=True)
         self._account()
+        if self.unsaved:
+            self._autosave()
         self.status.setText(
             f"playing key {key}" + (f" ({self.mapping[key - 1]})" if self.revealed else "")
         )
@@ -234,11 +357,15 @@ class BlindPanel(QtWidgets.QWidget):
         """Show which method was behind each key (once every felt key is rated)."""
         if not self.mapping or self._refuse_if_unrated("Reveal"):
             return False
+        self._account()  # felt time ends here: what is felt from now on is not blind
         self.revealed = True
         for label, method in zip(self.method_labels, self.mapping):
             label.setText(f"{method} ({get_method(method).title})")
         self.reveal_button.setEnabled(False)
         self.status.setText("revealed")
+        self._enable(True)
+        if self.unsaved:
+            self._autosave()
         self.blind_changed.emit(False)
         return True
 
@@ -290,6 +417,9 @@ class BlindPanel(QtWidgets.QWidget):
             if not old:
                 writer.writeheader()
             writer.writerows(rows)
+        self.unsaved = False
+        if self.autosave_path is not None:
+            self.autosave_path.unlink(missing_ok=True)
         self.status.setText(f"saved to {path}")
         return path
 

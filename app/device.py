@@ -117,6 +117,8 @@ class DeviceController(QtCore.QObject):
         if url is None or url in SIMULATED_URLS:
             self.disconnect_device()
             return True
+        if url == self.url:
+            return True  # already streaming there: opening it again would find it busy
         return self._switch(url)
 
     def disconnect_device(self) -> None:

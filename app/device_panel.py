@@ -5,6 +5,8 @@ from __future__ import annotations
 from PySide6 import QtCore, QtWidgets
 from serial.tools import list_ports
 
+from tactile_core.device.link import SIMULATED_URLS
+
 from .device import DeviceController
 from .texts import tip
 
@@ -74,6 +76,7 @@ class DevicePanel(QtWidgets.QWidget):
         ))  # fmt: skip
         self.lead_spin.valueChanged.connect(self._on_lead_changed)
         self.port_combo.lineEdit().returnPressed.connect(self._on_connect_clicked)
+        self.port_combo.currentTextChanged.connect(lambda _: self._update_connect())
         self.refresh_button.clicked.connect(self.refresh_ports)
         self.connect_button.clicked.connect(self._on_connect_clicked)
         self.disconnect_button.clicked.connect(device.disconnect_device)
@@ -103,7 +106,18 @@ class DevicePanel(QtWidgets.QWidget):
             self.lead_spin.setValue(self.device.lead_ms)
             self.lead_spin.blockSignals(False)
 
+    def _typed_link(self) -> str | None:
+        """The link the box names: a port or URL, None for the simulated array."""
+        text = self.port_combo.currentText().strip()
+        return None if text in ("", *SIMULATED_URLS) else text
+
+    def _update_connect(self) -> None:
+        """Connect only for a link other than the one in use (its own port would be busy)."""
+        self.connect_button.setEnabled(self._typed_link() != self.device.url)
+
     def _on_connect_clicked(self) -> None:
+        if self._typed_link() == self.device.url:
+            return  # already streaming there (Enter again, a double click)
         self.device.connect_device(self.port_combo.currentText())
 
     def _on_device_connection_changed(self, description: str) -> None:
@@ -117,6 +131,7 @@ class DevicePanel(QtWidgets.QWidget):
         self.lead_spin.blockSignals(True)  # a preset may have set another lead
         self.lead_spin.setValue(self.device.lead_ms)
         self.lead_spin.blockSignals(False)
+        self._update_connect()
 
     def show_stats(self, stats) -> None:
         """Status line: state, achieved rate, interval error, errors; and how frames are timed."""

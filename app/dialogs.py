@@ -34,11 +34,13 @@ def filter_extensions(selected_filter: str) -> list[str]:
     return [f".{e.lower()}" for e in re.findall(r"\*\.(\w+)", selected_filter)]
 
 
-def with_filter_extension(path, selected_filter: str) -> Path:
-    """``path``, with the selected filter's extension added if it has none of the filter's."""
+def with_filter_extension(path, selected_filter: str, filters=()) -> Path:
+    """``path``, with the selected filter's extension added if it has none of the filter's nor
+    of the dialog's other ``filters`` (``curves.png`` typed under the CSV filter stays a PNG)."""
     path = Path(path)
     extensions = filter_extensions(selected_filter)
-    if extensions and path.suffix.lower() not in extensions:
+    known = {e for f in (selected_filter, *filters) for e in filter_extensions(f)}
+    if extensions and path.suffix.lower() not in known:
         path = path.with_name(path.name + extensions[0])
     return path
 
@@ -60,7 +62,7 @@ def save_path(parent, kind: str, title: str, name: str, filters: list[str]) -> P
     path, selected = QtWidgets.QFileDialog.getSaveFileName(parent, title, start, ";;".join(filters))
     if not path:
         return None
-    path = with_filter_extension(path, selected or filters[0])
+    path = with_filter_extension(path, selected or filters[0], filters)
     _remember(kind, path)
     return path
 
@@ -75,6 +77,18 @@ def open_path(parent, kind: str, title: str, filters: list[str]) -> Path | None:
     path = Path(path)
     _remember(kind, path)
     return path
+
+
+def confirm(parent, title: str, text: str) -> bool:
+    """Ask yes or no (No is the default: Enter never discards anything by accident)."""
+    box = QtWidgets.QMessageBox(parent)
+    box.setIcon(QtWidgets.QMessageBox.Icon.Question)
+    box.setWindowTitle(title)
+    box.setText(text)
+    buttons = QtWidgets.QMessageBox.StandardButton
+    box.setStandardButtons(buttons.Yes | buttons.No)
+    box.setDefaultButton(buttons.No)
+    return box.exec() == buttons.Yes
 
 
 def folder_path(parent, kind: str, title: str, start: str = "") -> Path | None:

@@ -49,6 +49,15 @@ class FileActions(QtCore.QObject):
         """The activation curves on show (the window connects the tune tab's)."""
         self.before_load = lambda: None
         """Called before a preset replaces the scene (the window leaves draw mode)."""
+        self.blocked = lambda: ""
+        """Why presets and curve exports are refused now ("" when they are not): they would
+        name the method Blind A/B hides."""
+
+    def _refused(self) -> bool:
+        reason = self.blocked()
+        if reason:
+            self.error_raised.emit(reason)
+        return bool(reason)
 
     def set_preset(self, preset) -> None:
         """Remember ``preset`` as where the scene came from."""
@@ -59,6 +68,8 @@ class FileActions(QtCore.QObject):
 
     def load_preset_file(self, path) -> bool:
         """Load a preset; on any problem show it and change nothing."""
+        if self._refused():
+            return False
         try:
             preset = load_preset(path)
         except PresetError as exc:
@@ -79,6 +90,8 @@ class FileActions(QtCore.QObject):
 
     def save_preset_file(self, path, name=None, notes=None) -> bool:
         """Save the current scene as a preset (atomically)."""
+        if self._refused():
+            return False
         path = Path(path)
         preset = Preset(
             self.state.scene.replace(playing=True),
@@ -113,6 +126,8 @@ class FileActions(QtCore.QObject):
 
     def export_curves(self, path) -> bool:
         """Activation curves of the current scene to .csv, .png or .svg."""
+        if self._refused():
+            return False
         path = Path(path)
         scene = self.state.scene
         curves = self.curves()

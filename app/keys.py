@@ -32,6 +32,9 @@ class KeyFilter(QtCore.QObject):
     ----------
     windows : callable
         The windows whose keys these are (the main window, the participant's).
+    run_only : callable, optional
+        Of those, the windows whose keys count only during a run (the participant's, which
+        may stay open on its "finished" screen): at other times only their Esc acts.
     on_escape : callable
         Esc: everything off (and a run paused).
     run_active : callable
@@ -47,9 +50,10 @@ class KeyFilter(QtCore.QObject):
     """
 
     def __init__(self, parent, *, windows, on_escape, run_active, on_run_key, on_space,
-                 on_number, on_return):  # fmt: skip
+                 on_number, on_return, run_only=tuple):  # fmt: skip
         super().__init__(parent)
         self.windows = windows
+        self.run_only = run_only
         self.on_escape = on_escape
         self.run_active = run_active
         self.on_run_key = on_run_key
@@ -76,9 +80,12 @@ class KeyFilter(QtCore.QObject):
         if self.run_active():
             # A run owns the keyboard (its rating box takes digits and Enter itself).
             return self.on_run_key(event)
+        if obj.window() in self.run_only():
+            return True  # the participant's keys, with no run: nothing may play
         focus = app.focusWidget()
         if is_text_input(focus):
-            if key in (QtCore.Qt.Key.Key_Return, QtCore.Qt.Key.Key_Enter):
+            multi_line = isinstance(focus, (QtWidgets.QPlainTextEdit, QtWidgets.QTextEdit))
+            if key in (QtCore.Qt.Key.Key_Return, QtCore.Qt.Key.Key_Enter) and not multi_line:
                 # Let the field commit its value first, then give the keys back.
                 QtCore.QTimer.singleShot(0, self.on_return)
             return False

@@ -119,7 +119,7 @@ def main(argv=None) -> int:
     # signal.
     for name in ("SIGINT", "SIGTERM", "SIGHUP"):
         if hasattr(signal, name):
-            signal.signal(getattr(signal, name), lambda *_: window.close())
+            signal.signal(getattr(signal, name), lambda *_: window.close_now())
     heartbeat = QtCore.QTimer()
     heartbeat.timeout.connect(lambda: None)
     heartbeat.start(200)
@@ -129,7 +129,7 @@ def main(argv=None) -> int:
         window.tabs.setCurrentIndex(min(tabs[args.tab], window.tabs.count() - 1))
     if args.size:
         window.resize(*args.size)
-    window.fit_to_screen()
+    window.fit_to_screen(keep_size=args.size is not None)  # a size asked for is the size
     window.show()
 
     if args.screenshot:

@@ -1,4 +1,4 @@
-"""The tuner's menu bar: File, Array and View."""
+"""The tuner's menu bar: File, Array, View and Help."""
 
 from __future__ import annotations
 
@@ -6,10 +6,13 @@ from PySide6 import QtGui, QtWidgets
 
 from tactile_core.files.presets import builtin_presets
 
+from . import help as help_dialogs
+
 
 def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, reset_layout,
-                lanes_check) -> QtWidgets.QMenu:  # fmt: skip
-    """Fill ``window``'s menu bar; returns the View menu.
+                lanes_check) -> tuple[QtWidgets.QMenu, list]:  # fmt: skip
+    """Fill ``window``'s menu bar; returns the View menu and the File actions that would show
+    or change the method (disabled while Blind A/B hides it).
 
     Parameters
     ----------
@@ -24,16 +27,23 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     """
     bar = window.menuBar()
     menu = bar.addMenu("&File")
-    menu.addAction("Open preset...", files.ask_open_preset, QtGui.QKeySequence.StandardKey.Open)
-    menu.addAction("Save preset as...", files.ask_save_preset, QtGui.QKeySequence.StandardKey.Save)
+    keys = QtGui.QKeySequence.StandardKey
+    method_actions = [
+        menu.addAction("Open preset...", files.ask_open_preset, keys.Open),
+        menu.addAction("Save preset as...", files.ask_save_preset, keys.Save),
+    ]
     builtins = menu.addMenu("Built-in presets")
     for stem, path in builtin_presets().items():
         builtins.addAction(stem, lambda p=path: files.load_preset_file(p))
+    method_actions.append(builtins.menuAction())
     menu.addSeparator()
-    menu.addAction("Export activation curves (CSV, PNG, SVG)...", files.ask_export_curves)
+    method_actions.append(
+        menu.addAction("Export activation curves (CSV, PNG, SVG)...", files.ask_export_curves)
+    )
     menu.addAction("Export correction table (CSV, C header)...", files.ask_export_lut)
     menu.addSeparator()
-    menu.addAction("Quit", window.close, QtGui.QKeySequence.StandardKey.Quit)
+    # Ctrl+Q on every platform (the standard key is empty on some, e.g. Windows, offscreen).
+    menu.addAction("Quit", window.close, QtGui.QKeySequence("Ctrl+Q"))
     menu = bar.addMenu("&Array")
     menu.addAction("Play / pause\tSpace", toggle_play)
     menu.addAction("All off\tEsc", all_off)
@@ -51,4 +61,8 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     lanes_check.toggled.connect(lanes.setChecked)
     view.addSeparator()
     view.addAction("Reset layout", reset_layout)
-    return view
+    menu = bar.addMenu("&Help")
+    menu.addAction("Keyboard shortcuts", lambda: help_dialogs.show_shortcuts(window),
+                   keys.HelpContents)  # fmt: skip
+    menu.addAction("About tactile-tuner", lambda: help_dialogs.show_about(window))
+    return view, method_actions

@@ -72,7 +72,10 @@ class TunerState(QtCore.QObject):
         return self._scene
 
     def update(self, **changes) -> bool:
-        """Apply field changes; False (and :attr:`error_raised`) if they are invalid."""
+        """Apply field changes; False (and :attr:`error_raised`) if they are invalid. Playing
+        (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go."""
+        if changes.get("playing") and "hold_s" not in changes:
+            changes["hold_s"] = None
         try:
             new = self._scene.replace(**changes)
         except (ValueError, TypeError) as exc:

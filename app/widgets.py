@@ -1,4 +1,5 @@
-"""Small widgets the parts share: a label that elides, and a set of methods to compare."""
+"""Small widgets the parts share: a label that elides, a set of methods to compare, and a guard
+that lets the mouse wheel scroll a panel instead of turning its values."""
 
 from __future__ import annotations
 
@@ -42,8 +43,12 @@ class MethodSetWidget(QtWidgets.QWidget):
         super().__init__(parent)
         self.low, self.high = low, high
         self.methods = list(methods)
-        row = QtWidgets.QHBoxLayout(self)
+        column = QtWidgets.QVBoxLayout(self)
+        column.setContentsMargins(0, 0, 0, 0)
+        column.setSpacing(2)
+        row = QtWidgets.QHBoxLayout()
         row.setContentsMargins(0, 0, 0, 0)
+        column.addLayout(row)
         if label:
             row.addWidget(QtWidgets.QLabel(label))
         self.edit = QtWidgets.QLineEdit(" ".join(self.methods))
@@ -54,18 +59,22 @@ class MethodSetWidget(QtWidgets.QWidget):
         )
         self.edit.editingFinished.connect(self._on_edited)
         row.addWidget(self.edit, 1)
-        self.pick = QtWidgets.QToolButton()
-        self.pick.setText("pick")
-        self.pick.setPopupMode(QtWidgets.QToolButton.ToolButtonPopupMode.InstantPopup)
+        # A push button sizes itself for its text and its menu's arrow (a tool button with an
+        # instant popup drew the arrow over "pick").
+        self.pick = QtWidgets.QPushButton("pick")
+        self.pick.setObjectName("method_set_pick")
+        self.pick.setToolTip("Tick the methods to use from the list of every method")
         self.menu = QtWidgets.QMenu(self.pick)
         self.menu.aboutToShow.connect(self._fill_menu)
         self.pick.setMenu(self.menu)
         row.addWidget(self.pick)
-        self.problem = ElidedLabel("")  # a long refusal must not widen the window
+        # Under the field, across the whole width, wrapped: never beside it, where a long
+        # refusal was pushed past the window's edge.
+        self.problem = QtWidgets.QLabel("")
         self.problem.setObjectName("method_set_problem")
-        self.problem.setStyleSheet("color: #c62828")
+        self.problem.setWordWrap(True)
         self.problem.setVisible(False)
-        row.addWidget(self.problem)
+        column.addWidget(self.problem)
 
     def _fill_menu(self) -> None:
         self.menu.clear()
@@ -88,10 +97,11 @@ class MethodSetWidget(QtWidgets.QWidget):
         the last good one)."""
         if keep is not None:
             self.methods = list(keep)
+        # A red that reads on the palette's window colour, light or dark.
+        dark = self.palette().color(QtGui.QPalette.ColorRole.Window).lightness() < 128
+        self.problem.setStyleSheet(f"color: {'#ff8a80' if dark else '#c62828'}")
         self.problem.setText(message)
-        self.problem.setToolTip(message)
-        self.problem.setVisible(True)
-        self.problem.setMinimumWidth(120)
+        self.problem.setVisible(bool(message))
         self.edit.setText(" ".join(self.methods))
 
     def apply(self, specs) -> bool:
@@ -112,3 +122,31 @@ class MethodSetWidget(QtWidgets.QWidget):
             self.methods = methods
             self.methods_changed.emit(methods)
         return True
+
+
+class _WheelGuard(QtCore.QObject):
+    """Hands a wheel event over an unfocused value widget to the scroll area around it."""
+
+    def eventFilter(self, obj, event):  # Qt override
+        if event.type() != QtCore.QEvent.Type.Wheel or obj.hasFocus():
+            return False
+        area = obj.parent()
+        while area is not None and not isinstance(area, QtWidgets.QAbstractScrollArea):
+            area = area.parent()
+        if area is not None:  # its scroll bar takes the wheel as the panel would
+            bar = area.verticalScrollBar()
+            if event.angleDelta().x() and not event.angleDelta().y():
+                bar = area.horizontalScrollBar()
+            QtWidgets.QApplication.sendEvent(bar, event)
+        return True
+
+
+def guard_wheel(root: QtWidgets.QWidget) -> None:
+    """Spin boxes, drop-downs and sliders under ``root`` take the mouse wheel only once clicked
+    (focused): over a scrolling panel the wheel scrolls the panel, never a value by accident."""
+    guard = _WheelGuard(root)
+    kinds = (QtWidgets.QAbstractSpinBox, QtWidgets.QComboBox, QtWidgets.QAbstractSlider)
+    for widget in root.findChildren(QtWidgets.QWidget):
+        if isinstance(widget, kinds):
+            widget.setFocusPolicy(QtCore.Qt.FocusPolicy.StrongFocus)
+            widget.installEventFilter(guard)

@@ -11,13 +11,11 @@ hides, and keeps the session's settings.
 
 from __future__ import annotations
 
-import json
-
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from tactile_core.files.presets import Preset, preset_from_dict
 from tactile_core.rendering.methods import get_method
 
+from . import dialogs
 from .blind import BlindPanel
 from .compare import CompareView
 from .controls import ControlsPanel
@@ -27,6 +25,7 @@ from .experiments import ExperimentsPanel, GuidedTuning
 from .files import FileActions
 from .keys import KeyFilter, is_text_input
 from .menus import build_menus
+from .settings import restore_window, restored_preset, save_window
 from .state import TunerState
 from .texts import DRAW_HELP
 from .tune import TuneWidget
@@ -37,6 +36,10 @@ HIDDEN_BLIND = (
 )
 HIDDEN_EXPERIMENT = (
     "An experiment is running: the display is hidden so that it does not give the stimulus away."
+)
+BLIND_FILES = (
+    "Blind A/B in progress: presets and curve exports would name the hidden method. Reveal "
+    "(or cancel the session) in the Blind A/B tab first."
 )
 
 
@@ -87,7 +90,12 @@ class MainWindow(QtWidgets.QMainWindow):
         self.setWindowTitle("tactile-tuner")
         self.settings = QtCore.QSettings()
         self.last_error = ""
-        start = preset if preset is not None else (self._restored_preset() if restore else None)
+        self.confirm = lambda title, text: dialogs.confirm(self, title, text)
+        """Asks yes or no before a run or unsaved ratings are given up (tests answer it)."""
+        self._ask_before_closing = True
+        start = (
+            preset if preset is not None else (restored_preset(self.settings) if restore else None)
+        )
         self.state = TunerState(start.scene if start is not None else None)
         lead = {} if start is None else {"lead_ms": start.lead_ms}
         self.device = DeviceController(self.state, profile, process=process, realtime=realtime,
@@ -142,7 +150,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.device_dock = self._dock("Device", "device_dock", self.device_panel,
                                       QtCore.Qt.DockWidgetArea.BottomDockWidgetArea)  # fmt: skip
 
-        self.view_menu = build_menus(
+        self.view_menu, self._method_actions = build_menus(
             self,
             self.files,
             toggle_play=self.toggle_play,
@@ -163,6 +171,7 @@ class MainWindow(QtWidgets.QMainWindow):
             on_space=self.toggle_play,
             on_number=self.press_number,
             on_return=self.return_focus,
+            run_only=lambda: (self.experiments.participant_window,),
         )
         QtWidgets.QApplication.instance().installEventFilter(self._key_filter)
 
@@ -191,6 +200,7 @@ class MainWindow(QtWidgets.QMainWindow):
         """The parts' signals to one another (through the shell) and to the window."""
         status = self.statusBar().showMessage
         state, device, tune, gestures = self.state, self.device, self.tune, self.tune.gestures
+        files = self.files
         state.error_raised.connect(self.show_error)
         state.playing_changed.connect(self._on_state_playing_changed)
         state.scene_changed.connect(lambda _: self._update_title())
@@ -207,10 +217,15 @@ class MainWindow(QtWidgets.QMainWindow):
         self.controls.draw_mode_toggled.connect(gestures.set_draw_mode)
         self.device_panel.profile_requested.connect(self.files.ask_open_profile)
         self.files.curves = lambda: tune.shown_curves
+        self.files.blocked = lambda: BLIND_FILES if self.blind.active else ""
         self.files.before_load = lambda: gestures.set_draw_mode(False)
         self.files.error_raised.connect(self.show_error)
         self.files.message_posted.connect(status)
         self.files.preset_loaded.connect(self._update_title)
+        self.files.preset_loaded.connect(self._show_preset)
+        self.controls.preset.notes_edited.connect(lambda text: setattr(files, "preset_notes",
+                                                                       text))  # fmt: skip
+        self._show_preset()
         self.blind.blind_changed.connect(self._on_blind_changed)
         self.experiments.running_changed.connect(self._on_experiments_running_changed)
         self.experiments.error_raised.connect(self.show_error)
@@ -225,7 +240,11 @@ class MainWindow(QtWidgets.QMainWindow):
         """Everything off now (Esc, the button, the menu)."""
         self.tune.gestures.end_pulse(restore=True)
         self.device.all_off()
-        self.statusBar().showMessage("all off (Space plays again)")
+        if self.experiments.running:  # Space is the run's, not play/pause
+            self.statusBar().showMessage("all off: the run is paused (Enter or Present again "
+                                         "resumes it)")  # fmt: skip
+        else:
+            self.statusBar().showMessage("all off (Space plays again)")
 
     def _on_escape_pressed(self) -> None:
         self.all_off()
@@ -237,7 +256,9 @@ class MainWindow(QtWidgets.QMainWindow):
         if self.tune.gestures.pulsing:
             self.tune.gestures.end_pulse(restore=True)
             return
-        self.state.update(playing=not self.state.scene.playing)
+        scene = self.state.scene
+        # A held (scrubbed) instant plays the trace again; otherwise play or pause.
+        self.state.update(playing=scene.hold_s is not None or not scene.playing)
 
     def press_number(self, key: int) -> bool:
         """Number keys: the method, or in blind A/B the shuffled method behind the key; True if
@@ -304,6 +325,12 @@ class MainWindow(QtWidgets.QMainWindow):
             self.tune.show_views()
 
     def _on_blind_changed(self, blind: bool) -> None:
+        if blind:  # draw mode would switch to AS and say so
+            self.tune.gestures.set_draw_mode(False)
+        self.controls.playback.draw_check.setEnabled(not blind)
+        for action in self._method_actions:
+            action.setEnabled(not blind)
+        self._update_title()
         self._update_tune_page()
         self.tune.set_method_hidden(blind)
         self.tabs.setTabEnabled(1, not blind)
@@ -344,9 +371,15 @@ class MainWindow(QtWidgets.QMainWindow):
         self.banner.setVisible(lost)
         self.tune.heatmap.set_streaming(not lost, f"not streaming: {stats.state}")
 
+    def _show_preset(self) -> None:
+        self.controls.preset.show_preset(self.files.preset_name, self.files.preset_notes)
+
     def _update_title(self) -> None:
         """``tactile-tuner - preset[*] - method, mu, gamma``: current, with a star once the
         scene differs from the preset it came from."""
+        if self.blind.active:  # the method, and whether it is the preset's, stay hidden
+            self.setWindowTitle("tactile-tuner - Blind A/B (the method is hidden)")
+            return
         scene, files = self.state.scene, self.files
         came_from = files.preset_scene
         modified = came_from is not None and not _same_tuning(scene, came_from)
@@ -369,9 +402,10 @@ class MainWindow(QtWidgets.QMainWindow):
                          QtCore.Qt.Orientation.Horizontal)  # fmt: skip
         self.tune.fit_heatmap()
 
-    def fit_to_screen(self) -> None:
+    def fit_to_screen(self, keep_size: bool = False) -> None:
         """Keep the window on its screen and no larger than it (a saved size from a larger
-        screen, or the default, is shrunk to fit)."""
+        screen, or the default, is shrunk to fit); ``keep_size``: a size asked for (``--size``)
+        is kept, only the position is fitted."""
         screen = self.screen() or QtGui.QGuiApplication.primaryScreen()
         if screen is None:
             return
@@ -379,7 +413,7 @@ class MainWindow(QtWidgets.QMainWindow):
         frame = self.frameGeometry()
         w = min(self.width(), area.width() - (frame.width() - self.width()))
         h = min(self.height(), area.height() - (frame.height() - self.height()))
-        if (w, h) != (self.width(), self.height()):
+        if (w, h) != (self.width(), self.height()) and not keep_size:
             self.resize(w, h)
         geometry = self.frameGeometry()
         x = min(max(geometry.x(), area.left()), area.right() - geometry.width() + 1)
@@ -392,44 +426,36 @@ class MainWindow(QtWidgets.QMainWindow):
 
     # --- settings --------------------------------------------------------------------------------
 
-    def _restored_preset(self):
-        """The last session's scene as a preset, or None (none saved, or damaged)."""
-        text = self.settings.value("scene")
-        if not text:
-            return None
-        try:
-            return preset_from_dict(json.loads(str(text)), source="last session")
-        except (ValueError, TypeError):
-            return None  # a damaged setting: start from the default
-
     def _restore_layout(self) -> None:
-        geometry = self.settings.value("geometry")
-        if geometry is not None:
-            self.restoreGeometry(geometry)
-        window_state = self.settings.value("windowState")
-        if window_state is not None:
-            self.restoreState(window_state)
-        mode = self.settings.value("view_mode")
-        if mode:
-            self.state.set_view_mode(str(mode))
-        lanes = str(self.settings.value("lanes", "false")).lower() == "true"
-        self.tune.lanes_check.setChecked(lanes)
+        restore_window(self)
 
     def save_settings(self) -> None:
-        """Remember the scene and the window layout for the next start. During a run the
-        tuning scene saved when it started is remembered, never a trial's."""
-        scene = self.experiments.saved_scene or self.state.scene
-        files = self.files
-        preset = Preset(scene, files.preset_name, files.preset_notes, self.device.profile.name,
-                        self.device.lead_ms)  # fmt: skip
-        self.settings.setValue("scene", json.dumps(preset.to_dict()))
-        self.settings.setValue("geometry", self.saveGeometry())
-        self.settings.setValue("windowState", self.saveState())
-        self.settings.setValue("view_mode", self.state.view_mode)
-        self.settings.setValue("lanes", self.tune.lanes_check.isChecked())
-        self.settings.sync()
+        """Remember the scene and the window layout for the next start (:mod:`.settings`)."""
+        save_window(self)
+
+    def close_now(self) -> None:
+        """Close without asking (a signal: Ctrl-C in the terminal, SIGTERM, SIGHUP)."""
+        self._ask_before_closing = False
+        self.close()
+
+    def _may_close(self) -> bool:
+        """Whether to close: asks first while a run is on or ratings are unsaved."""
+        reasons = []
+        if self.experiments.running:
+            reasons.append("An experiment is running: it stops (every answer so far is on "
+                           "disk, and Start resumes it).")  # fmt: skip
+        if self.blind.unsaved:
+            reasons.append("The Blind A/B ratings are not saved" + (
+                f" (they are autosaved in {self.blind.autosave_path})."
+                if self.blind.autosave_path else "."))  # fmt: skip
+        if not reasons or not self._ask_before_closing:
+            return True
+        return self.confirm("Quit tactile-tuner", "\n\n".join([*reasons, "Quit anyway?"]))
 
     def closeEvent(self, event) -> None:  # Qt override
+        if not self._may_close():
+            event.ignore()
+            return
         self.tune.live.stop()
         for box in self.findChildren(QtWidgets.QMessageBox):
             box.close()

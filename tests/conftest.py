@@ -43,10 +43,12 @@ def emulator_thread():
 
 
 @pytest.fixture
-def qt_settings(tmp_path):
-    """QSettings in a temporary folder, so GUI tests never read or write a user's session."""
+def qt_settings(tmp_path, monkeypatch):
+    """QSettings (and the application's data folder, where blind sessions are autosaved) in a
+    temporary folder, so GUI tests never read or write a user's session."""
     from PySide6 import QtCore
 
+    monkeypatch.setenv("XDG_DATA_HOME", str(tmp_path / "data"))
     QtCore.QCoreApplication.setOrganizationName("tactile-tuner-tests")
     QtCore.QCoreApplication.setApplicationName("tactile-tuner-tests")
     QtCore.QSettings.setDefaultFormat(QtCore.QSettings.Format.IniFormat)

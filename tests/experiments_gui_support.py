@@ -27,6 +27,7 @@ def window(qtbot, tmp_path):
     panel.setup.folder_edit.setText(str(tmp_path / "results"))
     panel.setup.participant_edit.setText("P01")
     panel.confirm = lambda title, text: True  # the experimenter says yes
+    win.confirm = lambda title, text: True  # also to quitting during a run
     win.tabs.setCurrentWidget(panel)
     yield win
     panel.stop()

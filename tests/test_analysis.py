@@ -41,6 +41,7 @@ def test_analyze_prints_the_papers_tables_and_writes_figures(study):
     out = proc.stdout
     assert "Table 1" in out and "Table 2" in out
     assert "CT, MM\tCT, AS\tCT, IM\tMM, AS\tMM, IM\tAS, IM" in out
+    assert "medians (quality/smoothness/thickness):\tCT " in out  # not "CT 72/59/138" unlabelled
     for name in ("fig6-exp1-scores", "fig7-exp2-lengths", "fig8-exp3-scores", "exp2-staircases"):
         assert (study / f"{name}.png").stat().st_size > 10_000
 

@@ -209,12 +209,12 @@ def test_heatmap_ticks_are_grid_units(window):
     assert [v for v, _ in ticks] == [0, 1, 2, 3, 4, 5]
 
 
-def test_dragging_the_cursor_pauses_and_shows_that_moment(window, qtbot):
+def test_dragging_the_cursor_holds_and_shows_that_moment(window, qtbot):
     scene = window.state.scene.replace(shape=tc.Line((0.5, 1.84), (4.5, 4.16)), method="AS",
                                        mu=0.0, gamma=1.0, playing=True)  # fmt: skip
     window.state.set_scene(scene)
     window.tune.curves.scrubbed.emit(0.5)  # a quarter into the 2 s trace: x = 1.5
-    assert not window.state.scene.playing
+    assert window.state.scene.hold_s == 0.5  # the array holds that instant (issue 19)
     window.state.set_view_mode("corrected")
     expected = tc.render(scene.shape, "AS", 0.25)
     qtbot.waitUntil(

@@ -233,8 +233,8 @@ def test_exports(window, tmp_path):
     for suffix in (".csv", ".png", ".svg"):
         assert window.files.export_curves(tmp_path / f"curves{suffix}"), window.last_error
         assert (tmp_path / f"curves{suffix}").stat().st_size > 500
-    header = (tmp_path / "curves.csv").read_text().splitlines()[0].split(",")
-    assert header[0] == "time" and header[1].endswith("_raw") and header[2].endswith("_corrected")
+    header = next(csv.reader((tmp_path / "curves.csv").read_text().splitlines()))
+    assert header[0] == "time" and header[1].endswith(" raw") and header[2].endswith(" corrected")
     assert (tmp_path / "curves.svg").read_text().lstrip().startswith(("<?xml", "<svg"))
     assert window.files.export_lut(tmp_path / "lut.h")
     assert window.files.export_lut(tmp_path / "lut.csv")

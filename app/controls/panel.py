@@ -7,9 +7,11 @@ from PySide6 import QtCore, QtWidgets
 from tactile_core.rendering.methods import PAPER_METHODS
 
 from ..state import TunerState
+from ..widgets import guard_wheel
 from .correction import CorrectionWidget
 from .method import MethodWidget
 from .playback import PlaybackWidget
+from .preset import PresetWidget
 from .shape import ShapeWidget
 from .trace import TraceWidget
 
@@ -29,6 +31,8 @@ class ControlsPanel(QtWidgets.QWidget):
         The shape and its coordinates.
     trace : TraceWidget
         Timing and frames.
+    preset : PresetWidget
+        The preset's name and notes.
     """
 
     draw_mode_toggled = QtCore.Signal(bool)
@@ -43,9 +47,12 @@ class ControlsPanel(QtWidgets.QWidget):
         self.correction = CorrectionWidget(state)
         self.shape = ShapeWidget(state)
         self.trace = TraceWidget(state)
-        for box in (self.playback, self.method, self.correction, self.shape, self.trace):
+        self.preset = PresetWidget()
+        for box in (self.playback, self.method, self.correction, self.shape, self.trace,
+                    self.preset):  # fmt: skip
             layout.addWidget(box)
         layout.addStretch(1)
+        guard_wheel(self)  # the dock scrolls under the wheel; a value changes once clicked
         self.playback.draw_mode_toggled.connect(self.draw_mode_toggled)
         self.playback.all_off_requested.connect(self.all_off_requested)
 

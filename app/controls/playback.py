@@ -39,7 +39,12 @@ class PlaybackWidget(SceneGroupWidget):
         self.restart_button.clicked.connect(self.state.restart)
         self.off_button = QtWidgets.QPushButton("All off (Esc)")
         self.off_button.setObjectName("all_off")
-        self.off_button.setStyleSheet("font-weight: bold; color: #b00000;")
+        # White on a strong red: readable on light and dark palettes alike (contrast 5.4:1).
+        self.off_button.setStyleSheet(
+            "QPushButton { font-weight: bold; color: white; background: #c0392b; "
+            "border: 1px solid #922b21; border-radius: 3px; padding: 4px 10px; } "
+            "QPushButton:pressed { background: #922b21; }"
+        )
         self.off_button.clicked.connect(self.all_off_requested.emit)
         grid.addWidget(self.play_button, 0, 0)
         grid.addWidget(self.restart_button, 0, 1)

@@ -22,18 +22,6 @@ from .session import TITLES, SessionWidget
 from .trials import LINK_DOWN, TrialPresenter
 
 
-def _confirm(parent, title: str, text: str) -> bool:
-    box = QtWidgets.QMessageBox(parent)
-    box.setIcon(QtWidgets.QMessageBox.Icon.Question)
-    box.setWindowTitle(title)
-    box.setText(text)
-    box.setStandardButtons(
-        QtWidgets.QMessageBox.StandardButton.Yes | QtWidgets.QMessageBox.StandardButton.No
-    )
-    box.setDefaultButton(QtWidgets.QMessageBox.StandardButton.No)
-    return box.exec() == QtWidgets.QMessageBox.StandardButton.Yes
-
-
 class ExperimentsPanel(QtWidgets.QWidget):
     """The experimenter's console: sets up, starts, watches and analyses the runs.
 
@@ -70,7 +58,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.profile = profile or default_profile
         self.stats = stats
         self.device = device or (lambda: "simulated array")
-        self.confirm = lambda title, text: _confirm(self, title, text)
+        self.confirm = lambda title, text: dialogs.confirm(self, title, text)
         """Asks the experimenter yes or no (tests answer it themselves)."""
         self.saved_scene: Scene | None = None
         """The tuning scene while a run plays its own (restored, paused, when it ends)."""
@@ -200,12 +188,17 @@ class ExperimentsPanel(QtWidgets.QWidget):
             )
             return False
         folder = Path(setup.folder_edit.text().strip() or ".")
-        existing = folder / f"participant-{pid}" / SESSION_FILE
+        existing = folder / f"participant-{pid}"
         title = TITLES[kind]
-        if existing.exists():
+        if (existing / f"{kind}.csv").exists():  # the runner's results file
             question = (
-                f"Participant {pid} already has results in {existing.parent}.\n\n"
+                f"Participant {pid} already has results of this experiment in {existing}.\n\n"
                 f"Resume {title} for {pid}?"
+            )
+        elif (existing / SESSION_FILE).exists():
+            question = (
+                f"Participant {pid} has a session in {existing}, without results of this "
+                f"experiment.\n\nStart {title} for {pid}?"
             )
         else:
             question = f"Start {title} for a new participant, {pid}?"
@@ -261,13 +254,15 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.run_label.setText("Stopped. Start again with the same participant to resume.")
         self._end_run()
 
-    def _end_run(self) -> None:
-        """Back to the tuning scene, paused (the participant's hand may still be on the array),
-        and the participant's window closed."""
+    def _end_run(self, finished: bool = False) -> None:
+        """Back to the tuning scene, paused (the participant's hand may still be on the array).
+        The participant's window closes, or after the last trial says the part is finished
+        (until the next run or the experimenter closes it)."""
         saved, self.saved_scene = self.saved_scene, None
         if saved is not None:
             self.state.set_scene(saved.replace(playing=False, epoch=self.state.scene.epoch + 1))
-        self.participant_window.hide()
+        if not finished:
+            self.participant_window.hide()
         self.setup.resume_button.setEnabled(False)
         self.running_changed.emit(False)
 
@@ -299,7 +294,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
                 self.calibration_done.emit(self.last_calibration)
         runner.close()
         self.trials.release()
-        self._end_run()
+        self._end_run(finished=True)
 
     def _finish_tuning(self, runner) -> None:
         """Keep the measured correction (record and preset in the participant's folder), or

@@ -10,13 +10,25 @@ from __future__ import annotations
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from tactile_core.device.profile import default_profile
 from tactile_core.experiments import TuningPlan, save_correction
+from tactile_core.experiments.tuning import default_layout
+
+
+def planned_trials(plan: TuningPlan | None = None, grid=None) -> int:
+    """How many trials tuning by feel presents: its two introductions, the threshold trials
+    of every tactor, the gamma trials of both places and the corner trials (the runner's
+    ``total``, which the console's progress bar counts)."""
+    plan = plan or TuningPlan()
+    tactors, _ = default_layout(grid or default_profile().grid)
+    if plan.tactors is not None:
+        tactors = plan.tactors
+    return 2 + len(tactors) * plan.threshold_trials + 2 * plan.gamma_trials + plan.corner_trials
 
 
 def tuning_intro() -> str:
     """What the console says when the experimenter asks to tune the correction by feel."""
-    plan = TuningPlan()
-    trials = 5 * plan.threshold_trials + 2 * plan.gamma_trials + plan.corner_trials
+    trials = planned_trials()
     return (
         f"Tune by feel: type the id, then Start. {trials} trials (about "
         f"{round(trials * 3.2 / 60)} min): mu, then gamma. Esc pauses, array off."

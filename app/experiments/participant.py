@@ -39,6 +39,11 @@ class ParticipantWindow(QtWidgets.QWidget):
         self.feedback.setFont(big)
         self.feedback.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
         self.countdown = QtWidgets.QLabel("")
+        self.countdown.setObjectName("experiment_countdown")
+        marker = self.font()  # "interval 1", "interval 2": read from across the room
+        marker.setPointSize(big.pointSize() + 8)
+        marker.setBold(True)
+        self.countdown.setFont(marker)
         self.countdown.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
         layout.addStretch(2)
         layout.addWidget(self.prompt)

@@ -62,6 +62,7 @@ class TrialPresenter(QtCore.QObject):
         self.trial_started = 0.0
         self._health0 = None
         self._presentations = 0
+        self._presented = None  # the trial the count is of
         self._steps: list = []
         pw = participant_window
         self.prompt, self.keys_label, self.feedback = pw.prompt, pw.keys_label, pw.feedback
@@ -87,6 +88,7 @@ class TrialPresenter(QtCore.QObject):
         """Take on ``runner`` (a run that starts or resumes); :meth:`present` shows its trial."""
         self.runner = runner
         self.link_lost = False
+        self._presentations, self._presented = 0, None  # counted per run and per trial
         self.feedback.setText("")
         self.participant_window.rating_error.setText("")
 
@@ -128,6 +130,7 @@ class TrialPresenter(QtCore.QObject):
         self.paused = False
         self.resumable_changed.emit(False)
         self.trial_presented.emit(trial)
+        self.feedback.setText("")  # the last answer's feedback belongs to the gap before
         self.prompt.setText(trial.prompt)
         self.keys_label.setText(f"keys: {KEYS[trial.kind].format(n=len(trial.options))}")
         self.rating_edit.setVisible(trial.kind == "rating")
@@ -140,6 +143,8 @@ class TrialPresenter(QtCore.QObject):
             self._play_intervals(trial)
         else:
             self._play(trial.scene)
+        if self._presented is not trial:
+            self._presented, self._presentations = trial, 0
         self._presentations += 1
         if self._presentations > 1:
             self.event_logged.emit(f"trial {trial.stage} {trial.index} presented again "
@@ -155,6 +160,7 @@ class TrialPresenter(QtCore.QObject):
         self._stop_timers()
         self.prompt.setText("Thank you. This part is finished.")
         self.keys_label.setText("")
+        self.feedback.setText("")
         self.rating_edit.setVisible(False)
         self.finished.emit()
 
@@ -313,6 +319,8 @@ class TrialPresenter(QtCore.QObject):
         self._play(None)
         self.gap_timer.stop()
         self.prompt.setText("Paused. Please wait.")
+        self.keys_label.setText("")  # no answer is taken while paused
+        self.feedback.setText("")
         self.rating_edit.setVisible(False)
         self.resumable_changed.emit(not self.link_lost)
         trial = self.runner.current

@@ -17,8 +17,8 @@ class HeatmapGestures(QtCore.QObject):
       comes back afterwards.
     - Draw mode: dragging on the heatmap moves a free point (CT and AS only); leaving it puts
       back the whole scene it changed.
-    - Dragging the curves' cursor pauses the array and leaves the views at that time
-      (:attr:`scrub_s`).
+    - Dragging the curves' cursor holds the trace at that time (:attr:`scrub_s`): the views
+      and the array show that instant until it plays again (Space).
 
     Parameters
     ----------
@@ -38,10 +38,9 @@ class HeatmapGestures(QtCore.QObject):
         self.curves = curves
         self.can_pulse = lambda: True
         """Whether a click may pulse now (the window says no during a run or blind A/B)."""
-        self.scrub_s: float | None = None
-        """Trace time the cursor was dragged to (while paused), or None."""
         self._pulse = None  # (scene before, held) while a tactor is pulsed from the heatmap
         self._draw_backup = None
+        self._draw_method = None
         self._pulse_timer = QtCore.QTimer(self)
         self._pulse_timer.setSingleShot(True)
         self._pulse_timer.timeout.connect(lambda: self.end_pulse(restore=True))
@@ -49,7 +48,11 @@ class HeatmapGestures(QtCore.QObject):
         heatmap.draw_released.connect(self._on_heatmap_draw_released)
         heatmap.cell_clicked.connect(self.pulse_cell)
         curves.scrubbed.connect(self._on_curves_scrubbed)
-        state.playing_changed.connect(self._on_state_playing_changed)
+
+    @property
+    def scrub_s(self) -> float | None:
+        """Trace time the cursor was dragged to and the array holds, or None."""
+        return self.state.scene.hold_s
 
     @property
     def pulsing(self) -> bool:
@@ -73,6 +76,7 @@ class HeatmapGestures(QtCore.QObject):
         self.state.set_scene(backup.replace(
             shape=tc.Line(centre, centre), method="CT", mu=0.0, gamma=1.0, gain=1.0,
             duration_s=0.3, pause_s=0.0, repeat=hold, playing=True, epoch=backup.epoch + 1,
+            hold_s=None,
         ))  # fmt: skip
         what = "holding" if hold else "pulsing"
         self.message_posted.emit(
@@ -94,14 +98,11 @@ class HeatmapGestures(QtCore.QObject):
     # --- scrubbing -----------------------------------------------------------------------------
 
     def _on_curves_scrubbed(self, time_s: float) -> None:
-        """The cursor dragged: the array pauses; the views show the trace at that time."""
-        if self.state.scene.playing:
-            self.state.update(playing=False)
-        self.scrub_s = max(0.0, float(time_s))
-
-    def _on_state_playing_changed(self, playing: bool) -> None:
-        if playing:
-            self.scrub_s = None
+        """The cursor dragged: the array holds the trace at that time, as the views do."""
+        if self.heatmap.drawing or self.pulsing:
+            return
+        period = self.state.scene.duration_s + self.state.scene.pause_s
+        self.state.update(playing=True, hold_s=min(max(0.0, float(time_s)), period))
 
     # --- draw mode -----------------------------------------------------------------------------
 
@@ -121,12 +122,16 @@ class HeatmapGestures(QtCore.QObject):
             centre = (self.heatmap.cols / 2, self.heatmap.rows / 2)
             self.heatmap.set_drawing(True)
             self.state.update(shape=tc.Line(centre, centre), **changes)
+            self._draw_method = self.state.scene.method
             self.curves.clear_curves()  # a free point has no trace to plot
         else:
             self.heatmap.set_drawing(False)
             backup, self._draw_backup = self._draw_backup, None
             if backup is not None:
-                self.state.set_scene(backup.replace(epoch=self.state.scene.epoch + 1))
+                restored = backup.replace(epoch=self.state.scene.epoch + 1)
+                if self.state.scene.method != self._draw_method:  # picked while drawing: kept
+                    restored = restored.replace(method=self.state.scene.method)
+                self.state.set_scene(restored)
         self.draw_mode_changed.emit(on)
 
     def _on_heatmap_point_drawn(self, x: float, y: float) -> None:

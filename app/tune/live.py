@@ -43,6 +43,7 @@ class LiveDisplay(QtCore.QObject):
         self.tick_times: list[float] = []
         """``time.perf_counter()`` of the recent ticks (for :meth:`display_rate`)."""
         self._trace_cache = (None, None)
+        self._last = None  # (t, phase) of the last frame played: paused, the views stay there
         self.timer = QtCore.QTimer(self)
         self.timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
         self.timer.timeout.connect(self._on_timer_timeout)
@@ -68,16 +69,21 @@ class LiveDisplay(QtCore.QObject):
         if len(self.tick_times) > 4096:
             del self.tick_times[:2048]
         tune, scene = self.tune, self.state.scene
-        heatmap, scrub_s = tune.heatmap, tune.gestures.scrub_s
+        heatmap = tune.heatmap
         _, trace_time = self.device.streamer.last_frame
         trace = self._trace(scene)
         t = phase = None
-        if trace is not None and trace_time is not None and scene.playing:
+        if trace is not None and scene.hold_s is not None:
+            phase = min(scene.hold_s, trace.period_s)  # scrubbed: the instant the array holds
+            t = trace.parameter1(phase)
+        elif trace is not None and trace_time is not None and scene.playing:
             t = trace.parameter1(trace_time)
             phase = math.fmod(trace_time, trace.period_s) if trace.repeat else trace_time
-        elif trace is not None and scrub_s is not None and not scene.playing:
-            phase = min(scrub_s, trace.period_s)  # scrubbing: where the cursor was left
-            t = trace.parameter1(phase)
+            self._last = (t, phase)
+        elif trace is not None and not scene.playing and self._last is not None:
+            t, phase = self._last  # paused (Space, Esc): where it was, the array off
+        if heatmap.drawing or tune.gestures.pulsing:
+            phase = None  # a free point or a pulse: no trace, so no time cursor
         values, labels = self._values(scene, t)
         if values is None:
             return
@@ -94,9 +100,6 @@ class LiveDisplay(QtCore.QObject):
         """The heatmap's values ``(rows, cols)`` and per-cell labels (or None) in the view mode;
         None for the values when a plug-in failed."""
         mode = self.state.view_mode
-        scrubbed = self.tune.gestures.scrub_s is not None and not scene.playing
-        if scrubbed and mode in ("sent", "felt"):
-            mode = "corrected"  # the array is paused while scrubbing: show what it would get
         grid = self.device.profile.grid
         show_levels = self.state.show_levels
         labels = None

@@ -8,6 +8,7 @@ from tactile_core.rendering.curves import activation_curves
 from tactile_core.rendering.percept import predict
 
 from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors
+from ..views._common import set_title
 from ..widgets import ElidedLabel
 from .gestures import HeatmapGestures
 from .live import LiveDisplay
@@ -157,6 +158,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
             self.curves.clear_curves()
             heatmap.set_cell_frames({})
             heatmap.set_outline(None)
+            if heatmap.drawing and not self.method_hidden:
+                set_title(self.curves.plotItem, f"{scene.method}: a drawn point has no trace")
             return
         if self.state.view_mode == "predicted":
             self._show_predicted(scene)
@@ -177,9 +180,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         heatmap.set_cell_frames(colors)
         heatmap.set_outline(None if heatmap.drawing else scene.shape.outline())
         if not self.method_hidden:
-            self.curves.plotItem.setTitle(
-                f"{scene.method} activation, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
-            )
+            title = f"{scene.method} activation, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
+            set_title(self.curves.plotItem, title)
 
     def _show_predicted(self, scene) -> None:
         """The predicted view: the felt centroid's path on the heatmap, the felt intensity over
@@ -200,7 +202,6 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self.curves.set_series(times, percept.felt, scene.duration_s + scene.pause_s,
                                "felt intensity M")  # fmt: skip
         if not self.method_hidden:
-            self.curves.plotItem.setTitle(
-                f"{scene.method}: ripple {percept.ripple:.2f}, off {percept.mean_error_mm:.1f} "
-                f"mm (max {percept.max_error_mm:.1f})"
-            )
+            error = f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f})"
+            title = f"{scene.method}: ripple {percept.ripple:.2f}, off {error}"
+            set_title(self.curves.plotItem, title)

@@ -43,3 +43,12 @@ class PaletteMixin:
         if self._ready and event.type() in kinds:
             self.apply_palette()
         super().changeEvent(event)
+
+
+def set_title(plot: pg.PlotItem, text: str, **args) -> None:
+    """Set a plot's title without letting it widen the plot: pyqtgraph gives a title a minimum
+    width as wide as its text, which pushed the plot past its view (the felt-amplitude key at
+    1280 x 720); here a long title is clipped by the view instead."""
+    plot.setTitle(text, **args)
+    plot.titleLabel.setMinimumWidth(0)
+    plot.titleLabel.setPreferredWidth(0)

@@ -11,7 +11,7 @@ from PySide6 import QtCore
 from tactile_core.rendering.correction import correct, quantize
 
 from ..theme import plot_colors
-from ._common import PaletteMixin, style_plot
+from ._common import PaletteMixin, set_title, style_plot
 
 
 class CorrectionView(PaletteMixin, pg.PlotWidget):
@@ -47,16 +47,17 @@ class CorrectionView(PaletteMixin, pg.PlotWidget):
 
     def _title(self) -> None:
         c = self.COLORS
-        wanted = " (felt)" if getattr(self, "_felt_domain", False) else ""
-        levels = "drive levels sent" if wanted else "device levels"
+        felt_domain = getattr(self, "_felt_domain", False)
+        wanted = " (felt)" if felt_domain else ""
+        levels = "drive sent" if felt_domain else "device levels"
         parts = [
             f"<span style='color:{c['curve']}'>&#9473; (1-&mu;) I<sup>&gamma;</sup> + &mu;"
             f"{wanted}</span>",
             f"<span style='color:{c['levels']}'>&#9473; {levels}</span>",
         ]
         if self._has_felt:
-            parts.append(f"<span style='color:{c['felt']}'>&#9476; felt (motor response)</span>")
-        self.plotItem.setTitle("&nbsp;&nbsp;".join(parts), size="9pt")
+            parts.append(f"<span style='color:{c['felt']}'>&#9476; motor output</span>")
+        set_title(self.plotItem, "&nbsp;&nbsp;".join(parts), size="9pt")
 
     def apply_palette(self) -> None:
         """Take the background and text colours from the application palette."""
@@ -86,7 +87,7 @@ class CorrectionView(PaletteMixin, pg.PlotWidget):
         else:
             self.felt.setData(self._x, np.interp(q, *response))
         felt_domain = drive_for is not None and response is not None
-        self.setLabel("left", "felt amplitude / drive" if felt_domain else "drive")
+        self.setLabel("left", "felt / drive" if felt_domain else "drive")
         if (response is not None) != self._has_felt or felt_domain != self._felt_domain:
             self._has_felt = response is not None
             self._felt_domain = felt_domain

@@ -201,6 +201,10 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
         near = distances[i] < (0.35 if self.lanes else 0.06)
         self._hover(self.curves.cells[i] if near else None)
 
+    def leaveEvent(self, event) -> None:  # Qt override
+        self._hover(None)  # the mouse left: no highlight stays behind
+        super().leaveEvent(event)
+
     def _hover(self, cell) -> None:
         if cell != self._hovered:
             self._hovered = cell

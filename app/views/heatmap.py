@@ -173,6 +173,10 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         )
         self._hover(cell)
 
+    def leaveEvent(self, event) -> None:  # Qt override
+        self._hover(None)  # the mouse left: no highlight stays behind
+        super().leaveEvent(event)
+
     def _hover(self, cell) -> None:
         if cell != self._hovered:
             self._hovered = cell

@@ -71,11 +71,13 @@ def write_lut_header(path, mu: float, gamma: float, levels: int = 23) -> Path:
 
 
 def write_curves_csv(path, curves: ActivationCurves) -> Path:
-    """``time`` then, per active tactor, its raw and corrected intensity (``r2c4_raw``, ...)."""
+    """``time`` then, per active tactor, its raw and corrected intensity, named as the tuner
+    names tactors: ``"(4,2) raw"``, ``"(4,2) corrected"`` for column 4, row 2 (quoted, as
+    CSV quotes a field with a comma)."""
     path = check_output(path, (".csv",), "curves export")
     names = ["time"]
     for col, row in curves.cells:
-        names += [f"r{row}c{col}_raw", f"r{row}c{col}_corrected"]
+        names += [f'"({col},{row}) raw"', f'"({col},{row}) corrected"']
     table = np.empty((len(curves.time_s), 1 + 2 * len(curves.cells)))
     table[:, 0] = curves.time_s
     table[:, 1::2] = curves.raw
@@ -103,7 +105,7 @@ def plot_curves(path, curves: ActivationCurves, *, title: str = "", colors=None)
             curves.corrected[:, i],
             color=color,
             lw=1.8,
-            label=f"r{cell[1]}c{cell[0]}",
+            label=f"({cell[0]},{cell[1]})",
         )
         ax.plot(curves.time_s, curves.raw[:, i], color=line.get_color(), lw=1.0, ls="--")
     ax.set_xlabel("time (s)")
@@ -112,7 +114,8 @@ def plot_curves(path, curves: ActivationCurves, *, title: str = "", colors=None)
     ax.set_xlim(0, float(curves.time_s[-1]) if len(curves.time_s) else 1.0)
     if title:
         ax.set_title(title, fontsize=10)
-    ax.legend(ncol=4, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.18), frameon=False)
+    ax.legend(ncol=4, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.18), frameon=False,
+              title="tactor (col,row)", title_fontsize=7)  # fmt: skip
     with atomic_file(path, binary=True) as f:
         fig.savefig(f, format=path.suffix.lower()[1:])
     return path

@@ -16,7 +16,7 @@ from .correction import check_correction
 from .geometry import Grid
 from .methods import get_method
 from .shapes import Shape
-from .trace import DIRECTIONS, FILTERS, LiveFrames, Sampling, Trace
+from .trace import DIRECTIONS, FILTERS, LiveFrames, Sampling, Trace, check_hold
 
 
 def check_scene(scene):
@@ -68,6 +68,9 @@ class Scene:
         response curve it changes nothing.
     epoch : int
         Changing it restarts the trace from its beginning.
+    hold_s : float or None
+        Hold the trace at this many seconds into it, the array playing that instant (the
+        tuner's scrubbing); None (default) runs the trace. Not part of a preset.
     """
 
     shape: Shape | None = None
@@ -87,6 +90,7 @@ class Scene:
     emphasis: float = 0.0
     felt_domain: bool = False
     epoch: int = 0
+    hold_s: float | None = None
 
     def __post_init__(self):
         if self.shape is not None and not isinstance(self.shape, Shape):
@@ -115,6 +119,7 @@ class Scene:
             self, "emphasis", _validate.in_range("emphasis", self.emphasis, 0.0, 0.9)
         )
         object.__setattr__(self, "epoch", _validate.integer("epoch", self.epoch, 0))
+        object.__setattr__(self, "hold_s", check_hold(self.hold_s))
 
     @property
     def active(self) -> bool:
@@ -126,7 +131,13 @@ class Scene:
         if self.shape is None:
             raise ValueError("shape is None: an idle scene has no trace")
         return Trace(
-            self.shape, self.duration_s, self.pause_s, self.direction, self.repeat, self.emphasis
+            self.shape,
+            self.duration_s,
+            self.pause_s,
+            self.direction,
+            self.repeat,
+            self.emphasis,
+            self.hold_s,
         )
 
     def sampling(self, rate_hz: float | None = None) -> Sampling:

@@ -65,6 +65,9 @@ class Trace:
         Corner emphasis in [0, 0.9]: the point slows down near the shape's corners (paper
         section 4.3's suggestion); 0 (default) moves at constant speed in ``t``. See
         :func:`corner_warp`.
+    hold_s : float or None
+        Hold the trace at this many seconds into it (scrubbing in the tuner: the array plays
+        that one instant for as long as it is held); None (default) runs the clock.
     """
 
     shape: Shape
@@ -73,6 +76,7 @@ class Trace:
     direction: str = "forward"
     repeat: bool = True
     emphasis: float = 0.0
+    hold_s: float | None = None
 
     def __post_init__(self):
         check_shape(self.shape)
@@ -85,6 +89,7 @@ class Trace:
         object.__setattr__(
             self, "emphasis", _validate.in_range("emphasis", self.emphasis, 0.0, 0.9)
         )
+        object.__setattr__(self, "hold_s", check_hold(self.hold_s))
 
     @cached_property
     def _warp(self):
@@ -117,6 +122,8 @@ class Trace:
         time = np.asarray(time_s, dtype=np.float64)
         if not np.isfinite(time).all():
             raise ValueError("time_s must be finite")
+        if self.hold_s is not None:
+            time = np.full_like(time, self.hold_s)
         phase = np.mod(time, self.period_s) if self.repeat else time
         on = (phase >= 0.0) & (phase < self.duration_s)
         t = np.clip(phase / self.duration_s, 0.0, 1.0)
@@ -128,6 +135,8 @@ class Trace:
 
     def parameter1(self, time_s: float) -> float | None:
         """Scalar :meth:`parameter`: ``t``, or None while off. ``time_s`` is not checked."""
+        if self.hold_s is not None:
+            time_s = self.hold_s
         phase = math.fmod(time_s, self.period_s) if self.repeat else time_s
         if phase < 0.0 and self.repeat:
             phase += self.period_s
@@ -141,6 +150,13 @@ class Trace:
             u0, u1 = us[i - 1], us[i]
             t = ts[i - 1] + (ts[i] - ts[i - 1]) * ((t - u0) / (u1 - u0) if u1 > u0 else 0.0)
         return 1.0 - t if self.direction == "reverse" else t
+
+
+def check_hold(hold_s) -> float | None:
+    """``hold_s`` as a float (finite, 0 to an hour) or None; else ``ValueError`` naming it."""
+    if hold_s is None:
+        return None
+    return _validate.in_range("hold_s", hold_s, 0.0, 3600.0)
 
 
 def corner_warp(

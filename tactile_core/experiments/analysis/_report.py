@@ -135,7 +135,7 @@ def _experiment1(root: Path, problems: Problems, result: dict, out, paper_roundi
         out("\t" + "\t".join(f"{a}, {b}" for a, b in tables["quality"]))
         for prop in PROPERTIES:
             out(format_pvalues(tables[prop], prop.capitalize()))
-        out("medians:\t" + "\t".join(
+        out(f"medians ({'/'.join(PROPERTIES)}):\t" + "\t".join(
             f"{m} " + "/".join(f"{np.median(scores1[p][m]):g}" for p in PROPERTIES)
             for m in methods1
         ))  # fmt: skip
