@@ -42,8 +42,6 @@ class DevicePanel(QtWidgets.QWidget):
         self.lead_spin.setSuffix(" ms")
         self.lead_spin.setKeyboardTracking(False)  # one reopen when the value is committed
         self.lead_spin.setValue(device.lead_ms)
-        self.timing_label = QtWidgets.QLabel()
-        self.timing_label.setObjectName("timing")
         self.status_label = QtWidgets.QLabel("starting")
         self.status_label.setObjectName("status")
         self.status_label.setWordWrap(True)
@@ -55,11 +53,10 @@ class DevicePanel(QtWidgets.QWidget):
         layout.addWidget(QtWidgets.QLabel("profile"), 1, 0)
         layout.addWidget(self.profile_label, 1, 1)
         layout.addWidget(self.profile_button, 1, 2)
-        layout.addWidget(self.link_label, 1, 3, 1, 2)
-        layout.addWidget(QtWidgets.QLabel("lead"), 2, 0)
-        layout.addWidget(self.lead_spin, 2, 1)
-        layout.addWidget(self.timing_label, 2, 2, 1, 3)
-        layout.addWidget(self.status_label, 3, 0, 1, 5)
+        self.lead_spin.setPrefix("lead ")
+        layout.addWidget(self.lead_spin, 1, 3)
+        layout.addWidget(self.link_label, 1, 4)
+        layout.addWidget(self.status_label, 2, 0, 1, 5)
         layout.setColumnStretch(1, 1)
         self.port_combo.setToolTip(tip(
             "A serial port or any pyserial URL (/dev/ttyUSB0, COM3, socket://host:port, "
@@ -134,10 +131,12 @@ class DevicePanel(QtWidgets.QWidget):
         self._update_connect()
 
     def show_stats(self, stats) -> None:
-        """Status line: state, achieved rate, interval error, errors; and how frames are timed."""
-        self.timing_label.setText(stats.schedule)
+        """Status line: state, achieved rate, interval error, errors; and how frames are timed
+        (also the lead box's status tip)."""
+        self.lead_spin.setStatusTip(stats.schedule)
         self.status_label.setText(
             f"[{stats.state}] {stats.status} | achieved {stats.achieved_rate_hz:.0f} Hz, "
             f"interval error p99 {stats.interval_error_p99_ms:.2f} ms, late {stats.late}, "
             f"errors {stats.errors}, {stats.frames} frames"
+            + (f" | {stats.schedule}" if stats.schedule else "")
         )
