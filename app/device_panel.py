@@ -138,5 +138,5 @@ class DevicePanel(QtWidgets.QWidget):
             f"[{stats.state}] {stats.status} | achieved {stats.achieved_rate_hz:.0f} Hz, "
             f"interval error p99 {stats.interval_error_p99_ms:.2f} ms, late {stats.late}, "
             f"errors {stats.errors}, {stats.frames} frames"
-            + (f" | {stats.schedule}" if stats.schedule else "")
+            + (f" | timed {stats.lead_ms:g} ms ahead" if stats.scheduled else " | frames for now")
         )

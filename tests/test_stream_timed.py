@@ -176,7 +176,8 @@ def test_the_tuner_sets_the_lead_and_a_preset_carries_it(qtbot, tmp_path):
     assert panel.lead_spin.value() == 20.0 and window.device.lead_ms == 20.0
     panel.lead_spin.setValue(35.0)  # as a committed edit does
     qtbot.waitUntil(lambda: window.device.stats.lead_ms == 35.0, timeout=20_000)
-    qtbot.waitUntil(lambda: "35 ms ahead" in panel.status_label.text(), timeout=20_000)
+    qtbot.waitUntil(lambda: "timed 35 ms ahead" in panel.status_label.text(), timeout=20_000)
+    assert "35 ms ahead on the array's clock" in panel.lead_spin.statusTip()
     assert window.files.save_preset_file(tmp_path / "p.json")
     panel.lead_spin.setValue(0.0)
     qtbot.waitUntil(lambda: not window.device.stats.scheduled, timeout=20_000)
