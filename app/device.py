@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore
 
+from tactile_core.device._stream_talk import DEFAULT_LEAD_MS
 from tactile_core.device.link import SIMULATED_URLS, LinkError
 from tactile_core.device.process import open_stream
 from tactile_core.device.profile import DeviceProfile, default_profile
@@ -32,6 +33,11 @@ class DeviceController(QtCore.QObject):
         Stream from a child process (default) or from a thread of this one.
     realtime : bool
         Ask for real-time priority for the output thread (Linux, with privileges).
+    lead_ms : float
+        Frames go this far ahead to an array that plays them at its own time (0: frames for now).
+
+    A stream child gets a core of its own where there are two or more (the GUI runs on the
+    others), so that repainting never competes with it for a core.
     """
 
     status_changed = QtCore.Signal(object)
@@ -43,12 +49,14 @@ class DeviceController(QtCore.QObject):
     _status_from_thread = QtCore.Signal(object)
 
     def __init__(self, state: TunerState, profile: DeviceProfile | None = None, parent=None,
-                 process: bool = True, realtime: bool = False):  # fmt: skip
+                 process: bool = True, realtime: bool = False,
+                 lead_ms: float = DEFAULT_LEAD_MS):  # fmt: skip
         super().__init__(parent)
         self.state = state
         self.profile = profile or default_profile()
         self.process = process
         self.realtime = realtime
+        self.lead_ms = lead_ms
         self.url: str | None = None
         # Emitted from a worker thread; Qt queues it to this object's (the GUI) thread.
         self._status_from_thread.connect(self.status_changed.emit)
@@ -74,6 +82,8 @@ class DeviceController(QtCore.QObject):
             reconnect=url is not None,
             process=self.process,
             realtime=self.realtime,
+            lead_s=self.lead_ms / 1e3,
+            own_core=True,
         )
 
     def _switch(self, url) -> bool:
@@ -123,6 +133,22 @@ class DeviceController(QtCore.QObject):
         self.url = "reopen"  # force the switch below even for the simulated array
         if not self._switch(url):
             self._switch(None)
+
+    def set_lead(self, lead_ms: float) -> bool:
+        """Send frames ``lead_ms`` ahead from now on (reopens the current link); False, with
+        :attr:`error_raised`, for a lead outside [0, 500] ms or a link that cannot reopen."""
+        if not (isinstance(lead_ms, int | float) and 0.0 <= lead_ms <= 500.0):
+            self.error_raised.emit(f"lead must be within [0, 500] ms, got {lead_ms!r}")
+            return False
+        if lead_ms == self.lead_ms:
+            return True
+        self.lead_ms = float(lead_ms)
+        url = self.url
+        self.url = "reopen"  # force the switch below even for the simulated array
+        if not self._switch(url):
+            self._switch(None)
+            return False
+        return True
 
     def _on_state_scene_changed(self, scene) -> None:
         self.streamer.set_scene(scene)

@@ -34,6 +34,14 @@ class DevicePanel(QtWidgets.QWidget):
         self.profile_button = QtWidgets.QPushButton("Profile...")
         self.profile_label = QtWidgets.QLabel()
         self.link_label = QtWidgets.QLabel()
+        self.lead_spin = QtWidgets.QDoubleSpinBox()
+        self.lead_spin.setObjectName("lead")
+        self.lead_spin.setRange(0.0, 500.0)
+        self.lead_spin.setSingleStep(5.0)
+        self.lead_spin.setDecimals(0)
+        self.lead_spin.setSuffix(" ms")
+        self.lead_spin.setKeyboardTracking(False)  # one reopen when the value is committed
+        self.lead_spin.setValue(device.lead_ms)
         self.status_label = QtWidgets.QLabel("starting")
         self.status_label.setObjectName("status")
         self.status_label.setWordWrap(True)
@@ -45,7 +53,9 @@ class DevicePanel(QtWidgets.QWidget):
         layout.addWidget(QtWidgets.QLabel("profile"), 1, 0)
         layout.addWidget(self.profile_label, 1, 1)
         layout.addWidget(self.profile_button, 1, 2)
-        layout.addWidget(self.link_label, 1, 3, 1, 2)
+        self.lead_spin.setPrefix("lead ")
+        layout.addWidget(self.lead_spin, 1, 3)
+        layout.addWidget(self.link_label, 1, 4)
         layout.addWidget(self.status_label, 2, 0, 1, 5)
         layout.setColumnStretch(1, 1)
         self.port_combo.setToolTip(tip(
@@ -55,6 +65,13 @@ class DevicePanel(QtWidgets.QWidget):
         self.connect_button.setToolTip(tip("Stream to the device; it is asked who it is first"))
         self.profile_button.setToolTip(tip("Load a device profile (grid, levels, baud, channel "
                                            "order, calibration, motor response)"))  # fmt: skip
+        self.lead_spin.setToolTip(tip(
+            "Send frames this far ahead, to be played at their time by the array's own clock "
+            "(arrays with scheduled frames; others play frames on arrival). Longer: the host's "
+            "stutters never reach the skin; shorter: a change is felt sooner. 20 ms kept every "
+            "frame on time with both cores busy (docs: Benchmarks, the lead against latency)"
+        ))  # fmt: skip
+        self.lead_spin.valueChanged.connect(self._on_lead_changed)
         self.port_combo.lineEdit().returnPressed.connect(self._on_connect_clicked)
         self.port_combo.currentTextChanged.connect(lambda _: self._update_connect())
         self.refresh_button.clicked.connect(self.refresh_ports)
@@ -80,6 +97,12 @@ class DevicePanel(QtWidgets.QWidget):
         if current:
             self.port_combo.setCurrentText(current)
 
+    def _on_lead_changed(self, value: float) -> None:
+        if not self.device.set_lead(value):
+            self.lead_spin.blockSignals(True)
+            self.lead_spin.setValue(self.device.lead_ms)
+            self.lead_spin.blockSignals(False)
+
     def _typed_link(self) -> str | None:
         """The link the box names: a port or URL, None for the simulated array."""
         text = self.port_combo.currentText().strip()
@@ -102,12 +125,18 @@ class DevicePanel(QtWidgets.QWidget):
         )
         self.link_label.setText(f"<b>{description}</b>")
         self.disconnect_button.setEnabled(not self.device.simulated)
+        self.lead_spin.blockSignals(True)  # a preset may have set another lead
+        self.lead_spin.setValue(self.device.lead_ms)
+        self.lead_spin.blockSignals(False)
         self._update_connect()
 
     def show_stats(self, stats) -> None:
-        """Status line: state, achieved rate, interval error, errors."""
+        """Status line: state, achieved rate, interval error, errors; and how frames are timed
+        (also the lead box's status tip)."""
+        self.lead_spin.setStatusTip(stats.schedule)
         self.status_label.setText(
             f"[{stats.state}] {stats.status} | achieved {stats.achieved_rate_hz:.0f} Hz, "
             f"interval error p99 {stats.interval_error_p99_ms:.2f} ms, late {stats.late}, "
             f"errors {stats.errors}, {stats.frames} frames"
+            + (f" | timed {stats.lead_ms:g} ms ahead" if stats.scheduled else " | frames for now")
         )

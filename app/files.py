@@ -80,6 +80,7 @@ class FileActions(QtCore.QObject):
                 self.device.set_profile(find_profile(preset.device_profile))
             except ProfileError as exc:
                 self.message_posted.emit(f"kept profile {self.device.profile.name}: {exc}", 10_000)
+        self.device.set_lead(preset.lead_ms)
         self.before_load()
         self.state.set_scene(preset.scene.replace(epoch=self.state.scene.epoch + 1))
         self.set_preset(preset)
@@ -97,6 +98,7 @@ class FileActions(QtCore.QObject):
             name=name or path.stem,
             notes=self.preset_notes if notes is None else notes,
             device_profile=self.device.profile.name,
+            lead_ms=self.device.lead_ms,
         )
         try:
             save_preset(preset, path)

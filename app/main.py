@@ -53,10 +53,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--theme", choices=("system", "light", "dark"), default="system", help="colours")
     p.add_argument(
-        "--realtime",
-        action="store_true",
-        help="real-time priority for the stream (Linux; needs an rtprio limit or root)",
+        "--no-realtime",
+        dest="realtime",
+        action="store_false",
+        help="do not ask for real-time priority for the stream (by default it is asked for; "
+        "Linux grants it with an rtprio limit or to root, and the status says if not)",
     )
+    p.add_argument("--realtime", action="store_true", help=argparse.SUPPRESS)  # the default
     p.add_argument("--bench", action="store_true", help="print the GUI's benchmark tables and exit")
     p.add_argument("--quick", action="store_true", help="with --bench: shorter runs")
     return p

@@ -50,7 +50,8 @@ def save_window(window) -> None:
     settings = window.settings
     scene = window.experiments.saved_scene or window.state.scene
     files = window.files
-    preset = Preset(scene, files.preset_name, files.preset_notes, window.device.profile.name)
+    preset = Preset(scene, files.preset_name, files.preset_notes, window.device.profile.name,
+                    window.device.lead_ms)  # fmt: skip
     settings.setValue("scene", json.dumps(preset.to_dict()))
     settings.setValue("geometry", window.saveGeometry())
     settings.setValue("windowState", window.saveState())

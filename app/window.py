@@ -84,7 +84,7 @@ class MainWindow(QtWidgets.QMainWindow):
     """
 
     def __init__(
-        self, device_url=None, profile=None, preset=None, restore=True, process=True, realtime=False
+        self, device_url=None, profile=None, preset=None, restore=True, process=True, realtime=True
     ):
         super().__init__()
         self.setWindowTitle("tactile-tuner")
@@ -97,7 +97,9 @@ class MainWindow(QtWidgets.QMainWindow):
             preset if preset is not None else (restored_preset(self.settings) if restore else None)
         )
         self.state = TunerState(start.scene if start is not None else None)
-        self.device = DeviceController(self.state, profile, process=process, realtime=realtime)
+        lead = {} if start is None else {"lead_ms": start.lead_ms}
+        self.device = DeviceController(self.state, profile, process=process, realtime=realtime,
+                                       **lead)  # fmt: skip
         self.files = FileActions(self.state, self.device, self)
         if start is not None:
             self.files.set_preset(start)

@@ -4,9 +4,16 @@ import os
 import threading
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+# One BLAS thread in this process and every process it starts, before numpy is imported: the
+# suite's fits are small, and OpenBLAS's extra threads busy-wait (with a CPU hog beside the
+# suite they made the analysis tests 19 times slower; tactile_core/_shared/threads.py).
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import pytest
 from hypothesis import HealthCheck, settings
+
+from .emulator_support import Emulator
 
 settings.register_profile(
     "default",
@@ -51,3 +58,36 @@ def qt_settings(tmp_path, monkeypatch):
         str(tmp_path / "settings"),
     )
     return tmp_path / "settings"
+
+
+@pytest.fixture
+def emulator(tmp_path):
+    emulators = []
+
+    def start(*args):
+        emu = Emulator(tmp_path, *args)
+        emulators.append(emu)
+        return emu
+
+    yield start
+    for emu in emulators:
+        emu.kill()
+
+
+@pytest.fixture(scope="session")
+def firmware(tmp_path_factory):
+    """The reference firmware's ELF and the simavr harness, built once."""
+    from .firmware_support import build, require
+
+    require("elf")
+    require("sim")
+    out = tmp_path_factory.mktemp("firmware")
+    return build("all", out), build("sim", out)
+
+
+@pytest.fixture
+def sim(firmware, tmp_path):
+    """The firmware running in simavr on a pseudo-terminal."""
+    from .firmware_support import simulation
+
+    yield from simulation(firmware, tmp_path)

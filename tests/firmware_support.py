@@ -7,9 +7,12 @@ avr-libc libsimavr-dev simavr libelf-dev``. ``.ci/run`` installs them and sets
 them.
 """
 
+import importlib.util
 import os
 import shutil
+import signal
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -50,3 +53,63 @@ def build(target: str, build_dir: Path) -> Path:
     )
     assert result.returncode == 0, result.stdout + result.stderr
     return build_dir / products[target]
+
+
+def _pinlog():
+    spec = importlib.util.spec_from_file_location("pinlog", FIRMWARE / "sim" / "pinlog.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["pinlog"] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+pinlog = _pinlog()
+
+
+def as_the_array(pid: int) -> bool:
+    """Real-time priority for the harness where permitted (root, or an rtprio limit), as a
+    stand-in for the array's own processor, which the host's load never slows; False if not."""
+    try:
+        os.sched_setscheduler(pid, os.SCHED_FIFO, os.sched_param(20))
+    except (AttributeError, OSError):
+        return False
+    return True
+
+
+class Simulation:
+    """The harness running the firmware; ``finish()`` stops it and reads its log."""
+
+    def __init__(self, firmware, tmp_path, seconds=60):
+        elf, harness = firmware
+        self.elf = elf
+        self.log_path = tmp_path / "pins.log"
+        self.proc = subprocess.Popen(
+            [str(harness), str(elf), str(self.log_path), str(seconds)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+            text=True,
+        )
+        self.realtime = as_the_array(self.proc.pid)
+        self.path = ""
+        for line in self.proc.stdout:  # simavr's loader prints its own lines first
+            if line.startswith("pty: "):
+                self.path = line.split(None, 1)[1].strip()
+                break
+        assert self.path.startswith("/dev/"), "the harness did not open its pseudo-terminal"
+
+    def finish(self):
+        self.proc.send_signal(signal.SIGTERM)
+        self.proc.wait(timeout=10)
+        self.proc.stdout.close()
+        return pinlog.PinLog.read(self.log_path)
+
+
+def simulation(firmware, tmp_path):
+    """A running simulation, killed afterwards if a test left it running (a generator for a
+    fixture)."""
+    running = Simulation(firmware, tmp_path)
+    yield running
+    if running.proc.poll() is None:
+        running.proc.kill()
+        running.proc.wait()
+        running.proc.stdout.close()

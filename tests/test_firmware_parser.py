@@ -45,12 +45,13 @@ def run_c(lib, vector):
                 if lib.shim_feed(arg[i : i + 1], 1):
                     lib.shim_levels(levels)
                     applied.append(list(levels.raw))
-        else:
-            lib.shim_advance(arg)
+        elif lib.shim_advance(arg):  # a timed frame came due (one per step in the vectors)
+            lib.shim_levels(levels)
+            applied.append(list(levels.raw))
         out = ctypes.create_string_buffer(4096)
         n = lib.shim_replies(out, 4096)
         replies += out.raw[:n]
-    counters = (ctypes.c_uint32 * 9)()
+    counters = (ctypes.c_uint32 * 12)()
     lib.shim_counters(counters)
     lib.shim_levels(levels)
     return (

@@ -2,7 +2,6 @@
 UART0 bridged to a pseudo-terminal and paced to the wall clock; ``tactile stream`` drives it; the
 harness logs every pin edge in simulated cycles, and the tests read what the motors got."""
 
-import importlib.util
 import os
 import signal
 import subprocess
@@ -10,71 +9,15 @@ import sys
 import time
 
 import numpy as np
-import pytest
 
 from tactile_core.device.link import SerialLink, identify
 from tactile_core.device.profile import default_profile
 from tactile_core.device.wire import MessageReader, Status, encode_frame, encode_query
 
-from .firmware_support import FIRMWARE, build, require
+from .firmware_support import pinlog
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
 MS = 16_000  # cycles
-
-
-def _pinlog():
-    spec = importlib.util.spec_from_file_location("pinlog", FIRMWARE / "sim" / "pinlog.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["pinlog"] = module  # dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
-
-
-pinlog = _pinlog()
-
-
-@pytest.fixture(scope="module")
-def firmware(tmp_path_factory):
-    require("elf")
-    require("sim")
-    out = tmp_path_factory.mktemp("firmware")
-    return build("all", out), build("sim", out)
-
-
-class Simulation:
-    """The harness running the firmware; ``finish()`` stops it and reads its log."""
-
-    def __init__(self, firmware, tmp_path, seconds=60):
-        elf, harness = firmware
-        self.log_path = tmp_path / "pins.log"
-        self.proc = subprocess.Popen(
-            [str(harness), str(elf), str(self.log_path), str(seconds)],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.DEVNULL,
-            text=True,
-        )
-        self.path = ""
-        for line in self.proc.stdout:  # simavr's loader prints its own lines first
-            if line.startswith("pty: "):
-                self.path = line.split(None, 1)[1].strip()
-                break
-        assert self.path.startswith("/dev/"), "the harness did not open its pseudo-terminal"
-
-    def finish(self):
-        self.proc.send_signal(signal.SIGTERM)
-        self.proc.wait(timeout=10)
-        self.proc.stdout.close()
-        return pinlog.PinLog.read(self.log_path)
-
-
-@pytest.fixture
-def sim(firmware, tmp_path):
-    simulation = Simulation(firmware, tmp_path)
-    yield simulation
-    if simulation.proc.poll() is None:
-        simulation.proc.kill()
-        simulation.proc.wait()
-        simulation.proc.stdout.close()
 
 
 def test_firmware_answers_hello_with_the_profiles_array(sim):
@@ -95,7 +38,7 @@ def test_firmware_plays_every_frame_tactile_stream_sends(sim, tmp_path):
     # have), so the simulated line carries 289 palm frames a second rather than 318.
     proc = subprocess.run(
         [*CLI, "stream", "--device", sim.path, "--shape", "circle:2.5,3,2", "--method", "AS",
-         "--mu", "0.33", "--gamma", "0.7", "--rate", "250", "--seconds", "2.0"],
+         "--mu", "0.33", "--gamma", "0.7", "--rate", "250", "--seconds", "2.0", "--lead-ms", "0"],
         capture_output=True, text=True, timeout=60,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr
@@ -157,7 +100,7 @@ def test_firmware_watchdog_turns_everything_off_after_250_ms(sim):
     # A stream killed without a word (SIGKILL): no all-off frame; the array's watchdog acts.
     proc = subprocess.Popen(
         [*CLI, "stream", "--device", sim.path, "--shape", "line:2.5,3.5,2.5,3.5", "--method",
-         "CT", "--rate", "100", "--seconds", "30"],
+         "CT", "--rate", "100", "--seconds", "30", "--lead-ms", "0"],
         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
     )  # fmt: skip
     time.sleep(2.0)

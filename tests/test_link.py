@@ -8,6 +8,7 @@ import tty
 import pytest
 import serial
 
+from tactile_core.device.host_clock import VirtualClock
 from tactile_core.device.link import (
     LinkError,
     SerialLink,
@@ -155,9 +156,10 @@ def test_simulated_array_receives_exactly_the_wire_levels():
 
 
 def test_simulated_array_watchdog_turns_everything_off():
-    sim = SimulatedArray()
+    clock = VirtualClock()
+    sim = SimulatedArray(clock=clock)
     sim.write(encode_frame(0, [9] * 30))
-    now = time.monotonic()
+    now = clock.now()
     assert sim.levels(now + 0.2).min() == 9
     assert not sim.levels(now + 0.26).any()
     assert sim.watchdog_trips == 1

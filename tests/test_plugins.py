@@ -12,7 +12,7 @@ import pytest
 import tactile_core as tc
 from tactile_core.rendering import methods as registry
 
-from .test_stream_e2e import CLI, Emulator
+from .emulator_support import CLI, Emulator
 
 HALF = '''
 """Closest tactor at half intensity: a plug-in method for the tests."""

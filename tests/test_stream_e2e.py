@@ -4,7 +4,6 @@ Real processes, a real pseudo-terminal, pyserial unmocked. Faults: the emulator 
 mid-stream, the streaming process killed with SIGKILL, garbage on the line, Ctrl-C.
 """
 
-import json
 import os
 import signal
 import subprocess
@@ -16,62 +15,10 @@ import pytest
 
 import tactile_core as tc
 
+from .emulator_support import CLI, stream
 from .helpers import align
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
-
-CLI = [sys.executable, "-m", "tactile_core.cli"]
-
-
-class Emulator:
-    def __init__(self, tmp_path, *args):
-        self.report_path = tmp_path / "report.json"
-        self.log_path = tmp_path / "log.csv"
-        self.proc = subprocess.Popen(
-            [*CLI, "emulate", "--json", str(self.report_path), "--log", str(self.log_path), *args],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-        self.path = self.proc.stdout.readline().strip()
-        assert self.path.startswith("/dev/"), self.proc.stderr.read()
-        self.output = ""
-
-    def finish(self):
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGINT)
-        out, _ = self.proc.communicate(timeout=10)
-        self.output = out
-        assert self.proc.returncode == 0
-        report = json.loads(self.report_path.read_text())
-        rows = self.log_path.read_text().splitlines()[1:]
-        log = [[float(x) for x in row.split(",")] for row in rows]
-        return report, np.array(log).reshape(-1, 32)
-
-    def kill(self):
-        if self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.communicate(timeout=10)
-
-
-@pytest.fixture
-def emulator(tmp_path):
-    emulators = []
-
-    def start(*args):
-        emu = Emulator(tmp_path, *args)
-        emulators.append(emu)
-        return emu
-
-    yield start
-    for emu in emulators:
-        emu.kill()
-
-
-def stream(path, *args, timeout=30):
-    return subprocess.run(
-        [*CLI, "stream", "--device", path, *args], capture_output=True, text=True, timeout=timeout
-    )
 
 
 def test_stream_into_the_emulator_end_to_end(emulator, tmp_path):
@@ -79,6 +26,7 @@ def test_stream_into_the_emulator_end_to_end(emulator, tmp_path):
     proc = stream(
         emu.path, "--shape", "circle:2.5,3,2", "--method", "IM", "--mu", "0.33", "--gamma", "0.7",
         "--rate", "100", "--seconds", "1.5", "--no-dither", "--record", str(tmp_path / "sent.npz"),
+        "--lead-ms", "0",  # frames for now: each applied on arrival (timed: test_stream_timed)
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr
     assert "frames:" in proc.stdout and "interval error:" in proc.stdout
@@ -108,7 +56,7 @@ def test_emulator_closing_mid_stream_stops_the_streamer_with_a_message(emulator)
     assert proc.returncode == 1  # stopped by the failure, well before its 20 s
     assert "device disconnected" in proc.stdout + proc.stderr
     assert "stopped" in proc.stdout
-    report, _ = emu.finish()
+    report, _ = emu.finish(ends_itself=True)
     assert report["frames"] > 0 and report["events"][-1][1] == "closed"
 
 
@@ -116,7 +64,7 @@ def test_sigkilled_streamer_is_turned_off_by_the_watchdog(emulator):
     emu = emulator()
     proc = subprocess.Popen(
         [*CLI, "stream", "--device", emu.path, "--shape", "circle:2.5,3,2", "--method", "CT",
-         "--pause", "0", "--seconds", "60"],
+         "--pause", "0", "--seconds", "60", "--lead-ms", "0"],
         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
     )  # fmt: skip
     time.sleep(1.5)

@@ -36,7 +36,7 @@ class Taps:
         with self.lock:
             self.frames.append((time_s, seq, np.frombuffer(levels, dtype=np.uint8).copy()))
 
-    def wait_for(self, n, timeout=5.0):
+    def wait_for(self, n, timeout=60.0):  # generous: a loaded machine only makes it slower
         end = time.monotonic() + timeout
         while time.monotonic() < end:
             with self.lock:

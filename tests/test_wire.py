@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 from tactile_core.device.array import ArrayModel
 from tactile_core.device.wire import (
     REASONS,
+    ClockReply,
     Frame,
     FrameReader,
     Hello,
@@ -17,15 +18,23 @@ from tactile_core.device.wire import (
     MessageReader,
     Query,
     Status,
+    Timed,
+    clock_diff,
     crc16,
     decode_frame,
     decode_message,
+    encode_clock,
+    encode_clock_reply,
     encode_frame,
     encode_hello,
     encode_info,
     encode_query,
     encode_status,
+    encode_timed,
     frame_length,
+    level_bits,
+    pack_levels,
+    unpack_levels,
 )
 
 from . import wire_vectors as wv
@@ -59,9 +68,46 @@ def test_two_channel_frame_encoded_by_hand():
 def test_every_message_type_matches_the_independent_encoder():
     assert encode_frame(7, wv.RAMP) == wv.frame(7, wv.RAMP)
     assert encode_query(200) == wv.query(200)
-    info = Info(3, 2, 5, 6, 23, 250, 303, "palm-5x6")
+    info = Info(3, 2, 5, 6, 23, 250, 303, "palm-5x6", features=1, queue=24)
     assert encode_info(info) == wv.info(3)
+    plain = {**wv.PALM, "features": 0}  # a format 2 array without the extension
+    assert encode_info(Info(3, 2, 5, 6, 23, 250, 303, "palm-5x6")) == wv.info(3, plain)
+    assert decode_message(wv.info(3, plain)[:-1]) == Info(3, 2, 5, 6, 23, 250, 303, "palm-5x6")
+    assert decode_message(wv.info(3)[:-1]).scheduled
     assert encode_status(Status(4, 70000, 3, 2)) == wv.status(4, 70000, 3, 2)
+    assert encode_timed(9, 2**32 - 1, wv.RAMP, bits=5) == wv.timed(9, 2**32 - 1, wv.RAMP)
+    assert encode_clock(11) == wv.clock(11)
+    reply = ClockReply(12, 2**31 + 5, 7, 1, 2, 3)
+    assert encode_clock_reply(reply) == wv.clock_reply(12, 2**31 + 5, 7, 1, 2, 3)
+    assert decode_message(wv.clock_reply(12, 2**31 + 5, 7, 1, 2, 3)[:-1]) == reply
+    assert decode_message(wv.timed(9, 70, wv.RAMP)[:-1], levels=23) == Timed(9, 70, bytes(wv.RAMP))
+
+
+def test_timed_frame_encoded_by_hand():
+    # levels 0, 22 at 5 bits: 00000 10110 + 000000 padding = 0000 0101 1000 0000 = 05 80
+    # payload 54 01 | 00 00 13 88 (5000 us) | 02 | 05 80, CRC 7D 07
+    # COBS: [54 01] 00 [] 00 [13 88 02 05 80 7D 07] -> 03 54 01 01 08 13 88 02 05 80 7d 07
+    assert wv.packed([0, 22]) == bytes.fromhex("05 80")
+    assert wv.crc16_bitwise(bytes.fromhex("54 01 00 00 13 88 02 05 80")) == 0x7D07
+    expected = bytes.fromhex("03 54 01 01 08 13 88 02 05 80 7d 07 00")
+    assert encode_timed(1, 5000, [0, 22], bits=5) == expected
+
+
+def test_levels_pack_into_as_few_bits_as_the_levels_need():
+    assert [level_bits(n) for n in (2, 3, 4, 5, 23, 32, 33, 256)] == [1, 2, 2, 3, 5, 5, 6, 8]
+    assert pack_levels(bytes(wv.RAMP), 5) == wv.packed(wv.RAMP)  # 150 bits in 19 bytes
+    assert len(wv.packed(wv.RAMP)) == 19
+    assert unpack_levels(wv.packed(wv.RAMP), 30, 5) == bytes(wv.RAMP)
+    assert frame_length(30, timed=True, bits=5) == 30  # 28 payload bytes, COBS code, delimiter
+    with pytest.raises(ValueError, match="does not fit"):
+        pack_levels(bytes([32]), 5)
+
+
+def test_the_wrapping_clock_difference():
+    assert clock_diff(10, 5) == 5 and clock_diff(5, 10) == -5
+    assert clock_diff(3, 2**32 - 3) == 6  # just past the wrap is ahead
+    assert clock_diff(2**32 - 3, 3) == -6
+    assert clock_diff(2**31 - 1, 0) == 2**31 - 1 and clock_diff(2**31, 0) == -(2**31)
 
 
 def test_cobs_vectors_from_the_cobs_description():
@@ -206,6 +252,7 @@ def run_model(vector):
             applied += [(f.seq, list(f.levels)) for f in frames]
         else:
             now_ms += arg
+            applied += [(f.seq, list(f.levels)) for f in model.advance(now_ms / 1000)]
             model.watchdog(now_ms / 1000)
     counters = {
         "frames_applied": model.frames_applied,
@@ -255,6 +302,9 @@ def test_readme_lists_the_test_vectors():
         wv.frame(0, [0, 22]),
         wv.info(0),
         wv.status(5, 0, 0, 0),
+        wv.timed(1, 5000, [0, 22]),
+        wv.clock(2),
+        wv.clock_reply(2, 7000, 7100, 0, 0, 1),
     ):
         assert data.hex(" ") in readme, data.hex(" ")
     ramp = wv.frame(1, wv.RAMP).hex(" ")

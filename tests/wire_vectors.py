@@ -1,16 +1,27 @@
 """Test vectors of wire format 2, built without the code under test.
 
-Each vector is a fresh palm array (5 x 6, 23 levels, watchdog 250 ms) receiving ``steps``:
-``("feed", bytes)`` or ``("advance_ms", n)``. After the steps it has applied the frames
-``applied`` (seq, levels) in order, holds ``levels``, has answered ``replies`` (the concatenated
-wire bytes) and counts ``frames_applied``, ``dropped`` (by reason in ``dropped_by``) and
-``watchdog_trips``. The same vectors run against the Python receiver
-(:class:`tactile_core.device.array.ArrayModel`) and the firmware's C parser compiled for the host.
+Each vector is a fresh palm array (5 x 6, 23 levels, watchdog 250 ms, the scheduled-frame
+extension with a queue of 24) whose clock starts at 0 µs, receiving ``steps``:
+``("feed", bytes)`` or ``("advance_ms", n)`` (the clock moves on; timed frames that come due
+play, at most one per step here). After the steps it has applied the frames ``applied`` (seq,
+levels) in order, holds ``levels``, has answered ``replies`` (the concatenated wire bytes) and
+counts ``frames_applied``, ``dropped`` (by reason in ``dropped_by``) and ``watchdog_trips``.
+The same vectors run against the Python receiver (:class:`tactile_core.device.array.ArrayModel`)
+and the firmware's C parser compiled for the host.
 
 The CRC is computed bit by bit here and COBS by hand, independently of ``tactile_core.device.wire``.
 """
 
-PALM = {"cols": 5, "rows": 6, "levels": 23, "watchdog_ms": 250, "pwm_hz": 303, "name": "palm-5x6"}
+PALM = {
+    "cols": 5,
+    "rows": 6,
+    "levels": 23,
+    "watchdog_ms": 250,
+    "pwm_hz": 303,
+    "name": "palm-5x6",
+    "features": 1,
+    "queue": 24,
+}
 
 
 def crc16_bitwise(data: bytes) -> int:
@@ -49,6 +60,29 @@ def frame(seq, levels):
     return wire(bytes((0x46, seq, len(levels))) + bytes(levels))
 
 
+def packed(levels, bits=5):
+    """Levels as a string of '0'/'1', ``bits`` each, most significant first, zero-padded."""
+    text = "".join(format(v, f"0{bits}b") for v in levels)
+    text += "0" * (-len(text) % 8)
+    return bytes(int(text[i : i + 8], 2) for i in range(0, len(text), 8))
+
+
+def timed(seq, at_us, levels):
+    """A timed frame: played at ``at_us`` on the array's clock (u32, big-endian), its levels
+    packed at 5 bits (the palm array's 23 levels)."""
+    head = bytes((0x54, seq)) + at_us.to_bytes(4, "big") + bytes((len(levels),))
+    return wire(head + packed(levels))
+
+
+def clock(seq):
+    return wire(bytes((0x43, seq)))
+
+
+def clock_reply(seq, rx_us, tx_us, late, full, queued):
+    body = bytes((0x63, seq)) + b"".join(v.to_bytes(4, "big") for v in (rx_us, tx_us, late, full))
+    return wire(body + bytes((queued,)))
+
+
 def hello(seq):
     return wire(bytes((0x48, seq)))
 
@@ -61,7 +95,10 @@ def info(seq, a=PALM):
     name = a["name"].encode()
     body = bytes((0x49, seq, 2, a["cols"], a["rows"], a["levels"]))
     body += a["watchdog_ms"].to_bytes(2, "big") + a["pwm_hz"].to_bytes(2, "big")
-    return wire(body + bytes((len(name),)) + name)
+    body += bytes((len(name),)) + name
+    if a.get("features"):  # the scheduled-frame extension: features, queue depth
+        body += bytes((a["features"], a["queue"]))
+    return wire(body)
 
 
 def status(seq, frames, dropped, trips):
@@ -223,5 +260,122 @@ VECTORS += [
         applied=[(1, FULL)],
         replies=info(1),
         trips=1,
+    ),
+]
+
+# The scheduled-frame extension.
+_LATE_THEN_ASK = [("advance_ms", 10), ("feed", timed(2, 5000, RAMP)), ("feed", clock(4))]
+_WRAP = 2**32
+VECTORS += [
+    _vector(
+        "a timed frame waits for its time on the array's clock",
+        [("feed", timed(1, 5000, RAMP)), ("advance_ms", 4), ("feed", query(1))],
+        replies=status(1, 0, 0, 0),
+    ),
+    _vector(
+        "a timed frame plays when its time comes",
+        [("feed", timed(1, 5000, RAMP)), ("advance_ms", 4), ("advance_ms", 1)],
+        applied=[(1, RAMP)],
+        levels=RAMP,
+    ),
+    _vector(
+        "timed frames play in order, each at its own time",
+        [("feed", timed(1, 2000, RAMP) + timed(2, 4000, FULL)), ("advance_ms", 2)],
+        applied=[(1, RAMP)],
+        levels=RAMP,
+    ),
+    _vector(
+        "the second timed frame follows at its time",
+        [
+            ("feed", timed(1, 2000, RAMP) + timed(2, 4000, FULL)),
+            ("advance_ms", 2),
+            ("advance_ms", 2),
+        ],
+        applied=[(1, RAMP), (2, FULL)],
+        levels=FULL,
+    ),
+    _vector(
+        "a timed frame whose time has passed plays at once and is counted late",
+        _LATE_THEN_ASK,
+        applied=[(2, RAMP)],
+        levels=RAMP,
+        replies=clock_reply(4, 10_000, 10_000, 1, 0, 0),
+    ),
+    _vector(
+        "a frame for now drops the timed frames waiting",
+        [
+            ("feed", timed(1, 5000, FULL)),
+            ("feed", frame(2, RAMP)),
+            ("advance_ms", 10),
+            ("feed", clock(1)),
+        ],
+        applied=[(2, RAMP)],
+        levels=RAMP,
+        replies=clock_reply(1, 10_000, 10_000, 0, 0, 0),
+    ),
+    _vector(
+        "the clock request is answered with the clock at its arrival",
+        [("advance_ms", 7), ("feed", timed(1, 9000, FULL)), ("feed", clock(3))],
+        replies=clock_reply(3, 7000, 7000, 0, 0, 1),
+    ),
+    _vector(
+        "a full queue drops the 25th timed frame and counts it",
+        [("feed", b"".join(timed(i, 100_000 + i, RAMP) for i in range(25))), ("feed", clock(9))],
+        replies=clock_reply(9, 0, 0, 0, 1, 24),
+    ),
+    _vector(
+        "timed frames feed the watchdog when they arrive, and it drops the ones waiting",
+        [
+            ("feed", timed(1, 1000, FULL)),
+            ("feed", timed(2, 400_000, RAMP)),
+            ("advance_ms", 1),
+            ("advance_ms", 251),
+            ("advance_ms", 200),
+            ("feed", clock(5)),
+        ],
+        applied=[(1, FULL)],
+        levels=OFF,
+        replies=clock_reply(5, 452_000, 452_000, 0, 0, 0),
+        trips=1,
+    ),
+    _vector(
+        "a time just past the clock's wrap is in the future, not 71 minutes ago",
+        [("advance_ms", 4_294_967), ("feed", timed(1, 1000, RAMP)), ("advance_ms", 1)],
+    ),
+    _vector(
+        "and it plays once the clock has wrapped past it",
+        [
+            ("advance_ms", 4_294_967),
+            ("feed", timed(1, 1000, RAMP)),
+            ("advance_ms", 1),
+            ("advance_ms", 1),
+        ],
+        applied=[(1, RAMP)],
+        levels=RAMP,
+    ),
+    _vector(
+        "a timed frame of 2 channels is the wrong length",
+        [("feed", timed(1, 0, [0, 22]))],
+        dropped_by={"length": 1},
+    ),
+    _vector(
+        "a timed level of 23 is out of range",
+        [("feed", timed(1, 0, [*RAMP[:29], 23]))],
+        dropped_by={"range": 1},
+    ),
+    _vector(
+        "a timed frame with its levels unpacked (a byte each) is the wrong length",
+        [("feed", wire(bytes((0x54, 1, 0, 0, 0, 0, 30)) + bytes(RAMP)))],
+        dropped_by={"length": 1},
+    ),
+    _vector(
+        "a clock request with a byte too many",
+        [("feed", wire(b"C\x01\x00"))],
+        dropped_by={"length": 1},
+    ),
+    _vector(
+        "a clock reply sent to the array is not taken",
+        [("feed", clock_reply(1, 0, 0, 0, 0, 0))],
+        dropped_by={"type": 1},
     ),
 ]

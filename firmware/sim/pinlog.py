@@ -247,3 +247,159 @@ def check(log: PinLog) -> Check:
         duty_error_cycles=int(err.max()) if err.size else 0,
         pwm_hz=CPU_HZ / period,
     )
+
+
+# --- the firmware's own latencies, counted from its machine code ----------------------------
+
+INTERRUPT_RESPONSE = 5 + 3
+"""Cycles from an interrupt's flag to the first instruction of its handler on the ATmega2560:
+5 to push the 3-byte return address, 3 for the ``jmp`` in the vector table."""
+_CYCLES = {"push": 2, "pop": 2, "lds": 2, "sts": 2, "ld": 2, "ldd": 2, "st": 2, "std": 2,
+           "mul": 2, "adiw": 2, "sbiw": 2, "call": 5, "rcall": 4, "ret": 5, "reti": 5}  # fmt: skip
+
+
+def handler_cycles(elf, vector: int, until: str) -> int:
+    """Cycles from interrupt ``vector``'s flag to the instruction whose disassembly contains
+    ``until`` (e.g. ``"0x0084"``, the load of TCNT1, or ``"out\\t0x02"``, the write of PORTA),
+    counted on the handler's machine code (``avr-objdump -d``): the interrupt response plus each
+    instruction before it (1 cycle unless listed in ``_CYCLES``). The handler must reach it
+    without a branch, as the firmware's do."""
+    import subprocess
+
+    text = subprocess.run(["avr-objdump", "-d", str(elf)], capture_output=True, text=True,
+                          check=True).stdout  # fmt: skip
+    lines = text.split(f"<__vector_{vector}>:\n", 1)[1].splitlines()
+    cycles = INTERRUPT_RESPONSE
+    for line in lines:
+        if until in line:
+            return cycles
+        parts = line.split("\t")
+        if len(parts) < 3:
+            raise ValueError(f"{until!r} not found in vector {vector}")
+        cycles += _CYCLES.get(parts[2].split()[0], 1)
+    raise ValueError(f"{until!r} not found in vector {vector}")
+
+
+RX_VECTOR, COMPB_VECTOR = 25, 18  # USART0_RX, TIMER1_COMPB on the ATmega2560
+
+
+# --- timed frames and the clock exchange -------------------------------------------------------
+
+
+def messages(events) -> list[tuple[int, bytes]]:
+    """Valid messages in a logged byte stream (``log.received`` or ``log.sent``): ``(cycle the
+    delimiter's transfer started, payload without the CRC)``, CRC-checked; others left out."""
+    from cobs import cobs
+
+    out, buf = [], bytearray()
+    for cycle, byte in events:
+        if byte:
+            buf.append(byte)
+            continue
+        try:
+            p = cobs.decode(bytes(buf))
+        except cobs.DecodeError:
+            p = b""
+        buf.clear()
+        if len(p) >= 4 and _crc16(p[:-2]) == int.from_bytes(p[-2:], "big"):
+            out.append((cycle, bytes(p[:-2])))
+    return out
+
+
+def _unpack(data: bytes, n: int, bits: int) -> np.ndarray:
+    text = "".join(format(b, "08b") for b in data)
+    return np.array([int(text[i * bits : (i + 1) * bits], 2) for i in range(n)])
+
+
+@dataclass
+class TimedFrame:
+    """A timed frame as the firmware received it."""
+
+    arrived: int  # cycle its delimiter had fully arrived
+    seq: int
+    at_us: int  # when it was to play, on the array's clock
+    levels: np.ndarray  # channel order
+
+
+def timed_frames(log: PinLog, channels: int = CHANNELS, bits: int = 5) -> list[TimedFrame]:
+    """The valid timed frames the firmware received, in order."""
+    out = []
+    for cycle, body in messages(log.received):
+        if body[0] == 0x54 and len(body) == 7 + (channels * bits + 7) // 8 and body[6] == channels:
+            at = int.from_bytes(body[2:6], "big")
+            out.append(
+                TimedFrame(cycle + BYTE_CYCLES, body[1], at, _unpack(body[7:], channels, bits))
+            )
+    return out
+
+
+def clock_origin(log: PinLog, rx_entry_cycles: int) -> tuple[float, int]:
+    """The cycle at which the firmware's microsecond clock read 0, from its clock replies: each
+    reply's arrival stamp was read ``rx_entry_cycles`` after the request's delimiter arrived.
+    Returns the median estimate and the number of exchanges it rests on."""
+    asked = {}
+    for cycle, body in messages(log.received):
+        if body[0] == 0x43 and len(body) == 2:
+            asked.setdefault(body[1], []).append(cycle + BYTE_CYCLES)
+    estimates = []
+    for _, body in messages(log.sent):
+        if body[0] == 0x63 and len(body) == 19 and asked.get(body[1]):
+            arrived = asked[body[1]].pop(0)
+            rx_us = int.from_bytes(body[2:6], "big")
+            estimates.append(arrived + rx_entry_cycles - rx_us * 16)
+    if not estimates:
+        raise ValueError("no clock exchange in the log")
+    return float(np.median(estimates)), len(estimates)
+
+
+def last_clock_reply(log: PinLog) -> dict | None:
+    """The firmware's scheduling counters from its last clock reply."""
+    replies = [b for _, b in messages(log.sent) if b[0] == 0x63 and len(b) == 19]
+    if not replies:
+        return None
+    b = replies[-1]
+    return {"late": int.from_bytes(b[10:14], "big"), "full": int.from_bytes(b[14:18], "big"),
+            "queued": b[18]}  # fmt: skip
+
+
+def port_rows(levels, slot: int) -> tuple[int, ...]:
+    """What the four ports hold in PWM slot ``slot`` for channel levels ``levels`` (channel k on
+    port k // 8, bit k % 8; on in the slots below its level)."""
+    rows = [0, 0, 0, 0]
+    for ch, level in enumerate(levels):
+        if level > slot:
+            rows[ch // 8] |= 1 << (ch % 8)
+    return tuple(rows)
+
+
+def onset_errors(log: PinLog, frames: list[TimedFrame], origin: float, *, window_us=300.0,
+                 tick_guard_us=8.0):  # fmt: skip
+    """Per timed frame, when the pins changed against when it was to play (microseconds).
+
+    At its time a timed frame's table takes over in the PWM slot being played. The pins show it
+    when that slot's row differs from the row of the frame before; the change is the port write
+    nearest to the frame's time (within ``window_us``, else NaN: it did not show). Frames whose
+    time falls within ``tick_guard_us`` of a slot boundary (where the slot interrupt writes too)
+    and frames whose onset changes no pin are reported as None.
+    """
+    edges = np.array([c for c, _, _ in log.edges], dtype=np.float64)
+    out = []
+    previous = np.zeros(CHANNELS, dtype=int)
+    for frame in frames:
+        target = origin + frame.at_us * 16
+        counts = (target - origin) / 8  # Timer1 counts (2 MHz) since it started
+        tick = int(counts // 300)
+        from_tick_us = (counts - tick * 300) / 2
+        slot = (tick - 1) % SLOTS
+        visible = port_rows(frame.levels, slot) != port_rows(previous, slot)
+        previous = frame.levels
+        if not visible or min(from_tick_us, 150 - from_tick_us) < tick_guard_us:
+            out.append(None)
+            continue
+        i = np.searchsorted(edges, target)
+        near = [e for e in edges[max(i - 1, 0) : i + 1] if abs(e - target) <= window_us * 16]
+        if not near:
+            out.append(float("nan"))  # it should have shown and did not
+            continue
+        out.append((min(near, key=lambda e: abs(e - target)) - target) / 16)
+    return out

@@ -37,7 +37,7 @@ def run(build: Path, args, seconds: float, kill_after: float | None = None):
     )  # fmt: skip
     path = next(line.split()[1] for line in harness.stdout if line.startswith("pty: "))
     stream = subprocess.Popen(
-        [*CLI, "stream", "--device", path, *args, "--seconds", str(seconds)],
+        [*CLI, "stream", "--device", path, *args, "--seconds", str(seconds), "--lead-ms", "0"],
         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
     )  # fmt: skip
     if kill_after is not None:

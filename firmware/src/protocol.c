@@ -1,4 +1,5 @@
-/* Wire format 2, the array side. See protocol.h and the README's "Wire format" section. */
+/* Wire format 2, the array side, and the scheduled-frame extension. See protocol.h and
+ * docs/device.md. */
 #include "protocol.h"
 
 #include <string.h>
@@ -63,6 +64,43 @@ void tp_init(tp_state *s, const tp_config *cfg)
     memset(s, 0, sizeof *s);
     s->cfg = *cfg;
     s->channels = (uint16_t)cfg->cols * cfg->rows;
+    s->scheduled = s->channels <= TP_QUEUE_CHANNELS;
+    s->bits = 1;
+    while ((1u << s->bits) < cfg->levels)
+        s->bits++;
+}
+
+/* Level c of a bit string of levels `bits` wide, most significant bit first. */
+static uint8_t unpack(const uint8_t *data, uint16_t c, uint8_t bits)
+{
+    uint16_t at = (uint16_t)(c * bits);
+    uint16_t two = (uint16_t)((data[at >> 3] << 8) | data[(at >> 3) + 1]);
+    return (uint8_t)((two >> (16 - bits - (at & 7))) & ((1u << bits) - 1));
+}
+
+const tp_timed *tp_head(const tp_state *s)
+{
+    return s->q_count ? &s->queue[s->q_head] : NULL;
+}
+
+void tp_played(tp_state *s, uint8_t late)
+{
+    if (!s->q_count)
+        return;
+    const tp_timed *t = &s->queue[s->q_head];
+    memcpy(s->levels, t->levels, s->channels);
+    s->last_seq = t->seq;
+    s->frames_applied++;
+    if (late)
+        s->late++;
+    s->q_head = (uint8_t)((s->q_head + 1) % TP_QUEUE);
+    s->q_count--;
+}
+
+void tp_flush(tp_state *s)
+{
+    s->q_head = 0;
+    s->q_count = 0;
 }
 
 static void seal(tp_state *s, uint8_t *body, size_t n)
@@ -89,7 +127,7 @@ static int drop(tp_state *s, int reason)
 }
 
 /* A complete message (s->buf, s->len bytes, delimiter removed). */
-static int handle(tp_state *s, uint32_t now_ms)
+static int handle(tp_state *s, uint32_t now_us)
 {
     uint8_t p[TP_MAX_MESSAGE];
     int n = tp_cobs_decode(s->buf, s->len, p, sizeof p);
@@ -112,13 +150,42 @@ static int handle(tp_state *s, uint32_t now_ms)
         s->frames_applied++;
         s->last_seq = seq;
         s->armed = 1;
-        s->last_valid_ms = now_ms;
+        s->last_valid_us = now_us;
+        tp_flush(s); /* a frame for now replaces whatever was scheduled */
         return TP_APPLIED;
+    }
+    if (type == TP_TIMED && s->scheduled) {
+        if (body < 7 || body != 7 + (p[6] * s->bits + 7) / 8 || p[6] != s->channels)
+            return drop(s, TP_DROP_LENGTH);
+        p[n - 2] = 0; /* the CRC's place: the last level may read one byte past the levels */
+        for (int c = 0; c < p[6]; c++)
+            if (unpack(p + 7, (uint16_t)c, s->bits) >= s->cfg.levels)
+                return drop(s, TP_DROP_RANGE);
+        s->armed = 1; /* a valid frame feeds the watchdog when it arrives, not when it plays */
+        s->last_valid_us = now_us;
+        if (s->q_count == TP_QUEUE) {
+            s->full++;
+            return TP_NONE;
+        }
+        tp_timed *t = &s->queue[(s->q_head + s->q_count) % TP_QUEUE];
+        t->at_us = ((uint32_t)p[2] << 24) | ((uint32_t)p[3] << 16) | ((uint32_t)p[4] << 8) | p[5];
+        t->seq = seq;
+        for (int c = 0; c < p[6]; c++)
+            t->levels[c] = unpack(p + 7, (uint16_t)c, s->bits);
+        s->q_count++;
+        return TP_QUEUED;
+    }
+    if (type == TP_CLOCK && s->scheduled) {
+        if (body != 2)
+            return drop(s, TP_DROP_LENGTH);
+        s->clock_seq = seq;
+        s->clock_rx_us = now_us;
+        return TP_CLOCK_ASKED;
     }
     if (type == TP_HELLO || type == TP_QUERY) {
         if (body != 2)
             return drop(s, TP_DROP_LENGTH);
-        uint8_t out[12 + TP_NAME_MAX + 2];
+        uint8_t out[13 + TP_NAME_MAX + 2];
         out[1] = seq;
         if (type == TP_HELLO) {
             size_t len = 0;
@@ -135,7 +202,9 @@ static int handle(tp_state *s, uint32_t now_ms)
             out[9] = (uint8_t)s->cfg.pwm_hz;
             out[10] = (uint8_t)len;
             memcpy(out + 11, s->cfg.name, len);
-            seal(s, out, 11 + len);
+            out[11 + len] = s->scheduled ? TP_FEATURE_SCHEDULED : 0; /* the extension */
+            out[12 + len] = s->scheduled ? TP_QUEUE : 0;
+            seal(s, out, 13 + len);
         } else {
             out[0] = TP_STATUS;
             put32(out + 2, s->frames_applied);
@@ -149,7 +218,20 @@ static int handle(tp_state *s, uint32_t now_ms)
     return drop(s, TP_DROP_TYPE); /* info and status are the array's own, unknown types */
 }
 
-int tp_feed(tp_state *s, uint8_t byte, uint32_t now_ms)
+void tp_clock_reply(tp_state *s, uint32_t tx_us)
+{
+    uint8_t out[19 + 2];
+    out[0] = TP_CLOCK_REPLY;
+    out[1] = s->clock_seq;
+    put32(out + 2, s->clock_rx_us);
+    put32(out + 6, tx_us);
+    put32(out + 10, s->late);
+    put32(out + 14, s->full);
+    out[18] = s->q_count;
+    seal(s, out, 19);
+}
+
+int tp_feed(tp_state *s, uint8_t byte, uint32_t now_us)
 {
     if (byte != 0) {
         if (s->overflow)
@@ -168,17 +250,18 @@ int tp_feed(tp_state *s, uint8_t byte, uint32_t now_ms)
     }
     if (s->len == 0)
         return TP_NONE; /* back-to-back delimiters: nothing was sent */
-    int result = handle(s, now_ms);
+    int result = handle(s, now_us);
     s->len = 0;
     return result;
 }
 
-int tp_watchdog(tp_state *s, uint32_t now_ms)
+int tp_watchdog(tp_state *s, uint32_t now_us)
 {
-    /* More than watchdog_ms: with a millisecond counter that is 250 to 251 ms of real time. */
-    if (!s->armed || (uint32_t)(now_ms - s->last_valid_ms) <= s->cfg.watchdog_ms)
+    /* More than watchdog_ms on the microsecond clock. */
+    if (!s->armed || (uint32_t)(now_us - s->last_valid_us) <= (uint32_t)s->cfg.watchdog_ms * 1000u)
         return 0;
     s->armed = 0;
+    tp_flush(s);
     int on = 0;
     for (uint16_t c = 0; c < s->channels; c++)
         on |= s->levels[c];

@@ -23,6 +23,7 @@ from ._common import _cycling as _cycling
 from ._device import _Busy as _Busy
 from ._device import _EmulatorProcess as _EmulatorProcess
 from ._device import device_tables
+from ._link import link_table
 from ._live import live_table
 from ._methods import methods_table, winners_table
 from ._staircase import fit_table, staircase_table
@@ -45,6 +46,7 @@ __all__ = [
     "dense_area_sampling",
     "device_tables",
     "fit_table",
+    "link_table",
     "live_table",
     "methods_table",
     "naive_area_sampling",
@@ -58,8 +60,8 @@ __all__ = [
 
 
 def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
-    """Run the benchmark tables of ``part`` ("core", "methods", "device", "experiments",
-    "tuning", "gui" or "all"), printed as Markdown."""
+    """Run the benchmark tables of ``part`` ("core", "methods", "device", "link",
+    "experiments", "tuning", "gui" or "all"), printed as Markdown."""
     tables = []
 
     def show(table: Table) -> None:
@@ -84,6 +86,8 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
     if part in ("device", "all"):
         for table in device_tables(seconds=3.0 if quick else 10.0):
             show(table)
+    if part in ("link", "all"):
+        show(link_table(seconds=2.0 if quick else 5.0))
     if part in ("experiments", "all"):
         show(staircase_table(tracks=300 if quick else 2000))
         show(fit_table(tracks=40 if quick else 300))

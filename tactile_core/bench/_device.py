@@ -14,9 +14,10 @@ from ._common import GAMMA, MU, SCENES, Table
 
 
 class _EmulatorProcess:
-    """``tactile emulate`` in a subprocess, for the device benchmark."""
+    """``tactile emulate`` in a subprocess, for the device benchmark. ``plain``: a format 2
+    array without scheduled frames, so that what it receives shows the host's own timing."""
 
-    def __init__(self, tmpdir, rate_hz, name):
+    def __init__(self, tmpdir, rate_hz, name, plain: bool = True):
         import subprocess
         import sys
 
@@ -24,6 +25,7 @@ class _EmulatorProcess:
         self.log = Path(tmpdir) / f"{name}.csv"
         cmd = [sys.executable, "-m", "tactile_core.cli", "emulate", "--rate", str(rate_hz)]
         cmd += ["--json", str(self.report), "--log", str(self.log)]
+        cmd += ["--plain"] if plain else []
         self.proc = subprocess.Popen(
             cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True
         )

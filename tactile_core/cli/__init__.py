@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import sys
 
+from .._shared.threads import one_blas_thread
 from ._common import UsageError
 
 # ``_name as _name``: helpers of the module before the split, still importable from here.
@@ -46,7 +47,8 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        return args.func(args)
+        with one_blas_thread():  # small fits: extra BLAS threads only wait on busy cores
+            return args.func(args)
     except (ValueError, UsageError) as exc:
         print(f"tactile {args.command}: error: {exc}", file=sys.stderr)
         return 2

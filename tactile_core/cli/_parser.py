@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .._version import __version__
+from ..device._stream_talk import DEFAULT_LEAD_MS
 from ._common import _add_scene_arguments, number, whole
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._render import cmd_emulate, cmd_render, cmd_stream
@@ -64,6 +65,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--realtime", action="store_true", help="real-time priority (Linux; rtprio or root)"
     )
+    p.add_argument(
+        "--lead-ms",
+        type=number,
+        default=DEFAULT_LEAD_MS,
+        help="send frames this far ahead, to be played at their time by the array's clock "
+        f"(arrays with scheduled frames; 0: played on arrival; default {DEFAULT_LEAD_MS:g})",
+    )
     p.set_defaults(func=cmd_stream)
 
     p = sub.add_parser("emulate", help="run the device emulator on a pseudo-terminal")
@@ -73,6 +81,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--seconds", type=number, default=None, help="end after this long (default: Ctrl-C)"
     )
     p.add_argument("--log", default=None, help="write every received frame to this CSV")
+    p.add_argument(
+        "--plain",
+        action="store_true",
+        help="a format 2 array without scheduled frames (timed frames are dropped as unknown)",
+    )
     p.add_argument("--json", default=None, help="write the report to this JSON file")
     p.add_argument(
         "--close-after",
@@ -140,7 +153,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="print the speed/accuracy tables")
     p.add_argument(
         "--part",
-        choices=("core", "methods", "device", "gui", "experiments", "tuning", "all"),
+        choices=("core", "methods", "device", "link", "gui", "experiments", "tuning", "all"),
         default="all",
     )
     p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")

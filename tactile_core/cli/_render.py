@@ -87,6 +87,9 @@ def cmd_stream(args) -> int:
         raise UsageError(f"--felt-amplitude needs a motor response curve: profile "
                          f"{profile.name} has none ('response')")  # fmt: skip
     args.seconds = _seconds(args.seconds)
+    lead_ms = args.lead_ms
+    if not (isinstance(lead_ms, float) and 0.0 <= lead_ms <= 500.0):
+        raise UsageError(f"--lead-ms must be within [0, 500] milliseconds, got {lead_ms!r}")
     if args.record is not None:  # '' too: refused, not ignored
         check_output(args.record, (".csv", ".npz"), "--record")
     stop = threading.Event()
@@ -104,6 +107,7 @@ def cmd_stream(args) -> int:
         taps=[] if recorder is None else [recorder],
         reconnect=args.reconnect,
         realtime=args.realtime,
+        lead_s=lead_ms / 1e3,
         on_status=lambda stats: print(
             f"[{stats.state}] {stats.status}", file=sys.stderr, flush=True
         ),
@@ -153,7 +157,7 @@ def cmd_emulate(args) -> int:
             check_output(value, (), option)
     stop = threading.Event()
     _install_stop_handlers(stop)
-    emulator = Emulator(profile, expected_rate_hz=args.rate)
+    emulator = Emulator(profile, expected_rate_hz=args.rate, scheduled=not args.plain)
     path = emulator.open()
     print(path, flush=True)
     print(

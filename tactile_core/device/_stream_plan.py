@@ -9,6 +9,7 @@ punctual wake-ups (timer slack) and real-time priority.
 from __future__ import annotations
 
 import ctypes
+import math
 import os
 import sys
 import time
@@ -51,13 +52,15 @@ def _raise_priority() -> str:
 class _Plan:
     """What the output thread derived from one scene: frames, rate, period."""
 
-    def __init__(self, scene: Scene | None, profile: DeviceProfile, idle_rate_hz: float):
+    def __init__(self, scene: Scene | None, profile: DeviceProfile, idle_rate_hz: float,
+                 max_rate_hz: float | None = None, now_s: float | None = None):  # fmt: skip
         self.scene = scene
         self.requested = scene.rate_hz if scene is not None else idle_rate_hz
         self.active = scene is not None and scene.active
+        self.max_rate = profile.max_rate_hz if max_rate_hz is None else max_rate_hz
         if self.active:
-            self.rate = min(scene.rate_hz, profile.max_rate_hz)
-            self.capped = scene.rate_hz > profile.max_rate_hz
+            self.rate = min(scene.rate_hz, self.max_rate)
+            self.capped = scene.rate_hz > self.max_rate
             self.live = scene.live(profile.grid, self.rate)
         else:
             self.rate = idle_rate_hz
@@ -68,9 +71,10 @@ class _Plan:
                         and profile.response is not None else None)  # fmt: skip
         self.period = 1.0 / self.rate
         # At any rate a frame goes out at least every KEEPALIVE_S (repeating the last one), so
-        # the array's 250 ms watchdog never trips while the host is alive.
-        self.tick = min(self.period, KEEPALIVE_S)
-        self.since = time.perf_counter()
+        # the array's 250 ms watchdog never trips while the host is alive; the ticks divide
+        # the period, so that each new frame still goes out on its own deadline.
+        self.tick = self.period / math.ceil(self.period / KEEPALIVE_S - 1e-9)
+        self.since = time.perf_counter() if now_s is None else now_s
         self.precompute_started = False
         self.last_k = None
         self.last_levels = None
@@ -85,8 +89,8 @@ class _Plan:
         if self.capped:
             return "streaming", (
                 f"streaming {self.scene.method} at {self.rate:.0f} Hz: {self.requested:g} Hz "
-                f"requested, the link carries {profile.max_rate_hz:.0f} frames/s "
-                f"({profile.baud} baud, {profile.frame_bytes} bytes per frame)"
+                f"requested, the link carries {self.max_rate:.0f} frames/s "
+                f"({profile.baud} baud, {profile.baud / 10 / self.max_rate:.0f} bytes per frame)"
             )
         note = f" ({priority_note})" if priority_note else ""
         return "streaming", (

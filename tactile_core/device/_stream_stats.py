@@ -50,6 +50,17 @@ class StreamStats:
     array_frames, array_dropped, array_watchdog_trips : int
         The array's own counters from its last status answer (-1 before any): frames applied,
         messages dropped, watchdog trips.
+    scheduled : bool
+        True while frames go out timed, to be played ``lead_ms`` after their deadline on the
+        array's clock (an array with the scheduled-frame extension, and a lead).
+    lead_ms, clock_error_ms : float
+        The lead in use (0 for frames played on arrival) and the expected error of the host's
+        reading of the array's clock.
+    schedule : str
+        One line on how frames are timed, or why they are not.
+    array_late, array_full : int
+        The array's scheduling counters from its last clock answer (-1 before any): timed frames
+        played after their time, and dropped for a full queue.
     """
 
     state: str = "stopped"
@@ -71,6 +82,12 @@ class StreamStats:
     array_frames: int = -1
     array_dropped: int = -1
     array_watchdog_trips: int = -1
+    scheduled: bool = False
+    lead_ms: float = 0.0
+    clock_error_ms: float = float("inf")
+    schedule: str = ""
+    array_late: int = -1
+    array_full: int = -1
 
     def summary(self) -> str:
         """Multi-line human summary (what ``tactile stream`` prints at the end)."""
@@ -93,6 +110,12 @@ class StreamStats:
                     f"{self.array_dropped}, watchdog trips {self.array_watchdog_trips}"
                     if self.array_frames >= 0
                     else "array counters:  not reported"
+                ),
+                f"timing:          {self.schedule or '-'}",
+                (
+                    f"array schedule:  late {self.array_late}, queue full {self.array_full}"
+                    if self.array_late >= 0
+                    else "array schedule:  not reported"
                 ),
             ]
         )
@@ -143,15 +166,16 @@ class StatsBook:
             self._intervals[self._n_intervals % len(self._intervals)] = abs(error_s)
             self._n_intervals += 1
 
-    def snapshot(self, running_since_s: float | None) -> StreamStats:
-        """A :class:`StreamStats` of everything; ``elapsed_s`` counts from ``running_since_s``
-        (perf_counter seconds) while the thread runs, else it is the last one set."""
+    def snapshot(self, running_since_s: float | None, now_s: float | None = None) -> StreamStats:
+        """A :class:`StreamStats` of everything at ``now_s`` (the stream's clock, seconds;
+        ``time.perf_counter`` if not given); ``elapsed_s`` counts from ``running_since_s`` while
+        the thread runs, else it is the last one set."""
         with self._lock:
             stats = StreamStats(**{**self.current.__dict__, **self._counts})
             n = min(self._n_intervals, len(self._intervals))
             errors = self._intervals[:n].copy()
             recent = list(self._recent)
-        now = time.perf_counter()
+        now = time.perf_counter() if now_s is None else now_s
         recent = [t for t in recent if now - t <= 1.0]
         p50, p99 = (np.percentile(errors, [50, 99]) * 1e3) if n else (0.0, 0.0)
         elapsed = now - running_since_s if running_since_s else stats.elapsed_s

@@ -5,9 +5,13 @@ line, and then behaves as the reference firmware does (:class:`~.array.ArrayMode
 it applies valid frames, answers hello with its info and query with its counters, turns
 everything off when no valid frame has arrived for 250 ms (the watchdog, counted when it turns
 something off), and counts dropped messages by reason; it also counts gaps in the sequence
-numbers and measures the intervals between frames. When it ends (Ctrl-C, SIGTERM, ``--seconds``)
-it prints a report: frames, rate, p50/p99 interval error, dropped messages, watchdog trips, the
-last levels; its counters are the ones a status answer reports.
+numbers and measures the intervals between frames. Timed frames (the scheduled-frame extension)
+wait for their time on the emulated array's clock, which starts at 0 when the emulator opens;
+the log has each one at the time it was to be played, and the report counts those that came late
+or found the queue full and how late the emulator's own loop played the others. When it ends
+(Ctrl-C, SIGTERM, ``--seconds``) it prints a report: frames, rate, p50/p99 interval error,
+dropped messages, watchdog trips, the last levels; its counters are the ones a status answer
+reports.
 """
 
 from __future__ import annotations
@@ -34,12 +38,15 @@ class Emulator:
         The emulated array (channels, levels, channel order); the palm array by default.
     expected_rate_hz : float, optional
         Nominal frame rate for the interval error; the median interval if not given.
+    scheduled : bool
+        Speak the scheduled-frame extension (False: a plain format 2 array).
     """
 
-    def __init__(self, profile: DeviceProfile | None = None, expected_rate_hz: float | None = None):
+    def __init__(self, profile: DeviceProfile | None = None, expected_rate_hz: float | None = None,
+                 *, scheduled: bool = True):  # fmt: skip
         self.profile = profile or default_profile()
         self.expected_rate_hz = expected_rate_hz
-        self.model = ArrayModel(self.profile)
+        self.model = ArrayModel(self.profile, scheduled=scheduled)
         self.reader = self.model.reader
         self.master = self.slave = None
         self.path = None
@@ -54,6 +61,7 @@ class Emulator:
         self.seq_gaps = 0
         self.bytes_received = 0
         self.started = None
+        self.play_lag: list[float] = []  # how long after its time each timed frame was played
 
     def open(self) -> str:
         """Create the pseudo-terminal; return the path a client opens."""
@@ -63,10 +71,16 @@ class Emulator:
         os.set_blocking(self.master, False)
         self.path = os.ttyname(self.slave)
         self.started = time.monotonic()
+        self.model.epoch = self.started  # the emulated array's clock starts now
         return self.path
 
     def close(self) -> None:
-        """Close both ends: a client writing then gets an I/O error."""
+        """Close both ends: a client writing then gets an I/O error. The array's own timing
+        (timed frames, the watchdog) is brought up to date first."""
+        if self.started is not None:
+            now = time.monotonic()
+            self._log(self.model.advance(now), now)
+            self._watchdog(now)
         for fd in (self.master, self.slave):
             if fd is not None:
                 try:
@@ -85,15 +99,24 @@ class Emulator:
         """Watchdog trips so far."""
         return self.model.watchdog_trips
 
+    def _log(self, frames: list, now: float) -> None:
+        """Record applied frames: a timed one at the time it was to be played."""
+        onsets = {id(msg): (t, late) for t, msg, late in self.model.onsets}
+        self.model.onsets.clear()
+        for frame in frames:
+            at, late = onsets.get(id(frame), (now, True))
+            if not late:
+                self.play_lag.append(now - at)
+            if self.seqs:
+                self.seq_gaps += (frame.seq - self.seqs[-1] - 1) % 256
+            self.times.append(at)
+            self.seqs.append(frame.seq)
+            self.levels.append(frame.levels)
+
     def _receive(self, data: bytes, now: float) -> None:
         self.bytes_received += len(data)
         replies, frames = self.model.receive(data, now)
-        for frame in frames:
-            if self.seqs:
-                self.seq_gaps += (frame.seq - self.seqs[-1] - 1) % 256
-            self.times.append(now)
-            self.seqs.append(frame.seq)
-            self.levels.append(frame.levels)
+        self._log(frames, now)
         if replies:
             self.events.append((now, f"answered {len(replies)} bytes"))
             try:
@@ -102,8 +125,11 @@ class Emulator:
                 pass  # no client: the answer is lost, as on a real line
 
     def _watchdog(self, now: float) -> None:
+        last = self.model.last_valid
         if self.model.watchdog(now):
-            self.events.append((now, "watchdog"))
+            # logged at the moment the array's watchdog fires, not when this loop (which the
+            # host may have kept waiting) noticed: the firmware checks every microsecond
+            self.events.append((last + self.model.watchdog_s, "watchdog"))
 
     def run(self, should_stop, seconds: float | None = None, close_after: float | None = None):
         """Receive until ``should_stop()`` is true or ``seconds`` have passed.
@@ -125,7 +151,7 @@ class Emulator:
                 break
             timeout = 0.05
             due = self.model.due()
-            if due is not None:  # wake exactly when the watchdog is due
+            if due is not None:  # wake exactly when the watchdog or a timed frame is due
                 timeout = min(timeout, max(due - now, 0.0))
             ready, _, _ = select.select([self.master], [], [], timeout)
             now = time.monotonic()
@@ -139,7 +165,9 @@ class Emulator:
                     time.sleep(0.005)
                 if data:
                     self._receive(data, now)
-            self._watchdog(time.monotonic())
+            now = time.monotonic()
+            self._log(self.model.advance(now), now)
+            self._watchdog(now)
 
     def report(self) -> dict:
         """What was received, as a JSON-ready dict."""
@@ -172,6 +200,12 @@ class Emulator:
             "frames_applied": self.model.frames_applied,
             "seq_gaps": self.seq_gaps,
             "watchdog_trips": self.watchdog_trips,
+            "timed_late": self.model.late,
+            "timed_full": self.model.full,
+            "timed_flushed": self.model.flushed,
+            "play_lag_p99_ms": (
+                float(np.percentile(self.play_lag, 99) * 1e3) if self.play_lag else 0.0
+            ),
             "info": self.model.info.describe(),
             "events": [(round(t - (self.started or 0.0), 6), e) for t, e in self.events],
             "last_levels": cells.reshape(grid.shape)[::-1].tolist(),  # top row first, as seen
@@ -189,6 +223,9 @@ class Emulator:
             f"(nominal {r['nominal_period_ms']:.3f} ms)",
             f"dropped messages: {r['dropped']} ({bad}); sequence gaps: {r['seq_gaps']}",
             f"watchdog trips: {r['watchdog_trips']}",
+            f"timed frames: late {r['timed_late']}, queue full {r['timed_full']}, dropped "
+            f"unplayed {r['timed_flushed']}, played "
+            f"p99 {r['play_lag_p99_ms']:.3f} ms after their time",
             f"status counters: frames applied {r['frames_applied']}, messages dropped "
             f"{r['dropped']}, watchdog trips {r['watchdog_trips']}",
             f"identifies as: {r['info']}",

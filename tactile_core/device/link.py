@@ -149,11 +149,17 @@ class SimulatedArray:
     ----------
     profile : DeviceProfile, optional
         The array simulated; the palm array by default.
+    clock : HostClock, optional
+        The host's clock the array's time follows (``time.perf_counter``; a streamer on a
+        :class:`~.host_clock.VirtualClock` passes the same one here).
     """
 
-    def __init__(self, profile: DeviceProfile | None = None):
+    def __init__(self, profile: DeviceProfile | None = None, *, clock=None):
+        from .host_clock import HostClock
+
         self.profile = profile or default_profile()
-        self.model = ArrayModel(self.profile)
+        self._now = (clock or HostClock()).now
+        self.model = ArrayModel(self.profile, epoch=self._now())
         self._lock = threading.Lock()
         self._replies = bytearray()
         self.closed = False
@@ -169,7 +175,7 @@ class SimulatedArray:
         if self.closed:
             raise LinkError("simulated array closed")
         with self._lock:
-            replies, _ = self.model.receive(data, time.monotonic())
+            replies, _ = self.model.receive(data, self._now())
             self._replies += replies
 
     def read(self) -> bytes:
@@ -193,7 +199,9 @@ class SimulatedArray:
     def watchdog_trips(self) -> int:
         """Watchdog trips (brought up to date)."""
         with self._lock:
-            self.model.watchdog(time.monotonic())
+            now = self._now()
+            self.model.advance(now)
+            self.model.watchdog(now)
             return self.model.watchdog_trips
 
     @property
@@ -208,8 +216,9 @@ class SimulatedArray:
 
     def levels(self, now: float | None = None) -> np.ndarray:
         """Current levels as a ``(rows, cols)`` uint8 frame, zero after the watchdog."""
-        now = time.monotonic() if now is None else now
+        now = self._now() if now is None else now
         with self._lock:
+            self.model.advance(now)
             self.model.watchdog(now)
             channel_levels = np.frombuffer(self.model.levels, dtype=np.uint8)
         flat = np.zeros(self.profile.channels, dtype=np.uint8)

@@ -32,6 +32,7 @@ from multiprocessing.connection import Connection
 import numpy as np
 
 from ..rendering.scene import Scene, check_scene
+from ._local_stream import LocalStream
 from .link import LinkError
 from .profile import DeviceProfile, default_profile, profile_from_dict
 from .streamer import StreamStats
@@ -47,13 +48,36 @@ def _stop_children() -> None:
         child.stop(timeout=2.0)
 
 
+def _pin_to(cpus) -> bool:
+    """Run this process on ``cpus`` only (Linux); False where that is not possible."""
+    try:
+        os.sched_setaffinity(0, cpus)
+    except (AttributeError, OSError, ValueError):
+        return False
+    return True
+
+
+def own_core() -> tuple[set, set] | None:
+    """A core for the stream and the rest for everything else: ``(stream's, others)``, or None
+    with fewer than two cores to choose from (or no affinity on this system)."""
+    try:
+        cpus = sorted(os.sched_getaffinity(0))
+    except AttributeError:
+        return None
+    if len(cpus) < 2:
+        return None
+    return {cpus[-1]}, set(cpus[:-1])
+
+
 def _serve(cmd: Connection, events: Connection) -> None:
     """The child: open the link, stream, obey commands until told to stop or orphaned."""
     from .link import open_link
     from .streamer import Streamer
 
-    _, url, profile_data, scene, reconnect, realtime = cmd.recv()
+    _, url, profile_data, scene, options = cmd.recv()
     profile = profile_from_dict(profile_data, source="profile")
+    if options.get("cpu") is not None:
+        _pin_to(options["cpu"])
     lock = threading.Lock()
 
     def send(message) -> None:
@@ -74,8 +98,9 @@ def _serve(cmd: Connection, events: Connection) -> None:
         link,
         profile,
         scene=scene,
-        reconnect=reconnect,
-        realtime=realtime,
+        reconnect=options["reconnect"],
+        realtime=options["realtime"],
+        lead_s=options["lead_s"],
         on_status=lambda s: send(("stats", s)),
     )
     streamer.start()
@@ -162,6 +187,12 @@ class StreamerProcess:
         changes (a GUI hands it to its own thread).
     reconnect, realtime : bool
         Passed to the streamer.
+    lead_s : float
+        Passed to the streamer: frames sent this far ahead to arrays that play them at their time.
+    own_core : bool
+        With two or more cores, run the child on a core of its own and this process on the
+        others until :meth:`stop` (Linux), so that nothing of the parent (a GUI repainting)
+        competes with the stream for a core.
 
     Raises
     ------
@@ -178,8 +209,13 @@ class StreamerProcess:
         on_status=None,
         reconnect=False,
         realtime=False,
+        lead_s: float = 0.0,
+        own_core: bool = False,
     ):
         self.realtime = realtime
+        self.lead_s = lead_s
+        self.own_core = own_core
+        self._saved_affinity = None
         self.url = url
         self.profile = profile or default_profile()
         self.on_status = on_status
@@ -218,9 +254,17 @@ class StreamerProcess:
             os.close(events_write)
         self._cmd = Connection(cmd_write, readable=False)
         self._events = Connection(events_read, writable=False)
-        self._send(
-            ("config", self.url, self.profile.to_dict(), self._scene, self.reconnect, self.realtime)
-        )
+        cores = own_core() if self.own_core else None
+        options = {
+            "reconnect": self.reconnect,
+            "realtime": self.realtime,
+            "lead_s": self.lead_s,
+            "cpu": None if cores is None else cores[0],
+        }
+        self._send(("config", self.url, self.profile.to_dict(), self._scene, options))
+        if cores is not None:
+            self._saved_affinity = os.sched_getaffinity(0)
+            _pin_to(cores[1])
         if not self._events.poll(timeout):
             self._kill()
             raise LinkError(f"the stream process did not start within {timeout:g} s")
@@ -244,6 +288,7 @@ class StreamerProcess:
         if self._proc is not None:
             self._proc.wait(2.0)
         self._close_pipes()
+        self._restore_affinity()
 
     def _close_pipes(self) -> None:
         for conn in (self._cmd, self._events):
@@ -340,7 +385,13 @@ class StreamerProcess:
             self._listener.join(2.0)
         self._close_pipes()
         _CHILDREN.discard(self)
+        self._restore_affinity()
         return self.stats
+
+    def _restore_affinity(self) -> None:
+        if self._saved_affinity is not None:
+            _pin_to(self._saved_affinity)
+            self._saved_affinity = None
 
     @property
     def stats(self) -> StreamStats:
@@ -363,78 +414,26 @@ class StreamerProcess:
         return scene, trace_time
 
 
-class LocalStream:
-    """The same interface with the streamer as a thread of this process (for programs without
-    a busy main thread, for tests, and to measure what the process buys)."""
-
-    def __init__(
-        self,
-        url=None,
-        profile: DeviceProfile | None = None,
-        *,
-        scene=None,
-        on_status=None,
-        reconnect=False,
-        realtime=False,
-    ):
-        from .link import open_link
-        from .streamer import Streamer
-
-        self.url = url
-        self.profile = profile or default_profile()
-        self.link = open_link(url, self.profile)  # LinkError says why it cannot
-        self.description = getattr(self.link, "description", str(url))
-        self.streamer = Streamer(
-            self.link,
-            self.profile,
-            scene=scene,
-            on_status=on_status,
-            reconnect=reconnect,
-            realtime=realtime,
-        )
-
-    def start(self) -> LocalStream:
-        """Start the output thread."""
-        self.streamer.start()
-        return self
-
-    def stop(self, timeout: float = 3.0) -> StreamStats:
-        """Stop (all off) and close the link."""
-        stats = self.streamer.stop(timeout)
-        self.link.close()
-        return stats
-
-    running = property(lambda self: self.streamer.running)
-    scene = property(lambda self: self.streamer.scene)
-    stats = property(lambda self: self.streamer.stats)
-    last_levels = property(lambda self: self.streamer.last_levels)
-    last_frame = property(lambda self: self.streamer.last_frame)
-
-    def set_scene(self, scene) -> None:
-        """Hand a new scene to the output thread."""
-        self.streamer.set_scene(scene)
-
-    def all_off(self) -> None:
-        """Pause at once: the next frame is all zeros."""
-        self.streamer.all_off()
-
-
 def open_stream(url=None, profile=None, *, scene=None, on_status=None, reconnect=False,
-                process=True, realtime=False):  # fmt: skip
+                process=True, realtime=False, lead_s=0.0, own_core=False):  # fmt: skip
     """Open a link and start streaming to it, in a child process (default) or a thread.
 
     ``process`` is ignored (a thread is used) where child processes are not supported;
-    ``realtime`` asks for real-time priority of the output thread (see ``Streamer``).
+    ``realtime`` asks for real-time priority of the output thread, ``lead_s`` sends frames
+    ahead to arrays that play them at their time (see ``Streamer``), ``own_core`` gives a child
+    process a core of its own (see :class:`StreamerProcess`).
 
     Raises
     ------
     LinkError
         When the link cannot be opened; nothing keeps running.
     """
-    cls = StreamerProcess if process and PROCESS_SUPPORTED else LocalStream
-    stream = cls(
-        url, profile, scene=scene, on_status=on_status, reconnect=reconnect, realtime=realtime
-    )
+    options = {"reconnect": reconnect, "realtime": realtime, "lead_s": lead_s}
+    if process and PROCESS_SUPPORTED:
+        stream = StreamerProcess(url, profile, scene=scene, on_status=on_status, **options,
+                                 own_core=own_core)  # fmt: skip
+    else:
+        stream = LocalStream(url, profile, scene=scene, on_status=on_status, **options)
     return stream.start()
 
 

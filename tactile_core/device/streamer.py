@@ -14,9 +14,17 @@ zero frames at ``idle_rate_hz`` (>= 10 Hz) so the array's 250 ms watchdog never 
 host is alive. The requested rate is capped at what the link carries (``baud / 10 / frame
 bytes``: 320 Hz for the palm array at 115200 baud), and the status says so.
 
+With a lead (``lead_s`` > 0) and an array that announces scheduled frames, each frame goes out
+timed: to be played ``lead_s`` after its deadline on the array's own clock, which the host keeps
+from clock exchanges. The host's scheduler then only has to get each frame there within the
+lead; the array's timer decides when it reaches the motors. Pausing, all-off and the final
+frame stay frames for now (they also drop what is scheduled). An array without the extension is
+driven with frames for now, and the status says so.
+
 Here is the thread; its statistics (:class:`StreamStats` and the book it is read from) live in
-``_stream_stats``, and what it derives from a scene (rate, period, device levels) in
-``_stream_plan``.
+``_stream_stats``, what it derives from a scene (rate, period, device levels) in
+``_stream_plan``, and what it says to the array besides frames (hello, counters, the clock) in
+``_stream_talk``.
 """
 
 from __future__ import annotations
@@ -25,7 +33,6 @@ import atexit
 import math
 import sys
 import threading
-import time
 import traceback
 import weakref
 
@@ -35,9 +42,11 @@ from ..rendering.correction import Dither
 from ..rendering.scene import Scene, check_scene
 from ._stream_plan import _ChannelLevels, _Plan, _raise_priority, _reduce_timer_slack
 from ._stream_stats import StatsBook, StreamStats
-from .link import LinkError, identify
+from ._stream_talk import ArrayTalk
+from .host_clock import HostClock
+from .link import LinkError
 from .profile import DeviceProfile, default_profile
-from .wire import Info, MessageReader, Status, encode_frame, encode_query
+from .wire import Info, Status, encode_frame, encode_timed, level_bits
 
 __all__ = ["StreamStats", "Streamer"]
 
@@ -63,8 +72,10 @@ class Streamer:
     scene : Scene, optional
         Initial scene; idle (all off) if None.
     taps : sequence of callables, optional
-        Called after each successful write as ``tap(time_s, seq, levels)``: monotonic time,
-        sequence number and the channel-ordered levels (``bytes``). The recorder is one.
+        Called after each successful write as ``tap(time_s, seq, levels)``: the frame's time
+        (``time.perf_counter`` seconds: when it was written, or for a timed frame when the array
+        is to play it), sequence number and the channel-ordered levels (``bytes``). The
+        recorder is one.
     on_status : callable, optional
         Called as ``on_status(stats)`` from the output thread whenever the state or status
         changes (a GUI must hand it to its own thread).
@@ -85,6 +96,13 @@ class Streamer:
         On connecting (and reconnecting), send a hello and check the array's info against the
         profile: a mismatch refuses to stream (state ``"refused"``); no answer within 0.5 s is
         an array that does not identify itself, which is driven anyway and reported so.
+    lead_s : float
+        Send frames this far ahead, timed to be played at their deadline plus ``lead_s`` on the
+        array's clock (0 to 0.5 s; 0: frames for now). Needs ``identify`` and an array that
+        announces scheduled frames; others get frames for now.
+    clock : HostClock, optional
+        The clock deadlines are kept on (``time.perf_counter`` by default; a
+        :class:`~.host_clock.VirtualClock` makes a stream's timing exact in tests).
 
     Examples
     --------
@@ -112,9 +130,13 @@ class Streamer:
         switch_interval_s: float | None = 0.0005,
         realtime: bool = False,
         identify: bool = True,
+        lead_s: float = 0.0,
+        clock: HostClock | None = None,
     ):
         if not 10.0 <= idle_rate_hz <= 1000.0:
             raise ValueError(f"idle_rate_hz must be within [10, 1000], got {idle_rate_hz!r}")
+        if not (isinstance(lead_s, int | float) and 0.0 <= lead_s <= 0.5):
+            raise ValueError(f"lead_s must be within [0, 0.5] seconds, got {lead_s!r}")
         self.link = link
         self.profile = profile or default_profile()
         self._scene = scene
@@ -127,20 +149,16 @@ class Streamer:
         self.switch_interval_s = switch_interval_s
         self.realtime = realtime
         self.identify = identify
-        self.array_info: Info | None = None
-        """The array's answer to the hello (None: not asked, or no answer)."""
-        self.array_status: Status | None = None
-        """The array's last status answer."""
-        self._replies = MessageReader(accept=(Info, Status))
+        self.lead_s = float(lead_s) if identify else 0.0
+        self.clock = clock or HostClock()
+        self._talk = ArrayTalk(link, self.profile, lead_s=self.lead_s, update=self._set,
+                               clock=self.clock)  # fmt: skip
         self.identified = threading.Event()
         """Set once the hello is answered or given up on (or the thread ended): the stream's
         duration counts from here."""
         self._failure = ""
         self.failure_traceback = ""
         """The traceback of an internal error in the output thread (its status says what)."""
-        self._query_seq = 0
-        self._query_wanted = threading.Event()
-        self._status_arrived = threading.Condition()
         self._priority_note = ""
         self._wake = threading.Event()
         self._stopping = threading.Event()
@@ -155,6 +173,7 @@ class Streamer:
         tuple assigned at once so a reader on another thread sees a consistent pair."""
         self.last_seq = None
         self._channels = _ChannelLevels(self.profile)
+        self._bits = level_bits(self.profile.levels)
 
     # --- control (any thread) ------------------------------------------------------------------
 
@@ -211,22 +230,33 @@ class Streamer:
         scene = self._scene
         self.set_scene(None if scene is None else scene.replace(playing=False))
 
+    @property
+    def array_info(self) -> Info | None:
+        """The array's answer to the hello (None: not asked, or no answer)."""
+        return self._talk.info
+
+    @property
+    def array_status(self) -> Status | None:
+        """The array's last status answer."""
+        return self._talk.status
+
     def query_status(self, timeout_s: float = 0.5) -> Status | None:
         """Ask the array for its counters (the output thread sends the query after its next
         frame) and wait up to ``timeout_s`` for the answer; None if none came."""
-        with self._status_arrived:
-            before = self.array_status
-            self._query_wanted.set()
+        talk = self._talk
+        with talk.status_arrived:
+            before = talk.status
+            talk.query_wanted.set()
             self._wake.set()
-            self._status_arrived.wait_for(
-                lambda: self.array_status is not before or not self.running, timeout_s
+            talk.status_arrived.wait_for(
+                lambda: talk.status is not before or not self.running, timeout_s
             )
-            return self.array_status if self.array_status is not before else None
+            return talk.status if talk.status is not before else None
 
     @property
     def stats(self) -> StreamStats:
         """A snapshot of the statistics."""
-        return self._book.snapshot(self._started_at if self.running else None)
+        return self._book.snapshot(self._started_at if self.running else None, self.clock.now())
 
     # --- output thread -------------------------------------------------------------------------
 
@@ -246,74 +276,46 @@ class Streamer:
 
     def _wait_until(self, deadline: float) -> bool:
         """Sleep until ``deadline`` (perf_counter seconds); True if woken by a scene change."""
+        clock = self.clock
         while True:
-            remaining = deadline - time.perf_counter()
+            remaining = deadline - clock.now()
             if remaining <= 0.0:
                 return False
             if remaining > self.spin_s:
-                if self._wake.wait(remaining - self.spin_s):
+                if clock.wait(self._wake, remaining - self.spin_s):
                     self._wake.clear()
                     return True
             else:
-                while time.perf_counter() < deadline:
-                    pass
+                clock.spin_until(deadline)
                 return False
 
     def _levels(self, plan: _Plan, k: int, dither: Dither | None, lit_before: set) -> tuple:
         """Channel-ordered levels of frame ``k`` and the set of lit channels."""
         return self._channels.levels(plan, k, dither, lit_before)
 
-    def _write(self, seq: int, levels: bytes) -> float:
-        data = encode_frame(seq, levels)
+    def _write(self, seq: int, levels: bytes, at: tuple | None = None) -> float:
+        """Write a frame; ``at = (array_us, host_s)`` makes it a timed frame played at
+        ``array_us`` on the array's clock (``host_s`` on the host's). The time written."""
+        if at is None:
+            data = encode_frame(seq, levels)
+        else:
+            data = encode_timed(seq, at[0], levels, self._bits)
         self.link.write(data)
-        now = time.perf_counter()
+        now = self.clock.now()
         self.last_levels = self._channels.grid(levels)
         self.last_seq = seq & 0xFF
         self._book.wrote(now, len(data))
         for tap in self.taps:
-            tap(now, seq & 0xFF, bytes(levels))
+            tap(now if at is None else at[1], seq & 0xFF, bytes(levels))
         return now
 
-    def _poll_replies(self) -> None:
-        """Read what the array sent (info and status answers) without waiting."""
-        data = self.link.read()
-        if not data:
-            return
-        for msg in self._replies.feed(data):
-            if isinstance(msg, Status):
-                with self._status_arrived:
-                    self.array_status = msg
-                    self._status_arrived.notify_all()
-                self._set(
-                    array_frames=msg.frames_applied,
-                    array_dropped=msg.dropped,
-                    array_watchdog_trips=msg.watchdog_trips,
-                )
-
-    def _send_query(self) -> None:
-        self._query_seq = (self._query_seq + 1) & 0xFF
-        self.link.write(encode_query(self._query_seq))
-
     def _identify(self) -> bool:
-        """Hello and check; False (state refused) when the array is not the profile's."""
+        """Hello and check (False: refused), then learn the array's clock for a lead."""
         if not self.identify:
             return True
-        self._set(state="starting", status=f"identifying the array on {self.link.description}")
-        info, problem = identify(self.link, self.profile)
-        self.array_info = info
-        if problem:
-            self._set(state="refused", status=problem, array=info.describe())
+        if not self._talk.hello():
             return False
-        if info is None:
-            self._set(
-                array=(
-                    "unidentified: no answer to hello within 0.5 s; driven as "
-                    f"{self.profile.name} ({self.profile.grid.cols} x {self.profile.grid.rows}, "
-                    f"{self.profile.levels} levels)"
-                )
-            )
-        else:
-            self._set(array=info.describe())
+        self._talk.start_schedule()
         return True
 
     def _run(self) -> None:
@@ -321,7 +323,7 @@ class Streamer:
         if self.realtime:
             self._priority_note = _raise_priority()
             self._set(realtime=not self._priority_note)
-        self._started_at = time.perf_counter()
+        self._started_at = self.clock.now()
         seq = 0
         plan = None
         dither = None
@@ -338,15 +340,16 @@ class Streamer:
                     return
             finally:
                 self.identified.set()
-            deadline = time.perf_counter()
+            deadline = self.clock.now()
             last_sent = None
             while not self._stopping.is_set():
                 scene = self._scene
                 if plan is None or scene is not plan.scene:
+                    top = self._talk.max_rate_hz
                     try:
-                        new = _Plan(scene, self.profile, self.idle_rate_hz)
+                        new = _Plan(scene, self.profile, self.idle_rate_hz, top, self.clock.now())
                     except ValueError as exc:  # cannot render this scene: go idle, say why
-                        new = _Plan(None, self.profile, self.idle_rate_hz)
+                        new = _Plan(None, self.profile, self.idle_rate_hz, top, self.clock.now())
                         self._set(status=f"scene rejected: {exc}")
                     restart = (
                         plan is None
@@ -377,8 +380,8 @@ class Streamer:
                     )
                     last_sent = None
                     if immediate:
-                        deadline = time.perf_counter()
-                stable = time.perf_counter() - plan.since > 0.2
+                        deadline = self.clock.now()
+                stable = self.clock.now() - plan.since > 0.2
                 if plan.live is not None and not plan.precompute_started and stable:
                     plan.precompute_started = True  # the scene settled: tabulate its cycle
                     plan.live.precompute(background=True)
@@ -394,18 +397,19 @@ class Streamer:
                     plan.last_k, plan.last_levels = k, levels
                 levels = plan.last_levels
                 try:
-                    sent = self._write(seq, levels)
+                    at = None
+                    if plan.active and self._talk.scheduled:  # pausing and all-off are for now
+                        self._talk.before_frame(deadline)
+                        at = (self._talk.at_us(deadline + self.lead_s), deadline + self.lead_s)
+                    sent = self._write(seq, levels, at)
                     self.last_frame = (plan.scene, k / plan.rate if plan.active else None)
-                    if self._query_wanted.is_set():
-                        self._query_wanted.clear()
-                        self._send_query()
-                    self._poll_replies()
+                    self._talk.after_frame()
                 except LinkError as exc:
                     self._count("errors")
                     self._set(state="disconnected", status=str(exc))
                     if not self._recover():
                         return
-                    deadline = time.perf_counter()
+                    deadline = self.clock.now()
                     last_sent = None
                     continue
                 seq += 1
@@ -418,7 +422,7 @@ class Streamer:
                 if plan.active:
                     trace_time += plan.tick
                 deadline += plan.tick
-                behind = time.perf_counter() - deadline
+                behind = self.clock.now() - deadline
                 if behind > plan.tick:  # stalled: skip missed deadlines, keep trace time
                     missed = math.floor(behind / plan.tick)
                     deadline += missed * plan.tick
@@ -438,7 +442,7 @@ class Streamer:
         if not self.reconnect:
             self._set(state="stopped", status=f"stopped: {self._book.current.status}")
             return False
-        while not self._stopping.wait(self.reconnect_interval_s):
+        while not self.clock.wait(self._stopping, self.reconnect_interval_s):
             try:
                 self.link.reopen()
                 if not self._identify():
@@ -453,14 +457,14 @@ class Streamer:
     def _all_off_final(self, seq: int) -> None:
         zeros = bytes(self.profile.channels)
         try:
-            self._write(seq, zeros)
+            self._write(seq, zeros)  # a frame for now: also drops what is scheduled
             if self.array_info is not None:  # an array that answers: read its counters
-                self._send_query()
-                deadline = time.perf_counter() + 0.3
+                self._talk.send_query()
+                deadline = self.clock.now() + 0.3
                 seen = self.array_status
-                while time.perf_counter() < deadline and self.array_status is seen:
-                    self._poll_replies()
-                    time.sleep(0.002)
+                while self.clock.now() < deadline and self.array_status is seen:
+                    self._talk.poll()
+                    self.clock.sleep(0.002)
         except LinkError:
             pass  # the link is gone: the array's watchdog turns it off within 250 ms
         except Exception:
@@ -472,7 +476,7 @@ class Streamer:
             elif state != "refused":
                 status = status if state == "stopped" else "stopped: all off"
                 state = "stopped"
-            self._set(state=state, status=status, elapsed_s=time.perf_counter() - self._started_at)
+            self._set(state=state, status=status, elapsed_s=self.clock.now() - self._started_at)
             self.identified.set()
-            with self._status_arrived:
-                self._status_arrived.notify_all()
+            with self._talk.status_arrived:
+                self._talk.status_arrived.notify_all()

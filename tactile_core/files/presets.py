@@ -9,7 +9,8 @@ A preset file::
       "method": "AS", "mu": 0.33, "gamma": 0.7,
       "shape": {"type": "line", "p0": [0.5, 1.84], "p1": [4.5, 4.16]},
       "trace": {"duration_s": 2.0, "pause_s": 0.5, "direction": "forward", "repeat": true},
-      "rate_hz": 300.0, "filter": "box", "subsamples": 4, "dither": true
+      "rate_hz": 300.0, "filter": "box", "subsamples": 4, "dither": true,
+      "lead_ms": 20.0                        # optional: frames sent ahead to scheduled arrays
     }
 
 Loading validates everything before returning: a malformed or out-of-range file raises
@@ -25,6 +26,7 @@ from pathlib import Path
 from .._shared import validate as _validate
 from .._shared.assets import assets_dir
 from .._shared.jsonfile import read_json, write_json_atomic
+from ..device._stream_talk import DEFAULT_LEAD_MS
 from ..device.profile import NAME as PROFILE_NAME
 from ..rendering.scene import Scene
 from ..rendering.shapes import shape_from_dict
@@ -43,12 +45,17 @@ class PresetError(ValueError):
 
 @dataclass(frozen=True)
 class Preset:
-    """A named scene with its device profile and notes."""
+    """A named scene with its device profile, its lead and notes.
+
+    ``lead_ms`` is how far ahead frames go to an array that plays them at their time (0: frames
+    for now; see docs/device.md, Scheduled frames); it is how the scene is delivered, not what
+    it renders, so it sits beside the scene rather than in it."""
 
     scene: Scene
     name: str = "untitled"
     notes: str = ""
     device_profile: str = "palm-5x6"
+    lead_ms: float = DEFAULT_LEAD_MS
 
     def to_dict(self) -> dict:
         """The JSON form."""
@@ -76,6 +83,7 @@ class Preset:
             "dither": s.dither,
             "gain": s.gain,
             "felt_domain": s.felt_domain,
+            "lead_ms": self.lead_ms,
         }
 
 
@@ -147,11 +155,18 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
         field = str(exc).split(" ")[0]
         where = f"trace.{field}" if field in _TRACE_KEYS else field
         raise PresetError(f"{source}: field '{where}': {exc}") from None
+    lead_ms = data.get("lead_ms", DEFAULT_LEAD_MS)
+    if not (_validate.is_number(lead_ms) and 0.0 <= lead_ms <= 500.0):
+        raise PresetError(
+            f"{source}: field 'lead_ms' must be a number of milliseconds within [0, 500], "
+            f"got {_validate.shown(lead_ms)}"
+        )
     return Preset(
         scene=scene,
         name=data.get("name", Path(source).stem),
         notes=data.get("notes", ""),
         device_profile=data.get("device_profile", "palm-5x6"),
+        lead_ms=float(lead_ms),
     )
 
 
