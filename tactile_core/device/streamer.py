@@ -109,6 +109,7 @@ class Streamer:
     >>> from tactile_core.device.link import SimulatedArray
     >>> from tactile_core.rendering.scene import Scene
     >>> import tactile_core as tc
+    >>> import time
     >>> with Streamer(SimulatedArray(), scene=Scene(tc.Circle((2.5, 3), 2))) as s:
     ...     time.sleep(0.1)
     >>> s.stats.frames > 10
