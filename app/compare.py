@@ -36,16 +36,48 @@ class CompareView(QtWidgets.QWidget):
         outer.addWidget(self.chooser)
         self._holder = None
         self.methods: list[str] = []
-        self.heatmaps: dict = {}
-        self.curves: dict = {}
+        self._heatmaps: dict = {}
+        self._curves: dict = {}
+        self._built_for = None
         self._shown_scene = None
         self.set_methods(list(methods))
+
+    # The views are built the first time they are needed (the tab shown, or asked for): a tuner
+    # that never opens Compare never pays for its eight plots (half its start-up time).
+    @property
+    def heatmaps(self) -> dict:
+        """The heatmap view of each method shown, by spec."""
+        self._build()
+        return self._heatmaps
+
+    @property
+    def curves(self) -> dict:
+        """The activation-curve view of each method shown, by spec."""
+        self._build()
+        return self._curves
+
+    def showEvent(self, event) -> None:  # Qt override
+        self._build()
+        super().showEvent(event)
 
     def set_methods(self, methods) -> None:
         """Show ``methods`` (2-6 specs) side by side."""
         methods = [get_method(m).spec for m in methods]
         if not 2 <= len(methods) <= 6 or len(set(methods)) != len(methods):
             raise ValueError(f"compare needs 2 to 6 distinct methods, got {methods}")
+        self.methods = methods
+        self.chooser.methods = list(methods)
+        self.chooser.edit.setText(" ".join(methods))
+        self._shown_scene = None
+        if self.isVisible():
+            self._build()
+
+    def _build(self) -> None:
+        """Build the views of :attr:`methods` unless they are built already."""
+        methods = self.methods
+        if self._built_for == methods:
+            return
+        self._built_for = list(methods)
         # A fresh holder replaces the old one, views and all; the old is hidden at once (its
         # deletion waits for the event loop).
         holder = QtWidgets.QWidget()
@@ -57,8 +89,7 @@ class CompareView(QtWidgets.QWidget):
             self.layout().addWidget(holder, 1)
         self._holder = holder
         grid = QtWidgets.QGridLayout(holder)
-        self.methods = methods
-        self.heatmaps, self.curves = {}, {}
+        self._heatmaps, self._curves = {}, {}
         for i, spec in enumerate(methods):
             method = get_method(spec)
             # Short titles: a plot item never shrinks below its title's width.
@@ -75,15 +106,13 @@ class CompareView(QtWidgets.QWidget):
             grid.addWidget(heat, 0, i)
             grid.addWidget(curve, 1, i)
             grid.setColumnStretch(i, 1)
-            self.heatmaps[spec] = heat
-            self.curves[spec] = curve
-        first = self.curves[methods[0]]
+            self._heatmaps[spec] = heat
+            self._curves[spec] = curve
+        first = self._curves[methods[0]]
         for spec in methods[1:]:
-            self.curves[spec].setXLink(first)
+            self._curves[spec].setXLink(first)
         grid.setRowStretch(0, 3)
         grid.setRowStretch(1, 2)
-        self.chooser.methods = list(methods)
-        self.chooser.edit.setText(" ".join(methods))
         self._shown_scene = None
 
     def _refresh(self) -> None:
