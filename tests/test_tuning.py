@@ -9,6 +9,7 @@ import math
 import random
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -109,8 +110,8 @@ def test_fit_cumulative_recovers_a_known_threshold():
 
 def test_fit_gamma_recovers_a_known_point_of_equality_and_its_interval_covers_it():
     rng = np.random.default_rng(2)
-    g = rng.uniform(0.3, 1.2, 3000)
-    y = rng.random(3000) < ndtr(-(g - 0.6) / (0.3 * 0.6))
+    g = rng.uniform(0.3, 1.2, 1000)  # 1,000 answers: the location's SE is about 1%
+    y = rng.random(1000) < ndtr(-(g - 0.6) / (0.3 * 0.6))
     assert fit_gamma(g, y).location == pytest.approx(0.6, rel=0.03)
     # A 95% interval covers the truth in about 95% of data sets (binomial: 40 sets, >= 34).
     covered = 0
@@ -335,3 +336,43 @@ def test_cli_session_at_the_simulated_array_stops_on_q_and_resumes(tmp_path):
     assert [r["answer"] for r in rows] == ["", "1", "2"]
     again = subprocess.run(cmd, input="q\n", capture_output=True, text=True, timeout=60)
     assert "3 of 16 answered so far" in again.stderr
+
+
+def test_at_a_terminal_single_keys_answer_without_enter(tmp_path):
+    import os
+    import pty
+    import select
+
+    cmd = [sys.executable, "-m", "tactile_core.cli", "tune-correction", "--device", "sim",
+           "--participant", "k1", "--results", str(tmp_path), "--trials-per-tactor", "2",
+           "--trials-per-place", "2", "--corner-trials", "0"]  # fmt: skip
+    master, slave = pty.openpty()
+    proc = subprocess.Popen(cmd, stdin=slave, stdout=subprocess.DEVNULL, stderr=slave)
+    os.close(slave)
+    seen = b""
+
+    def wait_for(text, timeout=60.0):
+        nonlocal seen
+        deadline = time.monotonic() + timeout
+        while text not in seen:
+            assert time.monotonic() < deadline, seen.decode(errors="replace")
+            if select.select([master], [], [], 0.1)[0]:
+                try:
+                    seen += os.read(master, 4096)
+                except OSError:
+                    break
+
+    try:
+        wait_for(b"(Enter or Space)")
+        os.write(master, b" ")  # the introduction: one key, no Enter
+        wait_for(b"[2/")
+        os.write(master, b"1")  # an answer: the key alone
+        wait_for(b"[3/")
+        os.write(master, b"q")
+        assert proc.wait(60) == 1
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        os.close(master)
+    rows = read_rows(tmp_path / "participant-k1" / "correction.csv")
+    assert [r["answer"] for r in rows] == ["", "1"]

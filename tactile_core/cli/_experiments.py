@@ -9,6 +9,7 @@ import threading
 from .._shared import validate as _validate
 from .._shared.outfile import check_folder
 from ._common import UsageError, _install_stop_handlers
+from ._keys import read_key
 
 
 def cmd_analyze(args) -> int:
@@ -132,14 +133,15 @@ def _tune_at_array(args, plan, seed) -> int:
     try:
         if runner.recovered:
             print(f"resumed after a crash: {runner.recovered}", file=sys.stderr)
-        print(f"{runner.done} of {runner.total} answered so far; q then Enter stops (resume "
-              "later with the same command)", file=sys.stderr)  # fmt: skip
+        print(f"{runner.done} of {runner.total} answered so far; keys: 1 or 2 answer, r plays "
+              "again, q stops (resume later with the same command)", file=sys.stderr)  # fmt: skip
         while not runner.finished and not stop.is_set():
             trial = runner.current
             done, total = runner.progress()
             if trial.kind == "continue":
-                answer = input(f"[{done + 1}/{total}] {trial.prompt} (Enter) ")
-                if answer.strip().lower() == "q":
+                answer = read_key(f"[{done + 1}/{total}] {trial.prompt} (Enter or Space) ",
+                                  whitespace=True)  # fmt: skip
+                if answer == "q":
                     break
                 runner.answer("continue")
                 continue
@@ -149,7 +151,7 @@ def _tune_at_array(args, plan, seed) -> int:
                     play(scene, INTERVAL_S)
                     if k == 0:
                         stop.wait(INTERVAL_GAP_S)
-                answer = input(f"[{done + 1}/{total}] {trial.prompt} ").strip().lower()
+                answer = read_key(f"[{done + 1}/{total}] {trial.prompt} ")
                 if answer in ("1", "2", "q"):
                     break
                 if answer != "r":
