@@ -351,11 +351,11 @@ def test_at_a_terminal_single_keys_answer_without_enter(tmp_path):
     os.close(slave)
     seen = b""
 
-    def wait_for(text, timeout=60.0):
+    def wait_for(text, timeout=15.0):
         nonlocal seen
         deadline = time.monotonic() + timeout
         while text not in seen:
-            assert time.monotonic() < deadline, seen.decode(errors="replace")
+            assert time.monotonic() < deadline, repr(seen.decode(errors="replace"))
             if select.select([master], [], [], 0.1)[0]:
                 try:
                     seen += os.read(master, 4096)

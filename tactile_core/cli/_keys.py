@@ -1,7 +1,9 @@
 """Single key presses at the terminal, for the guided procedures (no Enter needed).
 
 At a terminal the key is read in cbreak mode (no line editing, no echo; the key is echoed by
-hand) and the terminal is restored whatever happens. From a pipe or a file, keys are read one
+hand) and the terminal is restored whatever happens. Cbreak is set, and keys pressed earlier
+(while the intervals played) are dropped, before the prompt appears: a key counts only once the
+question has been asked, and none pressed after it is lost. From a pipe or a file, keys are read one
 character at a time, so a script may send them one per line as before. Whitespace is skipped
 unless asked for (Enter and Space answer a "continue").
 """
@@ -26,12 +28,12 @@ def read_key(prompt: str, *, whitespace: bool = False) -> str:
     EOFError
         Standard input ended.
     """
-    sys.stderr.write(prompt)
-    sys.stderr.flush()
     stream = sys.stdin
     if stream.isatty():
-        key = _tty_key(stream, whitespace)
+        key = _tty_key(stream, whitespace, prompt)
     else:
+        sys.stderr.write(prompt)
+        sys.stderr.flush()
         key = _stream_key(stream, whitespace)
     sys.stderr.write((key if key.strip() else "") + "\n")
     sys.stderr.flush()
@@ -49,7 +51,7 @@ def _stream_key(stream, whitespace: bool) -> str:
             return ch.lower()
 
 
-def _tty_key(stream, whitespace: bool) -> str:
+def _tty_key(stream, whitespace: bool, prompt: str) -> str:
     import termios
     import tty
 
@@ -57,6 +59,9 @@ def _tty_key(stream, whitespace: bool) -> str:
     saved = termios.tcgetattr(fd)
     try:
         tty.setcbreak(fd)
+        termios.tcflush(fd, termios.TCIFLUSH)  # keys pressed before the question
+        sys.stderr.write(prompt)
+        sys.stderr.flush()
         while True:
             ch = stream.read(1)
             if ch == "":
