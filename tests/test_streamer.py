@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import tactile_core as tc
+from tactile_core.device.host_clock import VirtualClock
 from tactile_core.device.link import SerialLink, SimulatedArray
 from tactile_core.device.profile import default_profile
 from tactile_core.device.recorder import Recorder
@@ -46,9 +47,20 @@ class Taps:
         raise AssertionError(f"only {len(self.frames)} of {n} frames within {timeout} s")
 
 
+def virtual(sim=None, *args, **kwargs):
+    """A streamer on a virtual clock (its timing exact and instant, whatever the load) into a
+    simulated array on the same clock."""
+    clock = VirtualClock()
+    if sim is None:
+        sim = SimulatedArray(clock=clock)
+    else:
+        sim._now = clock.now  # a profile's own simulated array, on the same clock
+    return Streamer(sim, *args, clock=clock, spin_s=0.0, **kwargs)
+
+
 def run(scene, n, **kwargs):
     taps = Taps()
-    streamer = Streamer(SimulatedArray(), scene=scene, taps=[taps], **kwargs)
+    streamer = virtual(scene=scene, taps=[taps], **kwargs)
     with streamer:
         taps.wait_for(n)
     return taps.frames, streamer
@@ -76,9 +88,10 @@ def test_sequence_numbers_are_consecutive_and_wrap():
 
 
 def test_stop_sends_all_off_and_the_array_is_off():
-    sim = SimulatedArray()
     taps = Taps()
-    with Streamer(sim, scene=Scene(CIRCLE, mu=1.0), taps=[taps]):
+    streamer = virtual(scene=Scene(CIRCLE, mu=1.0), taps=[taps])
+    sim = streamer.link
+    with streamer:
         taps.wait_for(20)
         assert sim.levels().any()
     assert not taps.frames[-1][2].any()
@@ -87,7 +100,7 @@ def test_stop_sends_all_off_and_the_array_is_off():
 
 def test_pause_is_all_off_with_keep_alive_frames():
     taps = Taps()
-    streamer = Streamer(SimulatedArray(), scene=Scene(CIRCLE, mu=1.0, rate_hz=100.0), taps=[taps])
+    streamer = virtual(scene=Scene(CIRCLE, mu=1.0, rate_hz=100.0), taps=[taps])
     with streamer:
         taps.wait_for(10)
         streamer.set_scene(streamer.scene.replace(playing=False))
@@ -101,7 +114,7 @@ def test_pause_is_all_off_with_keep_alive_frames():
 
 def test_all_off_takes_effect_on_the_next_frame():
     taps = Taps()
-    streamer = Streamer(SimulatedArray(), scene=Scene(CIRCLE, mu=1.0, rate_hz=100.0), taps=[taps])
+    streamer = virtual(scene=Scene(CIRCLE, mu=1.0, rate_hz=100.0), taps=[taps])
     with streamer:
         taps.wait_for(10)
         streamer.all_off()
@@ -120,7 +133,7 @@ def test_idle_streamer_sends_zeros():
 def test_parameter_change_reaches_the_next_frames():
     taps = Taps()
     scene = Scene(CIRCLE, "AS", mu=0.0, gamma=1.0, rate_hz=100.0, dither=False)
-    streamer = Streamer(SimulatedArray(), scene=scene, taps=[taps])
+    streamer = virtual(scene=scene, taps=[taps])
     with streamer:
         taps.wait_for(10)
         streamer.set_scene(scene.replace(mu=1.0))  # every lit tactor at 22
@@ -143,8 +156,7 @@ def test_rate_is_capped_at_what_the_link_carries():
 def test_rate_cap_status_names_the_link_limit():
     messages = []
     taps = Taps()
-    streamer = Streamer(
-        SimulatedArray(),
+    streamer = virtual(
         scene=Scene(CIRCLE, rate_hz=1000.0),
         taps=[taps],
         on_status=lambda s: messages.append(s.status),
@@ -161,7 +173,7 @@ def test_calibration_offsets_and_gains_reach_the_wire():
     profile = default_profile().with_calibration(offset, gain)
     taps = Taps()
     scene = Scene(tc.Line((2.5, 3.5), (2.5, 3.5)), "CT", rate_hz=100.0, dither=False)
-    with Streamer(SimulatedArray(profile), profile, scene=scene, taps=[taps]):
+    with virtual(SimulatedArray(profile), profile, scene=scene, taps=[taps]):
         taps.wait_for(5)
     levels = taps.frames[2][2]
     assert levels[3 * 5 + 2] == 11  # floor(0.5 * 22 + 0.5)
@@ -185,9 +197,7 @@ def test_recorder_writes_csv_and_npz(tmp_path):
     profile = default_profile()
     recorder = Recorder(profile.array)
     taps = Taps()
-    with Streamer(
-        SimulatedArray(), scene=Scene(CIRCLE, mu=1.0, rate_hz=100.0), taps=[recorder, taps]
-    ):
+    with virtual(scene=Scene(CIRCLE, mu=1.0, rate_hz=100.0), taps=[recorder, taps]):
         taps.wait_for(20)
     recorder.save(tmp_path / "r.npz")
     recorder.save(tmp_path / "r.csv")
