@@ -9,14 +9,20 @@ import pytest
 from tactile_core.experiments import RUNNERS, Experiment3, SimulatedParticipant, open_session
 
 
-def test_analyze_paper_rounding_prints_the_papers_value(tmp_path):
-    sim = [sys.executable, "-m", "tactile_core.cli", "simulate", str(tmp_path), "--participants",
-           "12", "--experiments", "exp3", "--seed", "4"]  # fmt: skip
-    subprocess.run(sim, check=True, capture_output=True, timeout=120)
-    cmd = [sys.executable, "-m", "tactile_core.cli", "analyze", str(tmp_path)]
-    plain = subprocess.run(cmd, check=True, capture_output=True, text=True, timeout=120).stdout
-    paper = subprocess.run([*cmd, "--paper-rounding"], check=True, capture_output=True,
-                           text=True, timeout=120).stdout  # fmt: skip
+def run_cli(capsys, *argv) -> str:
+    """``tactile ARGV`` in this process (the command line's own code): its standard output."""
+    from tactile_core.cli import main
+
+    capsys.readouterr()
+    assert main(list(argv)) == 0
+    return capsys.readouterr().out
+
+
+def test_analyze_paper_rounding_prints_the_papers_value(tmp_path, capsys):
+    run_cli(capsys, "simulate", str(tmp_path), "--participants", "12", "--experiments", "exp3",
+            "--seed", "4")  # fmt: skip
+    plain = run_cli(capsys, "analyze", str(tmp_path))
+    paper = run_cli(capsys, "analyze", str(tmp_path), "--paper-rounding")
     assert "rounded to three decimals" in paper and "rounded to three decimals" not in plain
     row = paper.split("Table 2")[1].splitlines()[2].split("\t")
     assert all(round(float(v) / 0.006, 6).is_integer() or float(v) == 1.0 for v in row), row
@@ -34,11 +40,18 @@ def study(tmp_path_factory):
     return root
 
 
-def test_analyze_prints_the_papers_tables_and_writes_figures(study):
-    proc = subprocess.run([sys.executable, "-m", "tactile_core.cli", "analyze", str(study)],
-                          capture_output=True, text=True, timeout=300)  # fmt: skip
-    assert proc.returncode == 0, proc.stderr
-    out = proc.stdout
+@pytest.fixture(scope="module")
+def analysed(study):
+    """One analysis of the study for the tests below: what it printed and what it returned."""
+    from tactile_core.experiments.analysis import analyze
+
+    lines = []
+    result = analyze(study, out=lambda *args: lines.append(" ".join(map(str, args))))
+    return "\n".join(lines), result
+
+
+def test_analyze_prints_the_papers_tables_and_writes_figures(study, analysed):
+    out, _ = analysed
     assert "Table 1" in out and "Table 2" in out
     assert "CT, MM\tCT, AS\tCT, IM\tMM, AS\tMM, IM\tAS, IM" in out
     assert "medians (quality/smoothness/thickness):\tCT " in out  # not "CT 72/59/138" unlabelled
@@ -46,10 +59,8 @@ def test_analyze_prints_the_papers_tables_and_writes_figures(study):
         assert (study / f"{name}.png").stat().st_size > 10_000
 
 
-def test_analysis_recovers_the_simulated_effects(study):
-    from tactile_core.experiments.analysis import analyze
-
-    result = analyze(study, out=lambda *_: None)
+def test_analysis_recovers_the_simulated_effects(analysed):
+    _, result = analysed
     quality = result["exp1"]["tables"]["quality"]
     # Anti-aliased rated far higher than bi-level for all 12: the smallest p for n = 12.
     assert quality[("CT", "AS")] < 0.05 and quality[("MM", "IM")] < 0.05
