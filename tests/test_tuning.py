@@ -327,7 +327,7 @@ def test_cli_session_at_the_simulated_array_stops_on_q_and_resumes(tmp_path):
     # A person at the array types answers; q stops with everything answered on disk.
     cmd = [sys.executable, "-m", "tactile_core.cli", "tune-correction", "--device", "sim",
            "--participant", "p3", "--results", str(tmp_path), "--trials-per-tactor", "2",
-           "--trials-per-place", "2", "--corner-trials", "0"]  # fmt: skip
+           "--trials-per-place", "2", "--corner-trials", "0", "--interval-ms", "20"]  # fmt: skip
     done = subprocess.run(cmd, input="\n1\nr\n2\nq\n", capture_output=True, text=True,
                           timeout=60)  # fmt: skip
     assert done.returncode == 1, done.stderr
@@ -345,7 +345,7 @@ def test_at_a_terminal_single_keys_answer_without_enter(tmp_path):
 
     cmd = [sys.executable, "-m", "tactile_core.cli", "tune-correction", "--device", "sim",
            "--participant", "k1", "--results", str(tmp_path), "--trials-per-tactor", "2",
-           "--trials-per-place", "2", "--corner-trials", "0"]  # fmt: skip
+           "--trials-per-place", "2", "--corner-trials", "0", "--interval-ms", "20"]  # fmt: skip
     master, slave = pty.openpty()
     proc = subprocess.Popen(cmd, stdin=slave, stdout=subprocess.DEVNULL, stderr=slave)
     os.close(slave)

@@ -103,9 +103,11 @@ def _tune_at_array(args, plan, seed) -> int:
     from ..device.profile import ProfileError, load_profile
     from ..device.streamer import Streamer
     from ..experiments.results import check_participant, open_session
-    from ..experiments.runners import INTERVAL_GAP_S, INTERVAL_S
     from ..experiments.tuning import CorrectionTuning, save_correction
 
+    interval_s = args.interval_ms / 1e3
+    if not 0.02 <= interval_s <= 5.0:  # NaN fails too
+        raise UsageError(f"--interval-ms must be within [20, 5000], got {args.interval_ms!r}")
     pid = check_participant(args.participant)
     check_folder(args.results, "--results")
     try:
@@ -148,9 +150,9 @@ def _tune_at_array(args, plan, seed) -> int:
             while not stop.is_set():
                 for k, scene in enumerate(trial.intervals):
                     print(f"  interval {k + 1}", file=sys.stderr, flush=True)
-                    play(scene, INTERVAL_S)
+                    play(scene, interval_s)
                     if k == 0:
-                        stop.wait(INTERVAL_GAP_S)
+                        stop.wait(interval_s)
                 answer = read_key(f"[{done + 1}/{total}] {trial.prompt} ")
                 if answer in ("1", "2", "q"):
                     break

@@ -147,6 +147,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--threshold-procedure", choices=("staircase", "quest+"),
                    default="staircase", help="how threshold levels are placed: a 3-down/1-up "
                    "track (default) or QUEST+")  # fmt: skip
+    p.add_argument("--interval-ms", type=number, default=500.0,
+                   help="at the array: how long each interval plays, and the silence between "
+                   "the two (default 500, 20 to 5000)")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=cmd_tune_correction)
 
