@@ -63,8 +63,8 @@ def quick_tuning(monkeypatch):
     from tactile_core.experiments import RUNNERS
     from tactile_core.experiments.tuning import CorrectionTuning, TuningPlan
 
-    monkeypatch.setattr(tactile_tuner.experiments.trials, "INTERVAL_S", 0.03)
-    monkeypatch.setattr(tactile_tuner.experiments.trials, "INTERVAL_GAP_S", 0.02)
+    monkeypatch.setattr(tactile_tuner.experiments.trials, "INTERVAL_S", 0.01)
+    monkeypatch.setattr(tactile_tuner.experiments.trials, "INTERVAL_GAP_S", 0.005)
     monkeypatch.setitem(
         RUNNERS, "correction", functools.partial(CorrectionTuning, plan=TuningPlan(12, 16, 4))
     )
