@@ -19,7 +19,7 @@ def quick_runs(qt_settings, monkeypatch):
 def window(qtbot, tmp_path):
     from tactile_tuner.window import MainWindow
 
-    win = MainWindow(restore=False)
+    win = MainWindow(restore=False, process=False)  # the stream as a thread: quicker
     qtbot.addWidget(win)
     win.show()
     qtbot.waitExposed(win)

@@ -18,7 +18,7 @@ Key = QtCore.Qt.Key
 def window(qtbot):
     from tactile_tuner.window import MainWindow
 
-    win = MainWindow(restore=False)
+    win = MainWindow(restore=False, process=False)  # the stream as a thread: quicker
     qtbot.addWidget(win)
     win.resize(1280, 720)
     win.show()

@@ -22,7 +22,7 @@ pytestmark = pytest.mark.usefixtures("qt_settings")
 def window(qtbot):
     from tactile_tuner.window import MainWindow
 
-    win = MainWindow(restore=False)
+    win = MainWindow(restore=False, process=False)  # the stream as a thread: quicker
     qtbot.addWidget(win)
     win.resize(1200, 800)
     win.show()
