@@ -130,7 +130,7 @@ def test_query_answers_agree_with_the_emulators_own_counts():
     assert status is not None and status.dropped == 1
     assert 0 < status.frames_applied <= emulator.model.frames_applied
     final = emulator.report()
-    assert stats.array_frames == final["frames_applied"] == len(emulator.times)
+    assert stats.array_frames == final["frames_applied"] == len(emulator.log)
     assert stats.array_dropped == final["dropped"] == 1
     assert stats.array_watchdog_trips == final["watchdog_trips"] == 0
 

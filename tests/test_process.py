@@ -29,21 +29,21 @@ def test_child_streams_scenes_and_turns_off_on_stop(emulator_thread):
     emu, path = emulator_thread
     stream = open_stream(path, scene=Scene(tc.Line((1.5, 2.5), (1.5, 2.5)), "CT", pause_s=0.0))
     try:
-        wait(lambda: len(emu.levels) > 20)
-        assert emu.levels[-1][2 * 5 + 1] == 22  # cell (1, 2)
+        wait(lambda: len(emu.log) > 20)
+        assert emu.log.last()[2 * 5 + 1] == 22  # cell (1, 2)
         wait(lambda: stream.last_levels[2, 1] == 22)  # published back to the parent
         scene, trace_time = stream.last_frame
         assert scene is stream.scene and trace_time is not None
         stream.set_scene(stream.scene.replace(shape=tc.Line((3.5, 4.5), (3.5, 4.5))))
-        wait(lambda: emu.levels[-1][4 * 5 + 3] == 22 and emu.levels[-1][2 * 5 + 1] == 0)
+        wait(lambda: emu.log.last()[4 * 5 + 3] == 22 and emu.log.last()[2 * 5 + 1] == 0)
         stream.all_off()
-        wait(lambda: not any(emu.levels[-1]))
+        wait(lambda: not any(emu.log.last()))
         assert stream.stats.state == "paused"
     finally:
         stats = stream.stop()
     assert not stream.running
     assert stats.state == "stopped" and stats.frames > 20
-    assert not any(emu.levels[-1]) and not stream.last_levels.any()
+    assert not any(emu.log.last()) and not stream.last_levels.any()
 
 
 def test_a_bad_port_is_reported_by_start_and_nothing_keeps_running():
@@ -66,18 +66,18 @@ def test_killing_the_parent_turns_the_array_off_without_the_watchdog(emulator_th
     parent = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
     try:
         assert parent.stdout.readline().strip() == "streaming"
-        wait(lambda: len(emu.levels) > 30 and any(emu.levels[-1]))
+        wait(lambda: len(emu.log) > 30 and any(emu.log.last()))
         parent.send_signal(signal.SIGKILL)
         parent.wait(10)
-        wait(lambda: not any(emu.levels[-1]))
+        wait(lambda: not any(emu.log.last()))
     finally:
         if parent.poll() is None:
             parent.kill()
         parent.stdout.close()
     assert emu.watchdog_trips == 0  # the child noticed and sent all-off itself
-    frames = len(emu.levels)
+    frames = len(emu.log)
     time.sleep(0.3)
-    assert len(emu.levels) == frames  # and it has stopped streaming
+    assert len(emu.log) == frames  # and it has stopped streaming
 
 
 def test_local_stream_has_the_same_interface():

@@ -234,6 +234,9 @@ def test_shape_and_method_numbers_are_ascii_decimals(text):
       "0.2", "--record", ""],
      ["emulate", "--seconds", "0.1", "--log", ""],
      ["emulate", "--seconds", "0.1", "--json", ""],
+     ["emulate", "--seconds", "0.1", "--profile", ""],
+     ["stream", "--device", "sim", "--shape", "circle:2.5,3,2", "--method", "AS", "--seconds",
+      "0.2", "--profile", ""],
      ["analyze", ""]],
 )  # fmt: skip
 def test_empty_output_paths_are_refused_not_ignored(capsys, argv):

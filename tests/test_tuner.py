@@ -399,12 +399,12 @@ def test_connect_to_an_emulated_device_and_disconnect(window, qtbot, emulator_th
     window.device_panel.port_combo.setCurrentText(path)
     qtbot.mouseClick(window.device_panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
     assert not window.device.simulated, window.last_error
-    qtbot.waitUntil(lambda: len(emulator.levels) > 30 and any(emulator.levels[-1]), timeout=5000)
+    qtbot.waitUntil(lambda: len(emulator.log) > 30 and any(emulator.log.last()), timeout=5000)
     qtbot.waitUntil(lambda: "achieved" in window.device_panel.status_label.text(), timeout=3000)
     qtbot.mouseClick(window.device_panel.disconnect_button, QtCore.Qt.MouseButton.LeftButton)
     assert window.device.simulated
     qtbot.wait(50)
-    assert not any(emulator.levels[-1])  # all off before letting go of the device
+    assert not any(emulator.log.last())  # all off before letting go of the device
 
 
 def test_screenshot_command(tmp_path):

@@ -255,9 +255,9 @@ def test_an_experiment_runs_against_a_port(window, qtbot, emulator_thread):
     press(qtbot, window, QtCore.Qt.Key.Key_G)
     for _ in range(2):
         wait_trial(qtbot, panel, "shape")
-        n = len(emulator.levels)
-        qtbot.waitUntil(lambda n=n: len(emulator.levels) > n + 30, timeout=5000)
-        assert any(any(levels) for levels in emulator.levels[n:])  # the stimulus is on the wire
+        n = len(emulator.log)
+        qtbot.waitUntil(lambda n=n: len(emulator.log) > n + 30, timeout=5000)
+        assert emulator.log.arrays(n)[2].any()  # the stimulus is on the wire
         press(qtbot, window, QtCore.Qt.Key.Key_C)
     panel.stop()
-    qtbot.waitUntil(lambda: not any(emulator.levels[-1]), timeout=3000)
+    qtbot.waitUntil(lambda: not any(emulator.log.last()), timeout=3000)

@@ -82,6 +82,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--log", default=None, help="write every received frame to this CSV")
     p.add_argument(
+        "--keep-frames",
+        type=whole,
+        default=None,
+        help="frames kept for --log and the statistics, the latest (default 1080000: an hour "
+        "at 300 Hz, ~42 MB)",
+    )
+    p.add_argument(
         "--plain",
         action="store_true",
         help="a format 2 array without scheduled frames (timed frames are dropped as unknown)",

@@ -126,9 +126,19 @@ def cmd_stream(args) -> int:
         stats = streamer.stop()
         link.close()
     print(stats.summary())
+    unsaved = 0
     if recorder is not None:
-        path = recorder.save(args.record)
-        print(f"recorded {len(recorder)} frames to {path}")
+        try:
+            path = recorder.save(args.record)
+        except OSError as exc:  # a full disk: the statistics above stand, the file does not
+            print(
+                f"tactile stream: cannot write the recording of {len(recorder)} frames to "
+                f"{args.record}: {exc.strerror or exc}",
+                file=sys.stderr,
+            )
+            unsaved = 1
+        else:
+            print(f"recorded {len(recorder)} frames to {path}")
     if stats.state == "failed":
         print(f"tactile stream: {stats.status}", file=sys.stderr)
         print(streamer.failure_traceback, file=sys.stderr, end="")
@@ -136,12 +146,12 @@ def cmd_stream(args) -> int:
     if stats.state == "refused":
         print(f"tactile stream: {stats.status}", file=sys.stderr)
         return 1
-    return 0 if stats.errors == 0 else 1
+    return 0 if stats.errors == 0 and not unsaved else 1
 
 
 def cmd_emulate(args) -> int:
     """Run the device emulator on a pseudo-terminal until stopped."""
-    from ..device.emulator import Emulator
+    from ..device.emulator import KEEP_FRAMES, Emulator
     from ..device.profile import ProfileError, load_profile
 
     try:
@@ -157,7 +167,12 @@ def cmd_emulate(args) -> int:
             check_output(value, (), option)
     stop = threading.Event()
     _install_stop_handlers(stop)
-    emulator = Emulator(profile, expected_rate_hz=args.rate, scheduled=not args.plain)
+    keep = KEEP_FRAMES if args.keep_frames is None else args.keep_frames
+    if not 1 <= keep <= 1 << 31:
+        raise UsageError(f"--keep-frames must be within [1, 2147483648], got {keep}")
+    emulator = Emulator(
+        profile, expected_rate_hz=args.rate, scheduled=not args.plain, keep_frames=keep
+    )
     path = emulator.open()
     print(path, flush=True)
     print(
@@ -170,9 +185,14 @@ def cmd_emulate(args) -> int:
         emulator.run(stop.is_set, seconds=args.seconds, close_after=args.close_after)
     finally:
         emulator.close()
-        if args.log:
-            emulator.save_log(args.log)
-        if args.json:
-            emulator.save_report(args.json)
         print(emulator.summary(), flush=True)
-    return 0
+    failed = 0
+    for path, save in ((args.log, emulator.save_log), (args.json, emulator.save_report)):
+        if path:
+            try:
+                save(path)
+            except OSError as exc:  # a full disk: say which file, still try the other
+                reason = exc.strerror or exc
+                print(f"tactile emulate: cannot write {path}: {reason}", file=sys.stderr)
+                failed = 1
+    return failed

@@ -11,7 +11,9 @@ the log has each one at the time it was to be played, and the report counts thos
 or found the queue full and how late the emulator's own loop played the others. When it ends
 (Ctrl-C, SIGTERM, ``--seconds``) it prints a report: frames, rate, p50/p99 interval error,
 dropped messages, watchdog trips, the last levels; its counters are the ones a status answer
-reports.
+reports. It keeps the latest ``keep_frames`` frames (an hour at 300 Hz by default, 39 bytes a
+frame for the palm array: ~42 MB at most), so it can run for days; the interval statistics and
+``--log`` cover the frames kept, and the report says how many were let go.
 """
 
 from __future__ import annotations
@@ -20,13 +22,18 @@ import os
 import select
 import time
 import tty
+from collections import deque
 
 import numpy as np
 
 from .._shared.jsonfile import write_json_atomic
 from .._shared.outfile import atomic_file, check_output
+from ._frame_log import FrameLog
 from .array import ArrayModel
 from .profile import DeviceProfile, default_profile
+
+KEEP_FRAMES = 1_080_000
+"""Frames the emulator keeps by default: an hour at 300 Hz."""
 
 
 class Emulator:
@@ -40,20 +47,22 @@ class Emulator:
         Nominal frame rate for the interval error; the median interval if not given.
     scheduled : bool
         Speak the scheduled-frame extension (False: a plain format 2 array).
+    keep_frames : int
+        Frames kept for the log and the interval statistics (the latest ones).
     """
 
     def __init__(self, profile: DeviceProfile | None = None, expected_rate_hz: float | None = None,
-                 *, scheduled: bool = True):  # fmt: skip
+                 *, scheduled: bool = True, keep_frames: int = KEEP_FRAMES):  # fmt: skip
         self.profile = profile or default_profile()
         self.expected_rate_hz = expected_rate_hz
         self.model = ArrayModel(self.profile, scheduled=scheduled)
         self.reader = self.model.reader
         self.master = self.slave = None
         self.path = None
-        self.times: list[float] = []  # monotonic receive time of each valid frame
-        self.seqs: list[int] = []
-        self.levels: list[bytes] = []  # channel order
-        self.events: list[tuple[float, str]] = []
+        self.log = FrameLog(self.profile.channels, keep_frames)
+        """Each valid frame: its monotonic time (received, or due if timed), seq, levels in
+        channel order."""
+        self.events: deque[tuple[float, str]] = deque(maxlen=10_000)  # the latest
         self.unplugged = False
         """Set (from any thread) to close the device as if it were unplugged; the run ends."""
         self.hellos = 0
@@ -61,7 +70,9 @@ class Emulator:
         self.seq_gaps = 0
         self.bytes_received = 0
         self.started = None
-        self.play_lag: list[float] = []  # how long after its time each timed frame was played
+        # how long after its time each timed frame was played: the latest keep_frames
+        self._lag = np.empty(max(1, min(keep_frames, 1 << 24)))
+        self._lags = 0
 
     def open(self) -> str:
         """Create the pseudo-terminal; return the path a client opens."""
@@ -95,6 +106,11 @@ class Emulator:
         return self.model.levels
 
     @property
+    def play_lag(self) -> np.ndarray:
+        """How long after its time each timed frame (the latest ones) was played, in s."""
+        return self._lag[: min(self._lags, len(self._lag))]
+
+    @property
     def watchdog_trips(self) -> int:
         """Watchdog trips so far."""
         return self.model.watchdog_trips
@@ -106,12 +122,11 @@ class Emulator:
         for frame in frames:
             at, late = onsets.get(id(frame), (now, True))
             if not late:
-                self.play_lag.append(now - at)
-            if self.seqs:
-                self.seq_gaps += (frame.seq - self.seqs[-1] - 1) % 256
-            self.times.append(at)
-            self.seqs.append(frame.seq)
-            self.levels.append(frame.levels)
+                self._lag[self._lags % len(self._lag)] = now - at
+                self._lags += 1
+            if len(self.log):
+                self.seq_gaps += (frame.seq - self.log.last_seq() - 1) % 256
+            self.log.append(at, frame.seq, frame.levels)
 
     def _receive(self, data: bytes, now: float) -> None:
         self.bytes_received += len(data)
@@ -171,7 +186,7 @@ class Emulator:
 
     def report(self) -> dict:
         """What was received, as a JSON-ready dict."""
-        times = np.asarray(self.times)
+        times = self.log.arrays()[0]
         n = len(times)
         intervals = np.diff(times)
         if self.expected_rate_hz:
@@ -186,7 +201,8 @@ class Emulator:
         return {
             "path": self.path,
             "started_monotonic": self.started,
-            "frames": n,
+            "frames": len(self.log),
+            "frames_kept": n,
             "bytes": self.bytes_received,
             "duration_s": span,
             "rate_hz": (n - 1) / span if span > 0 else 0.0,
@@ -204,7 +220,7 @@ class Emulator:
             "timed_full": self.model.full,
             "timed_flushed": self.model.flushed,
             "play_lag_p99_ms": (
-                float(np.percentile(self.play_lag, 99) * 1e3) if self.play_lag else 0.0
+                float(np.percentile(self.play_lag, 99) * 1e3) if self._lags else 0.0
             ),
             "info": self.model.info.describe(),
             "events": [(round(t - (self.started or 0.0), 6), e) for t, e in self.events],
@@ -217,7 +233,10 @@ class Emulator:
         bad = ", ".join(f"{k} {v}" for k, v in r["bad_frames"].items() if v) or "none"
         lines = [
             f"received {r['frames']} frames ({r['bytes']} bytes) in {r['duration_s']:.2f} s: "
-            f"{r['rate_hz']:.1f} Hz",
+            f"{r['rate_hz']:.1f} Hz"
+            if r["frames_kept"] == r["frames"]
+            else f"received {r['frames']} frames ({r['bytes']} bytes); the latest "
+            f"{r['frames_kept']} kept, over {r['duration_s']:.2f} s: {r['rate_hz']:.1f} Hz",
             f"interval error: p50 {r['interval_error_p50_ms']:.3f} ms, "
             f"p99 {r['interval_error_p99_ms']:.3f} ms, max {r['interval_error_max_ms']:.3f} ms "
             f"(nominal {r['nominal_period_ms']:.3f} ms)",
@@ -235,12 +254,14 @@ class Emulator:
         return "\n".join(lines)
 
     def save_log(self, path) -> None:
-        """Every valid frame as CSV: ``time,seq,ch0,...`` (seconds from the start, levels in
-        channel order). Watchdog trips and closing are in the report's ``events``."""
+        """The frames kept (every valid frame unless more than ``keep_frames`` came) as CSV:
+        ``time,seq,ch0,...`` (seconds from the start, levels in channel order). Watchdog trips
+        and closing are in the report's ``events``."""
+        times, seqs, levels = self.log.arrays()
         with atomic_file(check_output(path, (), "--log")) as f:
             f.write("time,seq," + ",".join(f"ch{i}" for i in range(self.profile.channels)) + "\n")
-            for t, s, lv in zip(self.times, self.seqs, self.levels):
-                f.write(f"{t - self.started:.6f},{s}," + ",".join(map(str, lv)) + "\n")
+            for t, s, lv in zip((times - self.started).tolist(), seqs.tolist(), levels.tolist()):
+                f.write(f"{t:.6f},{s}," + ",".join(map(str, lv)) + "\n")
 
     def save_report(self, path) -> None:
         """The report as JSON."""

@@ -88,6 +88,11 @@ def load_profile(path_or_name=None) -> DeviceProfile:
     """
     if path_or_name is None:
         path_or_name = DEFAULT_PROFILE
+    if not str(path_or_name).strip():  # Path('') is '.', the current folder
+        raise ProfileError(
+            f"device profile: an empty path names no file (got {_validate.shown(path_or_name)}); "
+            "leave the option out for the palm array"
+        )
     path = Path(path_or_name)
     if not path.suffix and not path.exists():
         try:

@@ -8,13 +8,15 @@ import numpy as np
 
 from .._shared.outfile import atomic_file, check_output
 from ..rendering.geometry import ArraySpec
+from ._frame_log import FrameLog
 
 
 class Recorder:
     """A streamer tap that keeps every frame written and saves them on :meth:`save`.
 
-    Frames are kept in memory (about 32 MB per hour at 300 Hz for 30 channels) and written at
-    the end, so recording adds no file I/O to the output thread.
+    Frames are kept in memory, ``9 + channels`` bytes each (39 bytes for the palm array: about
+    42 MB per hour at 300 Hz), and written at the end, so recording adds no file I/O to the
+    output thread.
 
     Parameters
     ----------
@@ -24,30 +26,23 @@ class Recorder:
 
     def __init__(self, array: ArraySpec):
         self.array = array
-        self._times: list[float] = []
-        self._seqs: list[int] = []
-        self._levels: list[bytes] = []
+        self.log = FrameLog(array.grid.size)
 
     def __call__(self, time_s: float, seq: int, levels: bytes) -> None:
         """Tap interface: record one frame (channel-ordered levels)."""
-        self._times.append(time_s)
-        self._seqs.append(seq)
-        self._levels.append(levels)
+        self.log.append(time_s, seq, levels)
 
     def __len__(self) -> int:
-        return len(self._times)
+        return len(self.log)
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``time`` (s from the first frame), ``seq`` and ``levels`` ``(n, rows, cols)`` uint8."""
-        n = len(self._times)
-        grid = self.array.grid
-        time_s = np.asarray(self._times, dtype=np.float64)
-        if n:
+        time_s, seq, channel = self.log.arrays()
+        if len(time_s):
             time_s = time_s - time_s[0]
-        channel = np.frombuffer(b"".join(self._levels), dtype=np.uint8).reshape(n, grid.size)
         cells = np.zeros_like(channel)
         cells[:, self.array.channel_index] = channel
-        return time_s, np.asarray(self._seqs, dtype=np.uint8), cells.reshape(n, *grid.shape)
+        return time_s, seq, cells.reshape(len(seq), *self.array.grid.shape)
 
     def save(self, path) -> Path:
         """Write ``.csv`` (``time,seq,r0c0,...``) or ``.npz`` (``time``, ``seq``, ``levels``)."""
