@@ -18,7 +18,8 @@ from .emulator_support import Emulator
 settings.register_profile(
     "default",
     deadline=None,
-    derandomize=True,
+    derandomize=True,  # the same examples in every run
+    database=None,  # and no examples replayed from earlier runs: a run depends on the code only
     max_examples=150,
     suppress_health_check=[HealthCheck.too_slow],
 )

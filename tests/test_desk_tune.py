@@ -99,7 +99,7 @@ def test_the_mouse_wheel_over_the_controls_scrolls_them(window, qtbot):
 @pytest.mark.parametrize("how", ["space", "all off"])
 def test_pause_and_all_off_leave_the_cursor_and_point_where_they_were(window, qtbot, how):
     curves, heatmap = window.tune.curves, window.tune.heatmap
-    qtbot.waitUntil(lambda: curves.cursor.isVisible() and len(heatmap.point.data) == 1)
+    qtbot.waitUntil(lambda: curves.cursor.isVisible() and heatmap.point_xy is not None)
     if how == "space":
         window.tabs.setFocus()
         qtbot.keyClick(window.tabs, Key.Key_Space)
@@ -107,7 +107,7 @@ def test_pause_and_all_off_leave_the_cursor_and_point_where_they_were(window, qt
         qtbot.mouseClick(window.controls.playback.off_button, QtCore.Qt.MouseButton.LeftButton)
     assert not window.state.scene.playing
     qtbot.wait(100)
-    assert curves.cursor.isVisible() and len(heatmap.point.data) == 1
+    assert curves.cursor.isVisible() and heatmap.point.isVisible() and heatmap.point_xy is not None
     at = curves.cursor.value()
     qtbot.wait(100)
     assert curves.cursor.value() == at  # frozen where it was paused

@@ -8,12 +8,19 @@ import time
 import numpy as np
 from PySide6 import QtCore
 
-import tactile_core as tc
+from tactile_core.rendering.correction import correct1
 from tactile_core.rendering.methods import get_method, mark_unavailable
-from tactile_core.rendering.percept import REFERENCE, felt_magnitude
+from tactile_core.rendering.percept import REFERENCE
 from tactile_core.rendering.rasterize import point_entries
 
 DISPLAY_HZ = 60
+
+
+def felt1(drive: float, threshold: float, exponent: float) -> float:
+    """Scalar :func:`tactile_core.rendering.percept.felt_magnitude` (checked in the tests)."""
+    if drive <= threshold:
+        return 0.0
+    return ((drive - threshold) / (1.0 - threshold)) ** exponent
 
 
 class LiveDisplay(QtCore.QObject):
@@ -44,6 +51,7 @@ class LiveDisplay(QtCore.QObject):
         """``time.perf_counter()`` of the recent ticks (for :meth:`display_rate`)."""
         self._trace_cache = (None, None)
         self._last = None  # (t, phase) of the last frame played: paused, the views stay there
+        self._buffer = np.zeros(0)
         self.timer = QtCore.QTimer(self)
         self.timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
         self.timer.timeout.connect(self._on_timer_timeout)
@@ -104,7 +112,12 @@ class LiveDisplay(QtCore.QObject):
         show_levels = self.state.show_levels
         labels = None
         if mode in ("raw", "corrected", "predicted"):
-            values = np.zeros(grid.size)
+            # One buffer, reused: only the (at most four) lit tactors are computed and written.
+            if self._buffer.shape != grid.shape:
+                self._buffer = np.zeros(grid.shape)
+            values = self._buffer
+            flat = values.reshape(-1)
+            flat.fill(0.0)
             if t is not None:
                 sample1 = get_method(scene.method).sample1
                 try:
@@ -113,12 +126,11 @@ class LiveDisplay(QtCore.QObject):
                     self._plugin_failed(scene, exc)
                     return None, None
                 for i, v in entries:
-                    values[i] = v
-                if mode != "raw":
-                    values = tc.correct(values, scene.mu, scene.gamma, gain=scene.gain)
-                if mode == "predicted":
-                    values = felt_magnitude(values, REFERENCE.threshold, REFERENCE.exponent)
-            values = values.reshape(grid.shape)
+                    if mode != "raw":
+                        v = correct1(v, scene.mu, scene.gamma, scene.gain)
+                    if mode == "predicted":
+                        v = felt1(v, REFERENCE.threshold, REFERENCE.exponent)
+                    flat[i] = v
             if show_levels:
                 labels = np.char.mod("%.2f", values)
         else:

@@ -104,8 +104,11 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         self.path = pg.PlotDataItem(pen=pg.mkPen("#ff9800", width=2))  # the felt centroid
         self.plot.addItem(self.path)
         self.point = pg.ScatterPlotItem(
-            size=14, brush=pg.mkBrush("#ff3030"), pen=pg.mkPen("w", width=2)
+            [0.0], [0.0], size=14, brush=pg.mkBrush("#ff3030"), pen=pg.mkPen("w", width=2)
         )
+        self.point.setVisible(False)
+        self.point_xy = None
+        """Where the moving point is drawn (grid units), or None while hidden."""
         self.plot.addItem(self.point)
         self.highlight_item = QtWidgets.QGraphicsRectItem(0, 0, 1, 1)
         self.highlight_item.setVisible(False)
@@ -201,8 +204,12 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
     def set_frame(self, values, labels=None) -> None:
         """Show intensities ``(rows, cols)`` in [0, 1]; ``labels`` per cell when shown."""
         values = np.asarray(values, dtype=np.float64)
-        self.values = values
-        self.image.setImage(values, levels=(0.0, 1.0), autoLevels=False)
+        if values.shape != self.values.shape:
+            self.values = values.copy()
+            self.image.setImage(self.values, levels=(0.0, 1.0), autoLevels=False)
+        elif not np.array_equal(values, self.values):  # unchanged (off, paused): no repaint
+            np.copyto(self.values, values)
+            self.image.setImage(self.values, levels=(0.0, 1.0), autoLevels=False)
         if self._show_texts and labels is not None:
             flat = np.asarray(labels).reshape(-1)
             for i, text in enumerate(flat.tolist()):
@@ -237,11 +244,20 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
             self.path.setData(pts[:, 0], pts[:, 1], connect="finite")
 
     def set_point(self, xy) -> None:
-        """Draw the moving point at ``(x, y)`` (None to hide)."""
+        """Draw the moving point at ``(x, y)`` (None to hide).
+
+        The point is one spot at the item's origin, moved by its position: a frame changes a
+        transform, not the scatter's data.
+        """
+        xy = None if xy is None else (float(xy[0]), float(xy[1]))
+        if xy == self.point_xy:
+            return
+        self.point_xy = xy
         if xy is None:
-            self.point.setData([], [])
+            self.point.setVisible(False)
         else:
-            self.point.setData([xy[0]], [xy[1]])
+            self.point.setPos(*xy)
+            self.point.setVisible(True)
 
     def set_cell_frames(self, colors: dict) -> None:
         """Frame cells ``{(col, row): colour}`` (the activation curves' colours)."""
