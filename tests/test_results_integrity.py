@@ -2,6 +2,7 @@
 a killed holder of the lock, a malformed row. Each fault is injected; the data must come out as
 an uninterrupted run's, or be refused naming the file, the row and the problem."""
 
+import copy
 import csv
 import errno
 import io
@@ -111,6 +112,11 @@ def test_a_torn_last_row_at_every_offset_is_moved_aside_and_presented_again(tmp_
     last_start = data.rstrip(b"\n").rfind(b"\n") + 1
     offsets = range(last_start, len(data))  # every cut inside the last row and its line end
     assert len(offsets) > 60
+    # The participant as it was when the row was torn: the same random state the run had.
+    answered = SimulatedParticipant(seed=5)
+    replay = RUNNERS["exp2"](open_session(tmp_path / "ref", "p01", seed=7, index=2))
+    answer_all(replay, answered, stop_after=59)
+    replay.close()
     for cut in offsets:
         run = tmp_path / f"cut{cut}"
         folder = run / "participant-p01"
@@ -127,11 +133,7 @@ def test_a_torn_last_row_at_every_offset_is_moved_aside_and_presented_again(tmp_
         else:
             assert runner.done == 59 and not torn.exists()
         # The participant answers on as if nothing happened: the same answers, the same data.
-        participant = SimulatedParticipant(seed=5)
-        replay = RUNNERS["exp2"](open_session(tmp_path / f"ref{cut}", "p01", seed=7, index=2))
-        answer_all(replay, participant, stop_after=59)  # the same random state as the run had
-        replay.close()
-        answer_all(runner, participant)
+        answer_all(runner, copy.deepcopy(answered))
         runner.close()
         assert rows_of(folder / "exp2.csv") == reference["exp2"], cut
 

@@ -3,6 +3,7 @@ statistics (Wilcoxon with its rounding, Friedman, effect sizes, d', the ML fit) 
 counterbalanced orders."""
 
 import math
+import random
 
 import numpy as np
 import pytest
@@ -175,8 +176,6 @@ def test_orders_are_the_papers():
 
 
 def test_psychometric_fit_recovers_a_known_threshold():
-    import random
-
     from tactile_core.experiments.stats import fit_psychometric
 
     psy = Psychometric(0.5, 6.0)
@@ -201,3 +200,28 @@ def test_friedman_effect_sizes_and_d_prime_by_hand():
     assert r[("X", "Y")] == pytest.approx(39 / math.sqrt(162.5) / math.sqrt(12))
     # 5 of 5 hits, 0 of 5 false alarms: H = 5.5/6, F = 0.5/6 -> d' = 2 * 1.3830 = 2.766.
     assert d_prime(5, 5, 0, 5) == pytest.approx(2 * 1.3830, abs=1e-3)
+
+
+def test_the_psychometric_fit_finds_the_maximum_a_brute_force_search_finds():
+    """The fit (with its analytic gradient) against a dense grid over all three parameters,
+    the likelihood written out independently."""
+    from tactile_core.experiments.stats import fit_psychometric
+
+    psy = Psychometric(0.7, 4.0)
+    rng = random.Random(11)
+    lengths = [math.exp(rng.uniform(-1.5, 0.8)) for _ in range(60)]
+    correct = np.array([rng.random() < psy.p_correct(length) for length in lengths])
+    fit = fit_psychometric(lengths, correct)
+    x = np.log(lengths)
+    best = -np.inf
+    for lapse in np.linspace(0.0, 0.06, 13):
+        q = (0.707 - 0.25) / (0.75 - lapse)  # p(T) = 0.707 exactly at the threshold
+        c = math.log(q / (1 - q))
+        log_t = np.linspace(-1.5, 0.8, 231)[:, None, None]
+        slope = np.geomspace(0.2, 50.0, 241)[None, :, None]
+        p = 0.25 + (0.75 - lapse) / (1 + np.exp(-(slope * (x - log_t) + c)))
+        p = np.clip(p, 1e-9, 1 - 1e-9)
+        ll = np.where(correct, np.log(p), np.log1p(-p)).sum(axis=-1)
+        best = max(best, ll.max())
+    assert fit["log_likelihood"] >= best - 1e-9  # at least as good as any grid point
+    assert fit["log_likelihood"] <= best + 0.05  # and the grid comes close to it

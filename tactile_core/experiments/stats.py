@@ -212,6 +212,20 @@ def d_prime(hits: int, signal: int, false_alarms: int, noise: int) -> float:
     return float(norm.ppf(h) - norm.ppf(f))
 
 
+def _psychometric_nll_grid(x, y, log_t, slopes, lapses, guess, target) -> np.ndarray:
+    """The negative log-likelihood of :func:`fit_psychometric` on a grid:
+    shape ``(len(log_t), len(slopes), len(lapses))``."""
+    span = 1.0 - guess - lapses  # (L,)
+    q = (target - guess) / span
+    c = np.log(q / (1.0 - q))
+    z = slopes[None, :, None, None] * (x[None, None, None, :] - log_t[:, None, None, None])
+    z = z + c[None, None, :, None]
+    with np.errstate(over="ignore"):  # exp(-z) = inf gives p = guess, as it should
+        p = guess + span[None, None, :, None] / (1.0 + np.exp(-z))
+    p = np.clip(p, 1e-9, 1 - 1e-9)
+    return -np.where(y, np.log(p), np.log1p(-p)).sum(axis=-1)
+
+
 def fit_psychometric(lengths, correct, *, guess: float = 0.25, target: float = 0.707,
                      max_lapse: float = 0.06) -> dict:  # fmt: skip
     """Maximum-likelihood fit of a psychometric function to one staircase track.
@@ -246,29 +260,60 @@ def fit_psychometric(lengths, correct, *, guess: float = 0.25, target: float = 0
         raise ValueError(f"lengths must be at least 5 positive lengths, got {len(x)}")
 
     def nll(log_t, slope, lapse):
-        q = (target - guess) / (1.0 - guess - lapse)
+        """Negative log-likelihood and its gradient in (log_t, slope, lapse)."""
+        span = 1.0 - guess - lapse
+        q = (target - guess) / span
         c = math.log(q / (1.0 - q))
-        p = guess + (1.0 - guess - lapse) / (1.0 + np.exp(-(slope * (x - log_t) + c)))
+        d = x - log_t
+        s = 1.0 / (1.0 + np.exp(-(slope * d + c)))
+        p = guess + span * s
+        inside = (p > 1e-9) & (p < 1 - 1e-9)  # clipped: flat, no gradient
         p = np.clip(p, 1e-9, 1 - 1e-9)
-        return -float(np.sum(np.where(y, np.log(p), np.log1p(-p))))
+        dnll_dp = np.where(inside, np.where(y, -1.0 / p, 1.0 / (1.0 - p)), 0.0)
+        ds = span * s * (1.0 - s)  # dp/dz
+        grad = (
+            float(np.dot(dnll_dp, -ds * slope)),
+            float(np.dot(dnll_dp, ds * d)),
+            float(np.dot(dnll_dp, -s + ds / ((1.0 - q) * span))),  # dc/dlapse = 1/((1-q) span)
+        )
+        return -float(np.sum(np.where(y, np.log(p), np.log1p(-p)))), grad
 
     bounds_sl = [(0.2, 50.0), (0.0, max_lapse)]
 
     def best_given(log_t, start=(4.0, 0.02)):
-        result = minimize(lambda v: nll(log_t, v[0], v[1]), start, method="L-BFGS-B",
-                          bounds=bounds_sl)  # fmt: skip
+        def f(v):
+            value, grad = nll(log_t, v[0], v[1])
+            return value, np.array(grad[1:])
+
+        result = minimize(f, start, jac=True, method="L-BFGS-B", bounds=bounds_sl)
         return result.fun, result.x
 
     lo, hi = x.min() - 1.5, x.max() + 1.5
     grid = np.linspace(lo, hi, 61)
-    profile = np.array([best_given(t)[0] for t in grid])
-    k = int(np.argmin(profile))
-    result = minimize(
-        lambda v: nll(v[0], v[1], v[2]),
-        (grid[k], *best_given(grid[k])[1]),
-        method="L-BFGS-B",
-        bounds=[(lo, hi), *bounds_sl],
-    )
+    # The likelihood can have several maxima in the slope (a nearly separable track has one at
+    # the steepest slope): each threshold's search starts from the best of a coarse grid.
+    slopes = np.geomspace(bounds_sl[0][0], bounds_sl[0][1], 25)
+    lapses = np.linspace(0.0, max_lapse, 7)
+    coarse = _psychometric_nll_grid(x, y, grid, slopes, lapses, guess, target)
+    fits = []
+    for k, t in enumerate(grid):
+        i, j = np.unravel_index(int(np.argmin(coarse[k])), coarse[k].shape)
+        starts = ((slopes[i], lapses[j]), (4.0, 0.02))  # the grid's best, and a moderate slope
+        fits.append(min((best_given(t, start) for start in starts), key=lambda f: f[0]))
+    profile = np.array([f[0] for f in fits])
+    # The joint fit from the profile's 6 lowest points (a maximum between two grid points can
+    # belong to the basin of either neighbour): the best wins.
+    results = [
+        minimize(
+            lambda v: (lambda value, grad: (value, np.array(grad)))(*nll(v[0], v[1], v[2])),
+            (grid[k], *fits[k][1]),
+            jac=True,
+            method="L-BFGS-B",
+            bounds=[(lo, hi), *bounds_sl],
+        )
+        for k in np.argsort(profile, kind="stable")[:6]
+    ]
+    result = min(results, key=lambda r: r.fun)
     log_t, slope, lapse = result.x
     best = result.fun
     inside = grid[profile - best <= 1.92]
