@@ -184,9 +184,15 @@ def cell_split(x, tol):
     frac : ndarray of float64
         ``x - index`` in [0, 1); 0 within ``tol`` of an integer.
     """
-    index = np.floor(x + tol)
+    index = x + tol
+    if type(index) is not np.ndarray:  # numbers
+        index = np.floor(index)
+        frac = x - index
+        return index, np.where(frac < tol, 0.0, frac)
+    np.floor(index, out=index)
     frac = x - index
-    return index, np.where(frac < tol, 0.0, frac)
+    frac[frac < tol] = 0.0
+    return index, frac
 
 
 def cell_floor(x, tol):
@@ -204,3 +210,56 @@ def cell_split1(x: float, tol: float) -> tuple[int, float]:
     index = math.floor(x + tol)
     frac = x - index
     return index, (0.0 if frac < tol else frac)
+
+
+class Pieces:
+    """Which piece of ``[0, 1]`` each ``t`` lies in, for a few sorted breakpoints.
+
+    :meth:`of` equals ``clip(searchsorted(points, t, side="right") - 1, 0, last)``: piece ``k``
+    starts at ``points[k]`` (a point belongs to the piece it starts). For ``t`` within
+    ``[0, 1]`` it reads two tables at ``floor(t * m)`` instead of searching: with ``m``
+    buckets narrow enough that at most one breakpoint lies within half a bucket of each, a
+    bucket's piece is its first one, plus one past the breakpoint (``searchsorted`` costs as
+    much as the rest of a frame's geometry). Breakpoints closer than 1 / 4096 of the range
+    (or none) fall back to ``searchsorted``.
+
+    Parameters
+    ----------
+    points : array_like of float
+        Ascending breakpoints (may extend beyond [0, 1]).
+    last : int
+        The highest piece index.
+    """
+
+    BUCKETS = (64, 256, 1024, 4096)
+
+    def __init__(self, points, last: int):
+        self.points = np.asarray(points, dtype=np.float64)
+        self.last = int(last)
+        self._tables = None
+        for m in self.BUCKETS:
+            b = np.arange(m + 1)
+            first = np.searchsorted(self.points, (b - 0.5) / m, side="right")
+            beyond = np.searchsorted(self.points, (b + 1.5) / m, side="right")
+            if (beyond - first > 1).any():
+                continue
+            base = np.clip(first - 1, 0, self.last)
+            step = np.clip(first, 0, self.last) > base
+            inside = (beyond > first) & step
+            tau = np.where(inside, self.points.take(np.minimum(first, len(self.points) - 1)),
+                           np.inf)  # fmt: skip
+            self._tables = (float(m), base.astype(np.intp), tau)
+            break
+
+    def of(self, t: np.ndarray) -> np.ndarray:
+        """Piece index (intp) of each ``t`` (a float64 array within [0, 1])."""
+        if self._tables is None:
+            index = np.searchsorted(self.points, t, side="right")
+            index -= 1
+            np.maximum(index, 0, out=index)
+            return np.minimum(index, self.last, out=index)
+        m, base, tau = self._tables
+        bucket = (t * m).astype(np.intp)
+        index = base.take(bucket, mode="clip")
+        index += tau.take(bucket, mode="clip") <= t
+        return index

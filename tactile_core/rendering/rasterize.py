@@ -7,8 +7,9 @@ import functools
 import numpy as np
 
 from .._shared import validate as _validate
-from .geometry import SNAP_REL, Grid, clamp
+from .geometry import SNAP_REL, Grid
 from .methods import METHODS, get_method
+from .methods._cells import ZIP
 from .shapes import Shape
 
 _DEFAULT_GRID = Grid()
@@ -32,16 +33,51 @@ def check_shape(shape, method=None) -> Shape | None:
     return shape
 
 
-@functools.lru_cache(maxsize=16)
-def _cell_table(grid: Grid) -> np.ndarray:
-    """Lookup from a clipped cell code to a slot of a sample's row of ``grid.size + 1``.
+_OFF_GRID = -(1 << 40)
+"""A row or column part of a flat index for cells outside the grid: any index holding one is
+negative, and is sent to the spare slot at the end of the buffer."""
 
-    Code ``(row + 1) * (cols + 2) + (col + 1)`` for ``col`` in [-1, cols] and ``row`` in
-    [-1, rows]; cells outside the grid map to the spare slot ``grid.size``.
+
+@functools.lru_cache(maxsize=16)
+def _index_tables(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
+    """Per axis, from a cell plus one (clipped to the table) to its part of a flat index.
+
+    Columns map to ``col`` and rows to ``row * cols``; cells outside the grid (entries 0 and
+    ``size + 1`` once clipped) to :data:`_OFF_GRID`.
     """
-    table = np.full((grid.rows + 2, grid.cols + 2), grid.size, dtype=np.intp)
-    table[1:-1, 1:-1] = np.arange(grid.size).reshape(grid.shape)
-    return table.reshape(-1)
+    cols = np.full(grid.cols + 2, _OFF_GRID, dtype=np.intp)
+    rows = np.full(grid.rows + 2, _OFF_GRID, dtype=np.intp)
+    cols[1:-1] = np.arange(grid.cols)
+    rows[1:-1] = np.arange(grid.rows) * grid.cols
+    cols.flags.writeable = rows.flags.writeable = False
+    return cols, rows
+
+
+def _index_part(cells, table: np.ndarray, *, bounded: bool = False):
+    """Index parts (:func:`_index_tables`) of cells given as whole floats.
+
+    ``bounded``: the cells are known to lie within a few cells of ``[-MAX_COORD, MAX_COORD]``
+    (a built-in method's, from checked coordinates), so they convert to integers as they are;
+    otherwise (a plug-in's, any magnitude) they are clipped first.
+    """
+    if np.ndim(cells) == 0:
+        return table[int(min(max(cells + 1.0, 0.0), len(table) - 1.0))]
+    if bounded:
+        index = cells.astype(np.intp)
+    else:
+        index = np.clip(cells, -1.0, len(table) - 2.0).astype(np.intp)
+    index += 1
+    return table.take(index, mode="clip")
+
+
+def _new_buffer(n: int, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
+    """Zeroed frames as one flat buffer with a spare slot at its end (where cells outside the
+    grid go), and each sample's offset into it."""
+    return np.zeros(n * grid.size + 1), np.arange(0, n * grid.size, grid.size, dtype=np.intp)
+
+
+def _frames(flat: np.ndarray, n: int, grid: Grid) -> np.ndarray:
+    return flat[:-1].reshape(n, grid.rows, grid.cols)
 
 
 def scatter(entries, n: int, grid: Grid) -> np.ndarray:
@@ -50,8 +86,8 @@ def scatter(entries, n: int, grid: Grid) -> np.ndarray:
     Parameters
     ----------
     entries : list of (cols, rows, values)
-        Per entry, cell indices (float arrays of shape (n,)) and intensities (array of shape
-        (n,) or a scalar). Entries naming the same cell in one sample add up.
+        Per entry, cell indices (whole floats, arrays of shape (n,) or scalars) and intensities
+        (array of shape (n,) or a scalar). Entries naming the same cell in one sample add up.
     n : int
         Number of samples.
     grid : Grid
@@ -59,31 +95,47 @@ def scatter(entries, n: int, grid: Grid) -> np.ndarray:
     Returns
     -------
     ndarray of float64, shape (n, rows, cols)
-        A view into a buffer with one spare slot per sample (where cells outside the grid go).
     """
-    table = _cell_table(grid)
-    width = grid.cols + 2
-    slots = grid.size + 1
-    out = np.zeros((n, slots))
-    base = np.arange(0, n * slots, slots, dtype=np.intp)
-    flat = out.reshape(-1)
+    col_table, row_table = _index_tables(grid)
+    flat, base = _new_buffer(n, grid)
     for cols, rows, values in entries:
-        if _inside(cols, grid.cols) and _inside(rows, grid.rows):
-            index = (rows * grid.cols + cols).astype(np.intp)
-        else:
-            code = clamp(rows, -1.0, grid.rows) * width + clamp(cols, -1.0, grid.cols)
-            code += width + 1.0
-            index = table[code.astype(np.intp)]
-        index += base
+        index = _index_part(rows, row_table) + base
+        index += _index_part(cols, col_table)
+        np.maximum(index, -1, out=index)  # off the grid: the spare slot
         flat[index] += values  # one index per sample within an entry: no repeats
-    return out[:, : grid.size].reshape(n, grid.rows, grid.cols)
+    return _frames(flat, n, grid)
 
 
-def _inside(index, size: int) -> bool:
-    """True when every (float) cell index lies in ``[0, size)`` (vacuously for no samples)."""
-    if np.ndim(index) == 0:
-        return 0 <= index < size
-    return index.size == 0 or (index.min() >= 0 and index.max() < size)
+def scatter_cells(cells, n: int, grid: Grid) -> np.ndarray:
+    """:func:`scatter` for the batch form of the built-in methods (:mod:`.methods._cells`):
+    every candidate in one pass. Candidates of one sample never name one tactor twice, so they
+    are written, not added."""
+    col_table, row_table = _index_tables(grid)
+    flat, base = _new_buffer(n, grid)
+    cols = _index_part(cells.cols, col_table, bounded=True)
+    rows = _index_part(cells.rows, row_table, bounded=True)
+    rows += base
+    if cells.pairs is None:
+        index = (rows[:, None, :] + cols[None, :, :]).reshape(-1, n)
+    elif cells.pairs is ZIP:
+        index = rows
+        index += cols
+    else:
+        col_index, row_index = cells.pairs
+        index = rows.take(row_index, axis=0)
+        index += cols.take(col_index, axis=0)
+    np.maximum(index, -1, out=index)
+    values = cells.values
+    if np.ndim(values) == 0:
+        flat[index] = values
+    elif cells.add:
+        values = values.reshape(index.shape)
+        flat[index[0]] = values[0]
+        for k in range(1, len(index)):
+            flat[index[k]] += values[k]
+    else:
+        flat[index] = values.reshape(index.shape)
+    return _frames(flat, n, grid)
 
 
 def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
@@ -122,15 +174,72 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     >>> f[2:4, 2]  # the point (2.5, 3.0) sits on the edge between rows 2 and 3
     array([0.5, 0.5])
     """
+    m = METHODS.get(method) if type(method) is str else None
+    if m is not None and type(grid) is Grid and isinstance(shape, Shape):
+        # The common case, checked cheaply: a registered method by its name, a float or an
+        # array of float64. Anything else (or a t out of range) takes the checks below.
+        if type(t) is float:
+            if 0.0 <= t <= 1.0:
+                return _render_valid(shape, m, np.array(t), grid)
+        elif type(t) is np.ndarray and t.dtype is _FLOAT64 and t.size:
+            if t.size <= _POINTWISE:
+                ok = all(0.0 <= v <= 1.0 for v in t.flat)
+            else:
+                ok = t.min() >= 0.0 and t.max() <= 1.0  # (False for NaN)
+            if ok and t.size * grid.size <= MAX_VALUES:
+                return _render_valid(shape, m, t, grid)
     m = get_method(method)
     grid = check_grid(grid)
     shape = check_shape(shape, m)
     t = _validate.parameter_array(t)
+    _check_size(t.size, grid)
+    return _render_valid(shape, m, t, grid)
+
+
+_FLOAT64 = np.dtype(np.float64)
+
+_POINTWISE = 8
+"""Up to this many samples, built-in methods render point by point with their scalar samplers
+(a few microseconds a point, where the array path costs tens of microseconds of set-up)."""
+
+
+def _render_valid(shape, m, t: np.ndarray, grid: Grid) -> np.ndarray:
+    """:func:`render` on checked arguments (``t`` a float64 array within [0, 1])."""
+    n = t.size
+    if n <= _POINTWISE and not m.plugin:
+        frames = _render_points(shape, m, t.reshape(-1).tolist(), grid)
+        if frames is not None:
+            return frames.reshape(t.shape + grid.shape)
     flat_t = t.reshape(-1)
-    _check_size(flat_t.size, grid)
-    x, y = shape.xy(flat_t)
-    entries = m.sample(shape, x, y, flat_t, shape.snap_tol)
-    return scatter(entries, flat_t.size, grid).reshape(t.shape + grid.shape)
+    sample_cells = m.sample_cells
+    if sample_cells is not None:
+        xy = shape.xy_rows(flat_t)
+        frames = scatter_cells(sample_cells(shape, xy, flat_t, shape.snap_tol), n, grid)
+    else:
+        x, y = shape.xy(flat_t)
+        frames = scatter(m.sample(shape, x, y, flat_t, shape.snap_tol), n, grid)
+    return frames.reshape(t.shape + grid.shape)
+
+
+def _render_points(shape, m, ts: list, grid: Grid) -> np.ndarray | None:
+    """Frames of a few points from a built-in method's scalar sampler, or None if a decision
+    there lies within rounding of its edge (where only the array path decides as it always
+    has: see ``Method.sample1_exact``)."""
+    sample1 = m.sample1_exact
+    ncols, nrows, size = grid.cols, grid.rows, grid.size
+    out = np.zeros(len(ts) * size)
+    point, tol = shape.point, shape.snap_tol
+    base = 0
+    for t in ts:
+        x, y = point(t)
+        lit = sample1(shape, x, y, t, tol)
+        if lit is None:
+            return None
+        for c, r, v in lit:
+            if 0 <= c < ncols and 0 <= r < nrows:
+                out[base + r * ncols + c] += v
+        base += size
+    return out
 
 
 MAX_VALUES = 200_000_000
@@ -187,8 +296,12 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     x, y = x.reshape(-1), y.reshape(-1)
     _check_size(x.size, grid)
     tol = SNAP_REL * np.maximum(np.maximum(np.abs(x), np.abs(y)), 1.0)
-    entries = m.sample(None, x, y, None, tol)
-    return scatter(entries, x.size, grid).reshape(shape + grid.shape)
+    sample_cells = m.sample_cells
+    if sample_cells is not None:
+        frames = scatter_cells(sample_cells(None, np.stack([x, y]), None, tol), x.size, grid)
+    else:
+        frames = scatter(m.sample(None, x, y, None, tol), x.size, grid)
+    return frames.reshape(shape + grid.shape)
 
 
 def render_point(shape, method, t: float, grid: Grid = _DEFAULT_GRID) -> tuple:

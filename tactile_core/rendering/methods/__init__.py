@@ -72,6 +72,8 @@ ENTRY_POINT_GROUP = "tactile_tuner.methods"
 _NAME = re.compile(r"[A-Z][A-Z0-9_]{0,15}\Z")
 _WORD = re.compile(r"[a-z][a-z0-9_]{0,31}\Z")
 _NOT_WORDS = ("inf", "infinity", "nan")  # float() reads them: refused as not finite
+_MISSING = object()
+_BUILT_IN_ONLY = ("sample_cells", "sample1_exact")
 _ATTRS = ("NAME", "TITLE", "BILEVEL", "NEEDS_SHAPE", "MAX_TACTORS", "sample", "sample1")
 
 
@@ -178,13 +180,30 @@ class Method:
         """Scalar sampler for the live path, parameters bound."""
         return self._sampler("sample1")
 
+    @property
+    def sample_cells(self):
+        """A built-in method's batch sampler in the renderer's form (:mod:`._cells`),
+        parameters bound; None for plug-ins and methods without one."""
+        return self._sampler("sample_cells")
+
+    @property
+    def sample1_exact(self):
+        """A built-in method's scalar sampler that returns None where a decision lies within
+        rounding of its edge (there the array arithmetic may decide otherwise); None for
+        plug-ins. Methods whose scalar arithmetic decides as the arrays' do use ``sample1``."""
+        return self._sampler("sample1_exact")
+
     def _sampler(self, which: str):
-        hit = self._samplers.get(which)
-        if hit is None:
-            fn = getattr(self.module, which)
-            if self.params:
+        hit = self._samplers.get(which, _MISSING)
+        if hit is _MISSING:
+            fn = getattr(self.module, which, None)
+            if which == "sample1_exact" and fn is None:
+                fn = self.module.sample1
+            if which in _BUILT_IN_ONLY and self.plugin:
+                fn = None  # plug-ins go through the protocol's checked samplers only
+            elif fn is not None and self.params:
                 fn = functools.partial(fn, **dict(self.params))
-            if self.plugin:
+            if fn is not None and self.plugin:
                 fn = _checked(self.spec, fn, which == "sample1")  # output checked, failures
                 # contained (see ``_plugin``)
             hit = self._samplers[which] = fn

@@ -14,7 +14,10 @@ likewise in y) they sum to 1. Works on any coordinate, with or without a shape.
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..geometry import cell_split, cell_split1
+from ._cells import PAIR, Cells, stack_points
 
 NAME = "AS"
 TITLE = "area sampling"
@@ -32,13 +35,22 @@ def sample(shape, x, y, t, tol):
         The lower-left, lower-right, upper-left and upper-right overlapped cells and their
         areas (zero where the box does not reach a cell).
     """
-    c, fx = cell_split(x - 0.5, tol)
-    r, fy = cell_split(y - 0.5, tol)
-    gx = 1.0 - fx
-    gy = 1.0 - fy
-    c1 = c + 1.0
-    r1 = r + 1.0
-    return [(c, r, gx * gy), (c1, r, fx * gy), (c, r1, gx * fy), (c1, r1, fx * fy)]
+    return sample_cells(shape, stack_points(x, y), t, tol).entries()
+
+
+def sample_cells(shape, xy, t, tol):
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
+    ``xy`` (``(2, n)``: x, then y).
+
+    Columns ``c, c + 1`` and rows ``r, r + 1`` of the box's lower-left cell; the areas are the
+    products of the widths ``(1 - fx, fx)`` and ``(1 - fy, fy)``, rows outer.
+    """
+    cr, f = cell_split(xy - 0.5, tol)
+    widths = np.empty((2, 2, f.shape[1]))  # [axis, (1 - f, f), point]
+    np.subtract(1.0, f, out=widths[:, 0])
+    widths[:, 1] = f
+    cells = cr[:, None, :] + PAIR
+    return Cells(cells[0], cells[1], widths[1][:, None, :] * widths[0][None, :, :])
 
 
 def sample1(shape, x, y, t, tol):

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 from ..geometry import cell_floor
+from ._cells import ZIP, Cells
 
 NAME = "CT"
 TITLE = "closest tactor"
@@ -40,6 +41,13 @@ def sample(shape, x, y, t, tol):
         outside the grid) and intensities (an array or a scalar broadcast over all samples).
     """
     return [(cell_floor(x, tol), cell_floor(y, tol), 1.0)]
+
+
+def sample_cells(shape, xy, t, tol):
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
+    ``xy`` (``(2, n)``)."""
+    cells = cell_floor(xy, tol)
+    return Cells(cells[:1], cells[1:], 1.0, ZIP)
 
 
 def sample1(shape, x, y, t, tol):

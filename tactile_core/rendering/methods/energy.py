@@ -20,6 +20,7 @@ import math
 import numpy as np
 
 from . import area
+from ._cells import stack_points
 
 NAME = "EN"
 TITLE = "energy model (Tactile Brush)"
@@ -46,7 +47,14 @@ def sample(shape, x, y, t, tol):
     list of (cols, rows, values)
         The four cells of :func:`tactile_core.rendering.methods.area.sample`, values ``sqrt(a_i)``.
     """
-    return [(c, r, np.sqrt(v)) for c, r, v in area.sample(shape, x, y, t, tol)]
+    return sample_cells(shape, stack_points(x, y), t, tol).entries()
+
+
+def sample_cells(shape, xy, t, tol):
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`): AS's cells, the
+    square roots of their areas."""
+    cells = area.sample_cells(shape, xy, t, tol)
+    return cells._replace(values=np.sqrt(cells.values, out=cells.values))
 
 
 def sample1(shape, x, y, t, tol):

@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from . import _radial
+from ._cells import Cells, stack_points
 
 NAME = "GS"
 TITLE = "Gaussian spread (this project)"
@@ -58,8 +59,31 @@ def sample(shape, x, y, t, tol, sigma=0.5):
         One entry per candidate tactor; values ``exp(-d^2 / (2 sigma^2))`` where that is at
         least 0.05, else 0.
     """
+    return sample_cells(shape, stack_points(x, y), t, tol, sigma).entries()
+
+
+def sample_cells(shape, xy, t, tol, sigma=0.5):
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`).
+
+    The weight is the product of per-axis Gaussians, ``exp(k dx^2) exp(k dy^2)`` with
+    ``k = -1 / (2 sigma^2)``, cut below :data:`CUTOFF`; a weight within
+    :data:`~._radial.MARGIN` of the cut is decided as ``exp(k hypot(dx, dy)^2)`` decides.
+    """
     k = -0.5 / (sigma * sigma)
-    return _radial.sample(x, y, tol, radius(sigma), False, lambda d: _cut(np.exp(k * d * d)))
+    reach = radius(sigma)
+    cells, offsets = _radial.candidates(xy, tol, reach, False)
+    e = np.square(offsets)
+    e *= k
+    ex, ey = np.exp(e, out=e)
+    w = ey[:, None, :] * ex[None, :, :]
+    lo, hi = CUTOFF * (1.0 - _radial.MARGIN), CUTOFF * (1.0 + _radial.MARGIN)
+    below = w < hi
+    found = _radial.unsettled(w, lo, hi, below)
+    np.putmask(w, below, 0.0)
+    if found is not None:
+        exact = _radial.exact(offsets, reach, False, lambda d: _cut(np.exp(k * d * d)))
+        w.reshape(-1)[found] = exact(found)
+    return Cells(cells[0], cells[1], w)
 
 
 def _cut(w):
@@ -68,10 +92,21 @@ def _cut(w):
 
 def sample1(shape, x, y, t, tol, sigma=0.5):
     """Scalar :func:`sample`: ``(col, row, value)`` of the lit tactors."""
+    return _radial.sample1(x, y, tol, radius(sigma), False, _weight1(sigma))
+
+
+def sample1_exact(shape, x, y, t, tol, sigma=0.5):
+    """:func:`sample1`, or None where a tactor lies within rounding of the cut-off radius
+    (where ``math`` and numpy may decide differently: the renderer then takes the array
+    path)."""
+    return _radial.sample1(x, y, tol, radius(sigma), False, _weight1(sigma), guard=True)
+
+
+def _weight1(sigma: float):
     k = -0.5 / (sigma * sigma)
 
     def weight(d):
         w = math.exp(k * d * d)
         return w if w >= CUTOFF else 0.0
 
-    return _radial.sample1(x, y, tol, radius(sigma), False, weight)
+    return weight

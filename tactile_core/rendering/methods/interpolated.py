@@ -34,8 +34,9 @@ import math
 
 import numpy as np
 
-from ..geometry import SNAP_REL, cell_floor, cell_split, cell_split1
-from .midpoint import on_stroke, tactor_of_cell, to_cells
+from ..geometry import SNAP_REL, Pieces, cell_floor, cell_split, cell_split1
+from ._cells import PAIR, ZIP, Cells, stack_points
+from .midpoint import lookup, on_stroke, tactor_of_cell, to_cells
 
 NAME = "IM"
 TITLE = "interpolated midpoint"
@@ -86,20 +87,29 @@ class Keyframes:
         self.rows = np.array([float(k[1][1]) for k in keyframes])
         self.handover = np.array([not (k0[2] & k1[2]) for k0, k1 in itertools.pairwise(keyframes)])
         self.any_handover = bool(self.handover.any())
+        self._next = self.t[1:]
+        self._width = self._next - self.t[:-1]
+        self._steps = bool((self._width > 0.0).all())
+        self._pieces = Pieces(self.t, len(self.handover) - 1)
         self._t1 = self.t.tolist()
         self._cells1 = [k[1] for k in keyframes]
         self._handover1 = self.handover.tolist()
 
     def segment(self, t):
         """Segment index of each ``t`` (array) and its share ``w`` of the later keyframe."""
-        j = np.searchsorted(self.t, t, side="right") - 1
-        np.clip(j, 0, len(self.handover) - 1, out=j)
-        t0, t1 = self.t.take(j), self.t.take(j + 1)
+        j = self._pieces.of(t)
+        t0, t1 = self.t.take(j), self._next.take(j)
         d0 = t - t0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            w = np.where(t1 > t0, d0 / (t1 - t0), 0.0)
-        w = np.where(np.abs(d0) <= _T_TOL, 0.0, np.where(np.abs(t1 - t) <= _T_TOL, 1.0, w))
-        return j, np.minimum(np.maximum(w, 0.0), 1.0)
+        if self._steps:  # every segment has a length (always, once keyframes are merged)
+            w = d0 / self._width.take(j)
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                w = np.where(t1 > t0, d0 / self._width.take(j), 0.0)
+        t1 -= t
+        w[np.abs(t1, out=t1) <= _T_TOL] = 1.0
+        w[np.abs(d0, out=d0) <= _T_TOL] = 0.0
+        np.maximum(w, 0.0, out=w)
+        return j, np.minimum(w, 1.0, out=w)
 
     def handover1(self, t: float) -> tuple | None:
         """Scalar: the lit ``(col, row, value)`` if ``t`` is in a hand-over, else None."""
@@ -191,18 +201,28 @@ def keyframes_of(shape) -> Keyframes | None:
         return strokes.im_keyframes
 
 
-def _stroke_sample(shape, x, y, t, tol):
-    """The paper's rule on each point's own stroke: ``[(cols, rows, values)] * 2``."""
+def _stroke_cells(shape, xy, t, tol):
+    """The paper's rule on each point's own stroke: ``(cols, rows, values)``, each ``(2, n)``."""
     strokes = shape.strokes
-    params, xmajor, u = on_stroke(strokes, x, y, t)
+    params, xmajor, u, ids = on_stroke(strokes, xy[0], xy[1], t)
     k, w = cell_split(u - 0.5, tol)  # w: share of cell k + 1
-    pair = np.stack([k, k + 1.0])  # major cells k and k + 1, shape (2, n)
+    pair = k + PAIR  # major cells k and k + 1, shape (2, n)
     # Between a stroke's end and its end cell's centre, the end tactor keeps everything:
     # w = 1 before the first centre (k < first), w = 0 after the last (k + 1 > last).
-    w = np.where(k < params[3], 1.0, w)
-    w = np.where(pair[1] > params[4], 0.0, w)
-    cols, rows = to_cells(xmajor, pair, tactor_of_cell(strokes, params, pair))
-    return [(cols[0], rows[0], 1.0 - w), (cols[1], rows[1], w)]
+    w[k < params[3]] = 1.0
+    w[pair[1] > params[4]] = 0.0
+    table = lookup(strokes)
+    if table is not None:
+        cols, rows = table.cells(pair, ids)
+    else:
+        cols, rows = to_cells(xmajor, pair, tactor_of_cell(strokes, params, pair))
+    values = np.empty((2, len(w)))
+    np.subtract(1.0, w, out=values[0])
+    values[1] = w
+    return cols, rows, values
+
+
+_INT_PAIR = PAIR.astype(np.intp)
 
 
 def sample(shape, x, y, t, tol):
@@ -225,23 +245,25 @@ def sample(shape, x, y, t, tol):
         Two entries: MM's tactors around each point and their intensities (in a hand-over
         both entries may name one tactor; the caller adds them up).
     """
-    entries = _stroke_sample(shape, x, y, t, tol)
+    return sample_cells(shape, stack_points(x, y), t, tol).entries()
+
+
+def sample_cells(shape, xy, t, tol):
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
+    ``xy`` (``(2, n)``): two candidates per point, added up (in a hand-over both may name one
+    tactor)."""
+    cols, rows, values = _stroke_cells(shape, xy, t, tol)
     keys = keyframes_of(shape)
-    if keys is None:
-        return entries
-    j, w = keys.segment(t)
-    across = keys.handover.take(j)
-    if not across.any():
-        return entries
-    j1 = j + 1
-    ends = (
-        (keys.cols.take(j), keys.rows.take(j), 1.0 - w),
-        (keys.cols.take(j1), keys.rows.take(j1), w),
-    )
-    return [
-        tuple(np.where(across, h, s) for h, s in zip(handover, stroke))
-        for handover, stroke in zip(ends, entries)
-    ]
+    if keys is not None:
+        j, w = keys.segment(t)
+        across = keys.handover.take(j)
+        if across.any():
+            ends = j + _INT_PAIR
+            np.copyto(cols, keys.cols.take(ends), where=across)
+            np.copyto(rows, keys.rows.take(ends), where=across)
+            np.copyto(values[1], w, where=across)
+            np.subtract(1.0, w, out=values[0], where=across)
+    return Cells(cols, rows, values, ZIP, add=True)
 
 
 def sample1(shape, x, y, t, tol):

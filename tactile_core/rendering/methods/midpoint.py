@@ -17,10 +17,13 @@ line algorithm. A zero-length stroke lights the cell of its point.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from ..geometry import cell_floor, clamp
+from ..shapes import Strokes
+from ._cells import ZIP, Cells, stack_points
 
 NAME = "MM"
 TITLE = "midpoint"
@@ -41,6 +44,8 @@ def on_stroke(strokes, x, y, t):
     u : ndarray of float64, shape (n,)
         Major-axis coordinate of each point, clipped to its stroke's extent (the point lies on
         the stroke; the clip only absorbs rounding at the ends).
+    ids : ndarray of intp or None
+        Each point's stroke (None for a shape of one stroke).
     """
     ids = strokes.locate(t)
     params = strokes.gather(ids)
@@ -50,7 +55,57 @@ def on_stroke(strokes, x, y, t):
     else:
         xmajor = params[0] == 0.0
         u = np.where(xmajor, x, y)
-    return params, xmajor, clamp(u, params[1], params[2])
+    return params, xmajor, clamp(u, params[1], params[2]), ids
+
+
+MAX_LOOKUP = 4096
+"""Most major cells (over all strokes) whose MM tactors :func:`lookup` tabulates."""
+
+
+class Lookup(NamedTuple):
+    """MM's tactor of every major cell a shape's strokes reach, tabulated once per shape.
+
+    Stroke ``s``'s major cell ``m`` is entry ``m + offset[s]`` of ``cols`` and ``rows``; each
+    stroke's table runs from two cells before its first to two after its last (IM asks for the
+    cell beyond the point's, MM for the point's own).
+    """
+
+    offset: np.ndarray
+    cols: np.ndarray
+    rows: np.ndarray
+
+    def cells(self, major, ids):
+        """``(cols, rows)`` of MM's tactors of major cells ``major`` (whole floats, any shape
+        ending in ``n``) on strokes ``ids`` (None: the shape's one stroke)."""
+        index = major + (self.offset[0] if ids is None else self.offset.take(ids))
+        index = index.astype(np.intp)
+        return self.cols.take(index), self.rows.take(index)
+
+
+def lookup(strokes) -> Lookup | None:
+    """The strokes' :class:`Lookup` (built on first use and kept with them), or None when they
+    span more than :data:`MAX_LOOKUP` cells (MM's tactors are then computed point by point).
+
+    The table holds exactly what :func:`tactor_of_cell` and :func:`to_cells` give for each cell,
+    computed the same way, so looking up and computing agree to the last bit.
+    """
+    try:
+        return strokes.mm_lookup
+    except AttributeError:
+        pass
+    first = strokes.table[:, Strokes.FIRST] - 2.0
+    span = strokes.table[:, Strokes.LAST] + 3.0 - first
+    table = None
+    if np.isfinite(span).all() and span.sum() <= MAX_LOOKUP:
+        counts = span.astype(np.intp)
+        ids = np.repeat(np.arange(strokes.count), counts)
+        start = np.cumsum(counts) - counts
+        major = first.take(ids) + (np.arange(counts.sum()) - start.take(ids))
+        params = strokes.gather(ids)
+        cols, rows = to_cells(params[0] == 0.0, major, tactor_of_cell(strokes, params, major))
+        table = Lookup(start - first, cols, rows)
+    strokes.mm_lookup = table
+    return table
 
 
 def tactor_of_cell(strokes, params, m):
@@ -85,11 +140,21 @@ def sample(shape, x, y, t, tol):
     list of (cols, rows, values)
         One entry: the lit tactor at intensity 1.
     """
+    return sample_cells(shape, stack_points(x, y), t, tol).entries()
+
+
+def sample_cells(shape, xy, t, tol):
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
+    ``xy`` (``(2, n)``): one candidate."""
     strokes = shape.strokes
-    params, xmajor, u = on_stroke(strokes, x, y, t)
+    params, xmajor, u, ids = on_stroke(strokes, xy[0], xy[1], t)
     m = cell_floor(u, tol)
-    cols, rows = to_cells(xmajor, m, tactor_of_cell(strokes, params, m))
-    return [(cols, rows, 1.0)]
+    table = lookup(strokes)
+    if table is not None:
+        cols, rows = table.cells(m, ids)
+    else:
+        cols, rows = to_cells(xmajor, m, tactor_of_cell(strokes, params, m))
+    return Cells(cols[None], rows[None], 1.0, ZIP)
 
 
 def sample1(shape, x, y, t, tol):

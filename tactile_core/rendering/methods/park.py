@@ -39,6 +39,7 @@ import math
 import numpy as np
 
 from ..geometry import cell_split, cell_split1
+from ._cells import PAIR, Cells, stack_points
 
 NAME = "PK"
 TITLE = "inverse distance, 3 tactors (Park 2016)"
@@ -116,33 +117,57 @@ def sample(shape, x, y, t, tol, blend=0.0):
         The four tactors of the square of centres around the point, the farthest at 0 (outside
         a crossfade band).
     """
-    c, fx = cell_split(x - 0.5, tol)
-    r, fy = cell_split(y - 0.5, tol)
+    return sample_cells(shape, stack_points(x, y), t, tol, blend).entries()
+
+
+def sample_cells(shape, xy, t, tol, blend=0.0):
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
+    ``xy`` (``(2, n)``): the four corners of the square of centres around each point, rows
+    outer, the left-out one at 0 (with ``blend``: every tactor a crossfade may light).
+    Distances are ``sqrt(dx^2 + dy^2)``."""
+    cr, f = cell_split(xy - 0.5, tol)
+    fx, fy = f
     if blend > 0.0:
-        on = (fx == 0.0) & (fy == 0.0)
-        gx, gy = np.where(on, 0.5, fx), np.where(on, 0.5, fy)  # (finite, discarded)
-        energy = _blended(gx, gy, blend, np.clip, np.hypot)
-        return [(c + dc, r + dr, np.sqrt(np.where(on, float(dc == 0 and dr == 0), e)))
-                for (dc, dr), e in energy.items()]  # fmt: skip
+        return _blended_cells(cr[0], cr[1], fx, fy, blend)
+    d2 = np.square(f[:, None, :] - PAIR)  # [axis, corner's offset, point]
+    d = d2[1][:, None, :] + d2[0][None, :, :]
+    np.sqrt(d, out=d)
+    near = d[0, 0]
+    on = near == 0.0  # on a tactor's centre: it alone, at 1
+    np.maximum(near, 1e-300, out=near)  # (only there: elsewhere near >= the snap tolerance)
+    w = np.divide(1.0, d, out=d)
     # The left-out corner: opposite the nearest; on a centre line, the lower/left one.
-    drop_x = np.where(fx >= 0.5, 0.0, 1.0)
-    drop_y = np.where(fy >= 0.5, 0.0, 1.0)
+    left = fx < 0.5
+    low = fy < 0.5
+    drop = np.empty((2, 2, len(fx)), dtype=bool)
+    np.logical_and(low, left, out=drop[1, 1])
+    np.logical_and(low, ~left, out=drop[1, 0])
+    np.logical_and(~low, left, out=drop[0, 1])
+    np.logical_not(drop[1, 1] | drop[1, 0] | drop[0, 1], out=drop[0, 0])
+    np.putmask(w, drop, 0.0)
+    total = w[0, 0] + w[0, 1]
+    total += w[1, 0]
+    total += w[1, 1]
+    w /= total
+    values = np.sqrt(w, out=w)
+    if on.any():
+        values[:, :, on] = 0.0
+        values[0, 0, on] = 1.0
+    cells = cr[:, None, :] + PAIR
+    return Cells(cells[0], cells[1], values)
+
+
+def _blended_cells(c, r, fx, fy, blend):
     on = (fx == 0.0) & (fy == 0.0)
-    corners = ((0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0))
-    weights = []
-    for kx, ky in corners:
-        d = np.hypot(fx - kx, fy - ky)
-        keep = ~((drop_x == kx) & (drop_y == ky))
-        weights.append(np.where(keep & ~on, 1.0 / np.where(d > 0.0, d, 1.0), 0.0))
-    total = weights[0] + weights[1] + weights[2] + weights[3]
-    total = np.where(on, 1.0, total)
-    out = []
-    for (kx, ky), w in zip(corners, weights):
-        value = np.sqrt(w / total)
-        if kx == 0.0 and ky == 0.0:
-            value = np.where(on, 1.0, value)
-        out.append((c + kx, r + ky, value))
-    return out
+    gx, gy = np.where(on, 0.5, fx), np.where(on, 0.5, fy)  # (finite, discarded)
+    energy = _blended(gx, gy, blend, np.clip, np.hypot)
+    keys = list(energy)
+    values = np.stack([np.sqrt(np.where(on, float(dc == 0 and dr == 0), energy[dc, dr]))
+                       for dc, dr in keys])  # fmt: skip
+    col_index = np.array([dc + 1 for dc, _ in keys], dtype=np.intp)
+    row_index = np.array([dr + 1 for _, dr in keys], dtype=np.intp)
+    offsets = np.array([[-1.0], [0.0], [1.0], [2.0]])
+    return Cells(c + offsets, r + offsets, values, (col_index, row_index))
 
 
 def sample1(shape, x, y, t, tol, blend=0.0):

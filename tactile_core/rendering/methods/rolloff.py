@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _radial
+from ._cells import Cells, stack_points
 
 NAME = "RO"
 TITLE = "roll-off (Syntacts)"
@@ -74,13 +75,39 @@ def sample(shape, x, y, t, tol, r=1.0, curve="smoothstep"):
         One entry per candidate tactor (see :mod:`tactile_core.rendering.methods._radial`), values
         ``s(1 - d / r)`` in [0, 1], 0 at ``d >= r``.
     """
+    return sample_cells(shape, stack_points(x, y), t, tol, r, curve).entries()
+
+
+def sample_cells(shape, xy, t, tol, r=1.0, curve="smoothstep"):
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`): distances from
+    ``dx^2 + dy^2``; a tactor within :data:`~._radial.MARGIN` of ``r`` is decided as
+    ``hypot(dx, dy) < r`` decides."""
     inv = 1.0 / r
     s = CURVES[curve]
-    return _radial.sample(x, y, tol, r, True, lambda d: s(np.clip(1.0 - d * inv, 0, 1)))
+    cells, offsets = _radial.candidates(xy, tol, r, True)
+    d2 = _radial.squared_distances(offsets)
+    u = np.sqrt(d2)
+    u *= -inv
+    u += 1.0
+    values = s(np.maximum(u, 0.0, out=u))  # 0 beyond r (but within the margin: settled)
+    exact = _radial.exact(offsets, r, True, lambda d: s(np.clip(1.0 - d * inv, 0, 1)))
+    _radial.settle(values, d2, r * r * (1.0 - _radial.MARGIN), r * r * (1.0 + _radial.MARGIN),
+                   exact)  # fmt: skip
+    return Cells(cells[0], cells[1], values)
 
 
 def sample1(shape, x, y, t, tol, r=1.0, curve="smoothstep"):
     """Scalar :func:`sample`: ``(col, row, value)`` of the lit tactors."""
+    return _radial.sample1(x, y, tol, r, True, _weight1(r, curve))
+
+
+def sample1_exact(shape, x, y, t, tol, r=1.0, curve="smoothstep"):
+    """:func:`sample1`, or None where a tactor lies within rounding of ``r`` (the renderer then
+    takes the array path)."""
+    return _radial.sample1(x, y, tol, r, True, _weight1(r, curve), guard=True)
+
+
+def _weight1(r: float, curve: str):
     inv = 1.0 / r
     s = CURVES[curve]
-    return _radial.sample1(x, y, tol, r, True, lambda d: s(1.0 - d * inv))
+    return lambda d: s(1.0 - d * inv)

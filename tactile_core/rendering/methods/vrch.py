@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _radial
+from ._cells import Cells, stack_points
 
 NAME = "VRCH"
 TITLE = "every tactor within r (VRCH-Server, one contact)"
@@ -50,9 +51,31 @@ def sample(shape, x, y, t, tol, r=1.0):
     list of (cols, rows, values)
         One entry per candidate tactor, values 1 at ``d < r`` and 0 beyond.
     """
-    return _radial.sample(x, y, tol, r, True, np.ones_like)
+    return sample_cells(shape, stack_points(x, y), t, tol, r).entries()
+
+
+def sample_cells(shape, xy, t, tol, r=1.0):
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`): within ``r`` by
+    ``dx^2 + dy^2 < r^2``, and as ``hypot(dx, dy) < r`` decides within
+    :data:`~._radial.MARGIN` of the edge."""
+    cells, offsets = _radial.candidates(xy, tol, r, True)
+    d2 = _radial.squared_distances(offsets)
+    lo, hi = r * r * (1.0 - _radial.MARGIN), r * r * (1.0 + _radial.MARGIN)
+    values = (d2 < lo).astype(np.float64)
+    _radial.settle(values, d2, lo, hi, _radial.exact(offsets, r, True, np.ones_like))
+    return Cells(cells[0], cells[1], values)
 
 
 def sample1(shape, x, y, t, tol, r=1.0):
     """Scalar :func:`sample`: ``(col, row, 1.0)`` of the lit tactors."""
-    return _radial.sample1(x, y, tol, r, True, lambda d: 1.0)
+    return _radial.sample1(x, y, tol, r, True, _one)
+
+
+def sample1_exact(shape, x, y, t, tol, r=1.0):
+    """:func:`sample1`, or None where a tactor lies within rounding of ``r`` (the renderer then
+    takes the array path)."""
+    return _radial.sample1(x, y, tol, r, True, _one, guard=True)
+
+
+def _one(d):
+    return 1.0

@@ -11,7 +11,7 @@ from functools import cached_property
 import numpy as np
 
 from ..._shared import validate as _validate
-from ..geometry import clamp
+from ..geometry import Pieces, clamp
 from ._shape import Shape, _fmt
 from ._strokes import LineStrokes
 
@@ -86,15 +86,36 @@ class Polyline(Shape):
         table = np.vstack([breaks[:-1], width, starts.T, ends.T])
         return table, [tuple(row) for row in table.T.tolist()]
 
+    @cached_property
+    def _pieces(self) -> Pieces:
+        return Pieces(self._segments[2], self._segment_table[0].shape[1] - 1)
+
     def xy(self, t):
-        breaks = self._segments[2]
         table, _ = self._segment_table
+        if type(t) is np.ndarray and t.ndim == 1:
+            x, y = self.xy_rows(t)
+            return x, y
+        breaks = self._segments[2]
         # Not clipped in place: for a scalar t, searchsorted returns a scalar (f(0.25) works).
         i = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, table.shape[1] - 1)
         t0, width, ax, ay, bx, by = table.take(i, axis=1)
         s = clamp((t - t0) / width, 0.0, 1.0)
         r = 1.0 - s
         return r * ax + s * bx, r * ay + s * by
+
+    def xy_rows(self, t):
+        rows = self._segment_table[0].take(self._pieces.of(t), axis=1)
+        s = rows[0]
+        np.subtract(t, s, out=s)
+        s /= rows[1]
+        np.maximum(s, 0.0, out=s)
+        np.minimum(s, 1.0, out=s)
+        out = rows[2:4]
+        out *= 1.0 - s
+        b = rows[4:6]
+        b *= s
+        out += b
+        return out
 
     def point(self, t):
         breaks = self._scalar_breaks
@@ -220,6 +241,9 @@ class Square(Shape):
 
     def xy(self, t):
         return self.polyline.xy(t)
+
+    def xy_rows(self, t):
+        return self.polyline.xy_rows(t)
 
     def point(self, t):
         return self.polyline.point(t)

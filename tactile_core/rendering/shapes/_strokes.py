@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import cell_floor, clamp
+from ..geometry import Pieces, cell_floor, clamp
 
 TWO_PI = 2.0 * math.pi
 
@@ -166,6 +166,7 @@ class LineStrokes(Strokes):
         self.piece_stroke = np.asarray(piece_stroke, dtype=np.intp)
         self._breaks = self.breaks.tolist()
         self._piece_stroke = self.piece_stroke.tolist()
+        self._pieces = Pieces(self.breaks, len(self.piece_stroke) - 1)
 
     def runs(self):
         breaks, stroke_of = self._breaks, self._piece_stroke
@@ -186,9 +187,7 @@ class LineStrokes(Strokes):
     def locate(self, t):
         if self.count == 1:
             return None
-        piece = np.searchsorted(self.breaks, t, side="right") - 1
-        np.clip(piece, 0, len(self.piece_stroke) - 1, out=piece)
-        return self.piece_stroke[piece]
+        return self.piece_stroke.take(self._pieces.of(t))
 
     def minor(self, params, u):
         s = (u - params[5]) / params[8]

@@ -1,0 +1,81 @@
+"""The batch form of the built-in methods: candidate cells per axis and one array of values.
+
+The method protocol's ``sample`` returns one ``(cols, rows, values)`` entry per tactor it may
+light; the renderer then pays a few numpy calls per entry. The built-in methods with several
+entries (AS, EN, PK, RO, GS, VRCH) also define ``sample_cells``, which returns a :class:`Cells`:
+the candidate columns and rows of every point as two small 2-D arrays, the ``(column, row)``
+pairs that make up the candidates, and their values as one ``(k, n)`` array, so that the
+renderer scatters all of them in a handful of calls whatever their number. Their ``sample`` is
+:meth:`Cells.entries` of it, so both forms give the same numbers. Plug-ins are never asked for
+this form (their output goes through the protocol's checks).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+
+class Cells(NamedTuple):
+    """Candidate tactors of ``n`` points and their intensities.
+
+    Attributes
+    ----------
+    cols : ndarray of float64, shape (a, n)
+        Candidate columns of each point (whole numbers, possibly outside the grid).
+    rows : ndarray of float64, shape (b, n)
+        Candidate rows of each point.
+    values : ndarray of float64, shape (k, n)
+        Intensity of each candidate, in [0, 1].
+    pairs : (ndarray of intp, ndarray of intp), None or ``ZIP``
+        ``(col_index, row_index)``, each of length ``k``: candidate ``i`` is
+        ``(cols[col_index[i]], rows[row_index[i]])``. None: every pair, rows outer
+        (``k = a * b``, candidate ``i`` is ``(cols[i % a], rows[i // a])``). :data:`ZIP`:
+        candidate ``i`` is ``(cols[i], rows[i])`` (``k = a = b``).
+    add : bool
+        Candidates of one point may name the same tactor; their values add up, in order.
+        Otherwise no two candidates of one point name the same tactor inside the grid, and the
+        renderer may write them rather than add them up (cells outside the grid are dropped).
+    """
+
+    cols: np.ndarray
+    rows: np.ndarray
+    values: np.ndarray | float
+    pairs: tuple | str | None = None
+    add: bool = False
+
+    def selectors(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(col_index, row_index)`` of every candidate (see :attr:`pairs`)."""
+        if self.pairs is ZIP:
+            return np.arange(len(self.cols)), np.arange(len(self.rows))
+        if self.pairs is not None:
+            return self.pairs
+        a, b = len(self.cols), len(self.rows)
+        return np.tile(np.arange(a), b), np.repeat(np.arange(b), a)
+
+    def entries(self) -> list:
+        """The protocol's form: ``[(cols, rows, values), ...]``, one entry per candidate."""
+        col_index, row_index = self.selectors()
+        if np.ndim(self.values) == 0:
+            values = [self.values] * len(col_index)
+        else:
+            values = self.values.reshape(len(col_index), -1)
+        return [
+            (self.cols[i], self.rows[j], values[k])
+            for k, (i, j) in enumerate(zip(col_index.tolist(), row_index.tolist()))
+        ]
+
+
+ZIP = "zip"
+""":attr:`Cells.pairs` for candidates given column by row (``(cols[i], rows[i])``)."""
+
+
+PAIR = np.array([[0.0], [1.0]])
+"""Offsets 0 and 1 as a column, to broadcast against ``(n,)`` rows."""
+PAIR.flags.writeable = False
+
+
+def stack_points(x, y) -> np.ndarray:
+    """Points as the batch form takes them: one ``(2, n)`` array, x then y."""
+    return np.stack([np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)])
