@@ -9,7 +9,7 @@ import numpy as np
 from .._shared import validate as _validate
 from .geometry import SNAP_REL, Grid
 from .methods import METHODS, get_method
-from .methods._cells import ZIP
+from .methods._cells import ZIP, outer
 from .shapes import Shape
 
 _DEFAULT_GRID = Grid()
@@ -116,7 +116,8 @@ def scatter_cells(cells, n: int, grid: Grid) -> np.ndarray:
     rows = _index_part(cells.rows, row_table, bounded=True)
     rows += base
     if cells.pairs is None:
-        index = (rows[:, None, :] + cols[None, :, :]).reshape(-1, n)
+        k = len(cells.values) if np.ndim(cells.values) == 2 else len(rows) * len(cols)
+        index = outer(np.add, rows, cols, np.empty((k, n), dtype=np.intp))
     elif cells.pairs is ZIP:
         index = rows
         index += cols

@@ -30,9 +30,11 @@ class Cells(NamedTuple):
         Intensity of each candidate, in [0, 1].
     pairs : (ndarray of intp, ndarray of intp), None or ``ZIP``
         ``(col_index, row_index)``, each of length ``k``: candidate ``i`` is
-        ``(cols[col_index[i]], rows[row_index[i]])``. None: every pair, rows outer
-        (``k = a * b``, candidate ``i`` is ``(cols[i % a], rows[i // a])``). :data:`ZIP`:
-        candidate ``i`` is ``(cols[i], rows[i])`` (``k = a = b``).
+        ``(cols[col_index[i]], rows[row_index[i]])``. None: the pairs of every column with
+        every row, rows outer, candidate ``i`` being ``(cols[i % a], rows[i // a])``: all of
+        them (``k = a * b``), or the first ``k`` when ``values`` has fewer rows (the pairs
+        left out lie beyond the method's reach). :data:`ZIP`: candidate ``i`` is
+        ``(cols[i], rows[i])`` (``k = a = b``).
     add : bool
         Candidates of one point may name the same tactor; their values add up, in order.
         Otherwise no two candidates of one point name the same tactor inside the grid, and the
@@ -52,7 +54,8 @@ class Cells(NamedTuple):
         if self.pairs is not None:
             return self.pairs
         a, b = len(self.cols), len(self.rows)
-        return np.tile(np.arange(a), b), np.repeat(np.arange(b), a)
+        k = a * b if np.ndim(self.values) != 2 else len(self.values)
+        return np.tile(np.arange(a), b)[:k], np.repeat(np.arange(b), a)[:k]
 
     def entries(self) -> list:
         """The protocol's form: ``[(cols, rows, values), ...]``, one entry per candidate."""
@@ -74,6 +77,32 @@ ZIP = "zip"
 PAIR = np.array([[0.0], [1.0]])
 """Offsets 0 and 1 as a column, to broadcast against ``(n,)`` rows."""
 PAIR.flags.writeable = False
+
+
+def outer(op, rows: np.ndarray, cols: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """``op(rows[i // a], cols[i % a])`` for the first ``k`` pairs of a row and a column, rows
+    outer (the order of :attr:`Cells.pairs` None), into ``out`` (``(k, n)``).
+
+    Parameters
+    ----------
+    op : numpy ufunc
+        A binary ufunc such as ``np.multiply`` or ``np.add``.
+    rows : ndarray, shape (b, n)
+    cols : ndarray, shape (a, n)
+    out : ndarray, shape (k, n)
+        ``k <= a * b``.
+
+    Returns
+    -------
+    ndarray
+        ``out``.
+    """
+    a, n = cols.shape
+    full, rest = divmod(len(out), a)
+    op(rows[:full, None, :], cols[None, :, :], out=out[: full * a].reshape(full, a, n))
+    if rest:
+        op(rows[full], cols[:rest], out=out[full * a :])
+    return out
 
 
 def stack_points(x, y) -> np.ndarray:

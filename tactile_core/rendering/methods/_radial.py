@@ -59,11 +59,15 @@ class Plan(NamedTuple):
     pairs : frozenset of (int, int)
         ``(column slot, row slot)`` pairs whose nearest possible distance is within the radius
         (slots: ``fixed`` in order, then the shared one); the scalar path visits only these.
+    leading : int
+        How many pairs, rows outer, the batch path computes: up to the last one in ``pairs``
+        (the pairs after it, such as the two shared slots together, are never in reach).
     """
 
     fixed: tuple
     far: int | None
     pairs: frozenset
+    leading: int
 
 
 @functools.lru_cache(maxsize=64)
@@ -76,7 +80,8 @@ def plan(radius: float, strict: bool) -> Plan:
     nearest = [max(0, -k, k - 1) for k in ks] + ([far] if far is not None else [])
     pairs = frozenset((i, j) for j, ny in enumerate(nearest) for i, nx in enumerate(nearest)
                       if nx * nx + ny * ny <= radius * radius)  # fmt: skip
-    return Plan(ks, far, pairs)
+    leading = 1 + max(j * len(nearest) + i for i, j in pairs)
+    return Plan(ks, far, pairs, leading)
 
 
 @functools.lru_cache(maxsize=64)
@@ -123,9 +128,10 @@ def unsettled(key, lo: float, hi: float, below_hi=None):
     by counting). ``below_hi``: ``key < hi`` if the caller has it."""
     if below_hi is None:
         below_hi = key < hi
-    if np.count_nonzero(key < lo) == np.count_nonzero(below_hi):
+    below_lo = key < lo
+    if np.count_nonzero(below_lo) == np.count_nonzero(below_hi):
         return None
-    return np.flatnonzero(below_hi & (key >= lo))
+    return np.flatnonzero(below_hi ^ below_lo)  # (key < lo implies key < hi)
 
 
 def settle(values, key, lo: float, hi: float, exact) -> None:
@@ -144,23 +150,28 @@ def exact(offsets, radius: float, strict: bool, weight):
     dx, dy = offsets
 
     def values(found):
-        a, n = dx.shape
-        row_slot, rest = np.divmod(found, a * n)
-        d = np.hypot(dx.reshape(-1)[rest], dy[row_slot, rest % n])
+        row, col, point = np.unravel_index(found, (len(dy), *dx.shape))
+        d = np.hypot(dx[col, point], dy[row, point])
         inside = d < radius if strict else d <= radius
         return np.where(inside, weight(np.where(inside, d, 0.0)), 0.0)
 
     return values
 
 
-def _axis1(f: float, p: Plan) -> list:
-    """Scalar candidates along one axis: ``(offset, nearest bound's slot)`` in ascending
-    offset."""
-    slots = list(enumerate(p.fixed))
-    if p.far is not None:
-        far = (len(p.fixed), -p.far if f < 0.5 else p.far + 1)
-        slots = [far, *slots] if far[1] < 0 else [*slots, far]
-    return slots
+@functools.lru_cache(maxsize=256)
+def _pairs1(radius: float, strict: bool, left: bool, low: bool) -> tuple:
+    """The scalar path's candidates: ``(column offset, row offset)`` of the pairs of
+    :attr:`Plan.pairs`, in ascending column, then row, the shared slots on the point's side
+    (``left``: ``fx < 0.5``; ``low``: ``fy < 0.5``)."""
+    p = plan(radius, strict)
+
+    def axis(first: bool) -> list:
+        slots = list(enumerate(p.fixed))
+        if p.far is not None:
+            slots.append((len(p.fixed), -p.far if first else p.far + 1))
+        return sorted(slots, key=lambda slot: slot[1])
+
+    return tuple((dc, dr) for i, dc in axis(left) for j, dr in axis(low) if (i, j) in p.pairs)
 
 
 def sample1(x, y, tol, radius: float, strict: bool, weight1, guard: bool = False):
@@ -172,22 +183,17 @@ def sample1(x, y, tol, radius: float, strict: bool, weight1, guard: bool = False
     """
     c, fx = cell_split1(x - 0.5, tol)
     r, fy = cell_split1(y - 0.5, tol)
-    p = plan(radius, strict)
-    allowed = p.pairs
-    ys = _axis1(fy, p)
+    edge = MARGIN * radius
+    hypot = math.hypot
     out = []
-    for i, dc in _axis1(fx, p):
-        dx = fx - dc
-        for j, dr in ys:
-            if (i, j) not in allowed:
-                continue
-            d = math.hypot(dx, fy - dr)
-            if guard and abs(d - radius) <= MARGIN * radius:
-                return None
-            if d < radius or (not strict and d == radius):
-                value = weight1(d)
-                if value > 0.0:
-                    out.append((c + dc, r + dr, value))
+    for dc, dr in _pairs1(radius, strict, fx < 0.5, fy < 0.5):
+        d = hypot(fx - dc, fy - dr)
+        if guard and abs(d - radius) <= edge:
+            return None
+        if d < radius or (not strict and d == radius):
+            value = weight1(d)
+            if value > 0.0:
+                out.append((c + dc, r + dr, value))
     return tuple(out)
 
 

@@ -13,12 +13,13 @@ to 1. Works on any coordinate, with or without a shape.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
 from . import _radial
-from ._cells import Cells, stack_points
+from ._cells import Cells, outer, stack_points
 
 NAME = "GS"
 TITLE = "Gaussian spread (this project)"
@@ -75,7 +76,7 @@ def sample_cells(shape, xy, t, tol, sigma=0.5):
     e = np.square(offsets)
     e *= k
     ex, ey = np.exp(e, out=e)
-    w = ey[:, None, :] * ex[None, :, :]
+    w = outer(np.multiply, ey, ex, np.empty((_radial.plan(reach, False).leading, ex.shape[1])))
     lo, hi = CUTOFF * (1.0 - _radial.MARGIN), CUTOFF * (1.0 + _radial.MARGIN)
     below = w < hi
     found = _radial.unsettled(w, lo, hi, below)
@@ -102,6 +103,7 @@ def sample1_exact(shape, x, y, t, tol, sigma=0.5):
     return _radial.sample1(x, y, tol, radius(sigma), False, _weight1(sigma), guard=True)
 
 
+@functools.lru_cache(maxsize=64)
 def _weight1(sigma: float):
     k = -0.5 / (sigma * sigma)
 

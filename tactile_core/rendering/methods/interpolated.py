@@ -87,9 +87,9 @@ class Keyframes:
         self.rows = np.array([float(k[1][1]) for k in keyframes])
         self.handover = np.array([not (k0[2] & k1[2]) for k0, k1 in itertools.pairwise(keyframes)])
         self.any_handover = bool(self.handover.any())
-        self._next = self.t[1:]
-        self._width = self._next - self.t[:-1]
-        self._steps = bool((self._width > 0.0).all())
+        # Per segment: its start, its end and its width, gathered in one take.
+        self._segments = np.stack([self.t[:-1], self.t[1:], self.t[1:] - self.t[:-1]])
+        self._steps = bool((self._segments[2] > 0.0).all())
         self._pieces = Pieces(self.t, len(self.handover) - 1)
         self._t1 = self.t.tolist()
         self._cells1 = [k[1] for k in keyframes]
@@ -98,16 +98,18 @@ class Keyframes:
     def segment(self, t):
         """Segment index of each ``t`` (array) and its share ``w`` of the later keyframe."""
         j = self._pieces.of(t)
-        t0, t1 = self.t.take(j), self._next.take(j)
-        d0 = t - t0
+        t0, t1, width = self._segments.take(j, axis=1)
+        d0 = np.subtract(t, t0, out=t0)
         if self._steps:  # every segment has a length (always, once keyframes are merged)
-            w = d0 / self._width.take(j)
+            w = d0 / width
         else:
             with np.errstate(divide="ignore", invalid="ignore"):
-                w = np.where(t1 > t0, d0 / self._width.take(j), 0.0)
+                w = np.where(width > 0.0, d0 / width, 0.0)
+        # Within _T_TOL of the segment's end w is 1, of its start 0. (Before the start or past
+        # the end, which the segment's choice rules out, the clip below gives the same.)
         t1 -= t
-        w[np.abs(t1, out=t1) <= _T_TOL] = 1.0
-        w[np.abs(d0, out=d0) <= _T_TOL] = 0.0
+        np.putmask(w, t1 <= _T_TOL, 1.0)
+        np.putmask(w, d0 <= _T_TOL, 0.0)
         np.maximum(w, 0.0, out=w)
         return j, np.minimum(w, 1.0, out=w)
 
@@ -204,14 +206,14 @@ def keyframes_of(shape) -> Keyframes | None:
 def _stroke_cells(shape, xy, t, tol):
     """The paper's rule on each point's own stroke: ``(cols, rows, values)``, each ``(2, n)``."""
     strokes = shape.strokes
-    params, xmajor, u, ids = on_stroke(strokes, xy[0], xy[1], t)
+    table = lookup(strokes)
+    params, xmajor, u, ids = on_stroke(strokes, xy[0], xy[1], t, 9 if table is None else 5)
     k, w = cell_split(u - 0.5, tol)  # w: share of cell k + 1
     pair = k + PAIR  # major cells k and k + 1, shape (2, n)
     # Between a stroke's end and its end cell's centre, the end tactor keeps everything:
     # w = 1 before the first centre (k < first), w = 0 after the last (k + 1 > last).
-    w[k < params[3]] = 1.0
-    w[pair[1] > params[4]] = 0.0
-    table = lookup(strokes)
+    np.putmask(w, k < params[3], 1.0)
+    np.putmask(w, pair[1] > params[4], 0.0)
     if table is not None:
         cols, rows = table.cells(pair, ids)
     else:

@@ -32,12 +32,15 @@ NEEDS_SHAPE = True
 MAX_TACTORS = 1
 
 
-def on_stroke(strokes, x, y, t):
+def on_stroke(strokes, x, y, t, count: int = 9):
     """Locate points on their strokes.
+
+    ``count``: how many of the strokes' parameters to gather (the first three are all this
+    function needs; :func:`tactor_of_cell` needs all nine).
 
     Returns
     -------
-    params : ndarray, shape (9, n), or tuple
+    params : ndarray, shape (count, n), or tuple
         The strokes' parameters per point (:meth:`~tactile_core.rendering.shapes.Strokes.gather`).
     xmajor : ndarray of bool or bool
         Whether each point's stroke is x-major.
@@ -48,7 +51,7 @@ def on_stroke(strokes, x, y, t):
         Each point's stroke (None for a shape of one stroke).
     """
     ids = strokes.locate(t)
-    params = strokes.gather(ids)
+    params = strokes.gather(ids, count)
     if ids is None:
         xmajor = params[0] == 0
         u = x if xmajor else y
@@ -147,9 +150,9 @@ def sample_cells(shape, xy, t, tol):
     """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
     ``xy`` (``(2, n)``): one candidate."""
     strokes = shape.strokes
-    params, xmajor, u, ids = on_stroke(strokes, xy[0], xy[1], t)
-    m = cell_floor(u, tol)
     table = lookup(strokes)
+    params, xmajor, u, ids = on_stroke(strokes, xy[0], xy[1], t, 9 if table is None else 3)
+    m = cell_floor(u, tol)
     if table is not None:
         cols, rows = table.cells(m, ids)
     else:

@@ -39,7 +39,7 @@ import math
 import numpy as np
 
 from ..geometry import cell_split, cell_split1
-from ._cells import PAIR, Cells, stack_points
+from ._cells import Cells, outer, stack_points
 
 NAME = "PK"
 TITLE = "inverse distance, 3 tactors (Park 2016)"
@@ -122,38 +122,35 @@ def sample(shape, x, y, t, tol, blend=0.0):
 
 def sample_cells(shape, xy, t, tol, blend=0.0):
     """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
-    ``xy`` (``(2, n)``): the four corners of the square of centres around each point, rows
-    outer, the left-out one at 0 (with ``blend``: every tactor a crossfade may light).
-    Distances are ``sqrt(dx^2 + dy^2)``."""
+    ``xy`` (``(2, n)``): per axis the nearest corner of the square of centres around each point
+    and the other one, and of their pairs the first three, rows outer: (nearest, nearest),
+    (other, nearest) and (nearest, other), which leaves out the corner opposite the nearest
+    (with ``blend``: every tactor a crossfade may light). Distances are
+    ``sqrt(dx^2 + dy^2)``."""
     cr, f = cell_split(xy - 0.5, tol)
-    fx, fy = f
     if blend > 0.0:
-        return _blended_cells(cr[0], cr[1], fx, fy, blend)
-    d2 = np.square(f[:, None, :] - PAIR)  # [axis, corner's offset, point]
-    d = d2[1][:, None, :] + d2[0][None, :, :]
+        return _blended_cells(cr[0], cr[1], f[0], f[1], blend)
+    # Offsets of the nearest corner (1 from the centre line on: a tie goes upper/right) and
+    # of the other one.
+    near_other = np.empty((2, 2, f.shape[1]))
+    near = near_other[:, 0]
+    np.multiply(f, 2.0, out=near)
+    np.floor(near, out=near)
+    np.subtract(1.0, near, out=near_other[:, 1])
+    sq = np.square(f[:, None, :] - near_other)
+    d = outer(np.add, sq[1], sq[0], np.empty((3, f.shape[1])))
     np.sqrt(d, out=d)
-    near = d[0, 0]
-    on = near == 0.0  # on a tactor's centre: it alone, at 1
-    np.maximum(near, 1e-300, out=near)  # (only there: elsewhere near >= the snap tolerance)
+    on = np.flatnonzero(d[0] == 0.0)  # on a tactor's centre: it alone, at 1
+    np.maximum(d[0], 1e-300, out=d[0])  # (only there: elsewhere d >= the snap tolerance)
     w = np.divide(1.0, d, out=d)
-    # The left-out corner: opposite the nearest; on a centre line, the lower/left one.
-    left = fx < 0.5
-    low = fy < 0.5
-    drop = np.empty((2, 2, len(fx)), dtype=bool)
-    np.logical_and(low, left, out=drop[1, 1])
-    np.logical_and(low, ~left, out=drop[1, 0])
-    np.logical_and(~low, left, out=drop[0, 1])
-    np.logical_not(drop[1, 1] | drop[1, 0] | drop[0, 1], out=drop[0, 0])
-    np.putmask(w, drop, 0.0)
-    total = w[0, 0] + w[0, 1]
-    total += w[1, 0]
-    total += w[1, 1]
+    total = w[0] + w[1]
+    total += w[2]
     w /= total
     values = np.sqrt(w, out=w)
-    if on.any():
-        values[:, :, on] = 0.0
-        values[0, 0, on] = 1.0
-    cells = cr[:, None, :] + PAIR
+    if on.size:
+        values[:, on] = 0.0
+        values[0, on] = 1.0
+    cells = cr[:, None, :] + near_other
     return Cells(cells[0], cells[1], values)
 
 

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry import clamp
 from . import _radial
 from ._cells import Cells, stack_points
 
@@ -42,7 +43,11 @@ def MAX_TACTORS(r=1.0):
 
 def smoothstep(x):
     """``x^2 (3 - 2x)`` on [0, 1]: 0 and 1 at the ends, zero slope at both."""
-    return x * x * (3.0 - 2.0 * x)
+    if type(x) is not np.ndarray:
+        return x * x * (3.0 - 2.0 * x)
+    out = x * x
+    out *= 3.0 - 2.0 * x
+    return out
 
 
 def linear(x):
@@ -90,7 +95,7 @@ def sample_cells(shape, xy, t, tol, r=1.0, curve="smoothstep"):
     u *= -inv
     u += 1.0
     values = s(np.maximum(u, 0.0, out=u))  # 0 beyond r (but within the margin: settled)
-    exact = _radial.exact(offsets, r, True, lambda d: s(np.clip(1.0 - d * inv, 0, 1)))
+    exact = _radial.exact(offsets, r, True, lambda d: s(clamp(1.0 - d * inv, 0.0, 1.0)))
     _radial.settle(values, d2, r * r * (1.0 - _radial.MARGIN), r * r * (1.0 + _radial.MARGIN),
                    exact)  # fmt: skip
     return Cells(cells[0], cells[1], values)

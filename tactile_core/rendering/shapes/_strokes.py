@@ -111,10 +111,10 @@ class Strokes:
         """
         raise NotImplementedError
 
-    def gather(self, ids):
-        """Stroke parameters per point: a ``(9, n)`` array, or the row's numbers if ``ids``
-        is None (a single stroke)."""
-        return self.rows1[0] if ids is None else self._table_t.take(ids, axis=1)
+    def gather(self, ids, count: int = 9):
+        """Stroke parameters per point: a ``(count, n)`` array of the first ``count`` (all 9 by
+        default), or the row's numbers if ``ids`` is None (a single stroke)."""
+        return self.rows1[0] if ids is None else self._table_t[:count].take(ids, axis=1)
 
     def minor(self, params, u):
         """Minor-axis coordinate at major-axis coordinate ``u`` on the gathered strokes."""
