@@ -212,14 +212,21 @@ def _render_valid(shape, m, t: np.ndarray, grid: Grid) -> np.ndarray:
         if frames is not None:
             return frames.reshape(t.shape + grid.shape)
     flat_t = t.reshape(-1)
-    sample_cells = m.sample_cells
-    if sample_cells is not None:
+    if m.sample_cells is not None:
         xy = shape.xy_rows(flat_t)
-        frames = scatter_cells(sample_cells(shape, xy, flat_t, shape.snap_tol), n, grid)
     else:
-        x, y = shape.xy(flat_t)
-        frames = scatter(m.sample(shape, x, y, flat_t, shape.snap_tol), n, grid)
+        xy = shape.xy(flat_t)
+    frames = _sample_and_scatter(m, shape, xy, flat_t, shape.snap_tol, grid)
     return frames.reshape(t.shape + grid.shape)
+
+
+def _sample_and_scatter(m, shape, xy, t, tol, grid: Grid) -> np.ndarray:
+    """Frames ``(n, rows, cols)`` of the points ``xy`` (``(2, n)``: x then y): through a
+    built-in method's batch form where it has one, else the protocol's entries."""
+    n = len(xy[0])
+    if m.sample_cells is not None:
+        return scatter_cells(m.sample_cells(shape, xy, t, tol), n, grid)
+    return scatter(m.sample(shape, xy[0], xy[1], t, tol), n, grid)
 
 
 def _render_points(shape, m, ts: list, grid: Grid) -> np.ndarray | None:
@@ -297,11 +304,7 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     x, y = x.reshape(-1), y.reshape(-1)
     _check_size(x.size, grid)
     tol = SNAP_REL * np.maximum(np.maximum(np.abs(x), np.abs(y)), 1.0)
-    sample_cells = m.sample_cells
-    if sample_cells is not None:
-        frames = scatter_cells(sample_cells(None, np.stack([x, y]), None, tol), x.size, grid)
-    else:
-        frames = scatter(m.sample(None, x, y, None, tol), x.size, grid)
+    frames = _sample_and_scatter(m, None, np.stack([x, y]), None, tol, grid)
     return frames.reshape(shape + grid.shape)
 
 

@@ -21,6 +21,8 @@ coordinate, with or without a shape.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ..geometry import clamp
@@ -112,7 +114,9 @@ def sample1_exact(shape, x, y, t, tol, r=1.0, curve="smoothstep"):
     return _radial.sample1(x, y, tol, r, True, _weight1(r, curve), guard=True)
 
 
+@functools.lru_cache(maxsize=64)
 def _weight1(r: float, curve: str):
+    """The scalar weight of a distance, built once per parameter set (not on every frame)."""
     inv = 1.0 / r
     s = CURVES[curve]
     return lambda d: s(1.0 - d * inv)
