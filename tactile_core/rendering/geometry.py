@@ -9,76 +9,13 @@ to the right and y upwards. Frames are indexed ``[row, col]`` with row 0 at the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from .._shared import validate as _validate
-
-MAX_GRID = 1024
-"""Most columns or rows of a grid."""
-
-
-@dataclass(frozen=True)
-class Grid:
-    """A grid of ``cols`` x ``rows`` tactors, one per unit cell.
-
-    Parameters
-    ----------
-    cols, rows : int
-        Number of columns (along x) and rows (along y), each from 1 to 1024. The default is the
-        paper's palm array, 5 columns by 6 rows.
-
-    Examples
-    --------
-    >>> Grid().shape
-    (6, 5)
-    >>> Grid(cols=2, rows=3).center(1, 2)
-    (1.5, 2.5)
-    """
-
-    cols: int = 5
-    rows: int = 6
-
-    def __post_init__(self):
-        for name in ("cols", "rows"):
-            value = getattr(self, name)
-            try:
-                checked = _validate.integer(f"grid {name}", value, 1, MAX_GRID)
-            except ValueError:
-                raise ValueError(
-                    f"grid must be at least 1 x 1 and at most {MAX_GRID} x {MAX_GRID}: grid "
-                    f"{name} must be an integer from 1 to {MAX_GRID}, got {_validate.shown(value)}"
-                ) from None
-            object.__setattr__(self, name, checked)
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        """``(rows, cols)``: the shape of one frame."""
-        return (self.rows, self.cols)
-
-    @property
-    def size(self) -> int:
-        """Number of tactors, ``rows * cols``."""
-        return self.rows * self.cols
-
-    def center(self, col: int, row: int) -> tuple[float, float]:
-        """Coordinates ``(x, y)`` of the tactor of cell ``(col, row)``, in grid units."""
-        return (col + 0.5, row + 0.5)
-
-    def flat(self, col: int, row: int) -> int:
-        """Flat index ``row * cols + col`` of cell ``(col, row)`` (the default channel)."""
-        return row * self.cols + col
-
-    def cell(self, flat: int) -> tuple[int, int]:
-        """``(col, row)`` of the cell with flat index ``flat``."""
-        row, col = divmod(flat, self.cols)
-        return (col, row)
-
-    def cell_name(self, flat: int) -> str:
-        """A short label such as ``"r2c4"`` (row 2, column 4) used in files and plots."""
-        col, row = self.cell(flat)
-        return f"r{row}c{col}"
+from ._grid import Grid
+from .layout import Layout
 
 
 @dataclass(frozen=True)
@@ -98,6 +35,11 @@ class ArraySpec:
         ``channels[k]`` is the flat cell index (``row * cols + col``) that drive channel ``k``
         feeds. It must be a permutation of ``range(grid.size)``. The default is the identity:
         channel = ``row * cols + col``.
+    layout : Layout, optional
+        Actuators anywhere (:class:`~tactile_core.rendering.layout.Layout`, in pitches)
+        instead of a grid. The grid is then ``size`` columns by 1 row, the *channel strip*
+        that flat indices, the wire format's info (``size x 1``) and the channel order use;
+        the paper's methods do not render on it. Without one, :attr:`layout` is the grid's.
 
     Notes
     -----
@@ -105,14 +47,32 @@ class ArraySpec:
     roughly 300 Hz with 23 levels. The device link reuses this description.
     """
 
-    grid: Grid = field(default_factory=Grid)
+    grid: Grid = None
     pitch_mm: float = 18.0
     levels: int = 23
     channels: tuple[int, ...] | None = None
+    layout: Layout | None = None
 
     def __post_init__(self):
+        if self.layout is not None and not isinstance(self.layout, Layout):
+            raise ValueError(f"layout must be a Layout, got {_validate.shown(self.layout)}")
+        if self.layout is not None and self.layout.grid is not None:
+            strip = self.layout.grid
+        elif self.layout is not None:
+            strip = Grid(cols=self.layout.size, rows=1)
+        else:
+            strip = None
+        if self.grid is None:
+            object.__setattr__(self, "grid", strip or Grid())
         if not isinstance(self.grid, Grid):
             raise ValueError(f"grid must be a Grid, got {_validate.shown(self.grid)}")
+        if strip is not None and self.grid != strip:
+            raise ValueError(
+                f"grid must be the layout's channel strip, {strip.cols} x {strip.rows}, got "
+                f"{self.grid.cols} x {self.grid.rows}"
+            )
+        if self.layout is None:
+            object.__setattr__(self, "layout", Layout.from_grid(self.grid))
         object.__setattr__(self, "pitch_mm", _validate.positive("pitch_mm", self.pitch_mm))
         object.__setattr__(self, "levels", _validate.integer("levels", self.levels, 2, 256))
         size = self.grid.size
@@ -134,6 +94,16 @@ class ArraySpec:
                     f"got {_validate.shown(list(channels))}"
                 )
         object.__setattr__(self, "channels", channels)
+
+    @property
+    def is_grid(self) -> bool:
+        """True when the actuators are a grid (the paper's methods apply)."""
+        return self.layout.grid is not None
+
+    @property
+    def target(self):
+        """What frames are rendered onto: the :class:`Grid`, or the layout that is not one."""
+        return self.grid if self.is_grid else self.layout
 
     @property
     def channel_index(self) -> np.ndarray:

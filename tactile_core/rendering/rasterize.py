@@ -8,8 +8,10 @@ import numpy as np
 
 from .._shared import validate as _validate
 from .geometry import SNAP_REL, Grid
+from .layout import Layout
 from .methods import METHODS, get_method
 from .methods._cells import ZIP, outer
+from .methods._layout import layout_sampler
 from .shapes import Shape
 
 _DEFAULT_GRID = Grid()
@@ -20,6 +22,28 @@ def check_grid(grid) -> Grid:
     if not isinstance(grid, Grid):
         raise ValueError(f"grid must be a Grid of at least 1 x 1, got {_validate.shown(grid)}")
     return grid
+
+
+def check_target(grid) -> Grid | Layout:
+    """What to render onto: a :class:`Grid` (also for a grid's :class:`Layout`), or a layout
+    that is not a grid; ``ValueError`` naming ``grid`` otherwise."""
+    if isinstance(grid, Grid):
+        return grid
+    if isinstance(grid, Layout):
+        return grid.grid if grid.grid is not None else grid
+    raise ValueError(
+        f"grid must be a Grid of at least 1 x 1 or a Layout, got {_validate.shown(grid)}"
+    )
+
+
+def frame_shape(target) -> tuple:
+    """Shape of one frame on a Grid ``(rows, cols)`` or a Layout (``(size,)`` unless a grid)."""
+    return target.shape if isinstance(target, Grid) else target.frame_shape
+
+
+def target_size(target) -> int:
+    """Tactors (actuators) of a Grid or Layout."""
+    return target.size
 
 
 def check_shape(shape, method=None) -> Shape | None:
@@ -154,14 +178,17 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
         :mod:`tactile_core.rendering.methods`).
     t : float or array_like
         Trace parameter(s), finite and within [0, 1].
-    grid : Grid, keyword-only
-        The tactor grid; the paper's 5 x 6 array by default.
+    grid : Grid or Layout, keyword-only
+        The tactor grid; the paper's 5 x 6 array by default. A
+        :class:`~tactile_core.rendering.layout.Layout` renders on actuators anywhere, with
+        the methods that work there (EN, PK, RO, GS, VRCH, BA; the paper's four need a grid).
 
     Returns
     -------
     ndarray of float64, shape ``t.shape + (grid.rows, grid.cols)``
         Intensities in [0, 1] indexed ``[..., row, col]``, row 0 at the bottom. Tactors that
         would fall outside the grid are dropped (and, for AS, the area outside it is lost).
+        On a layout that is not a grid, ``t.shape + (layout.size,)`` in actuator order.
 
     Raises
     ------
@@ -190,11 +217,21 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
             if ok and t.size * grid.size <= MAX_VALUES:
                 return _render_valid(shape, m, t, grid)
     m = get_method(method)
-    grid = check_grid(grid)
+    grid = check_target(grid)
     shape = check_shape(shape, m)
     t = _validate.parameter_array(t)
     _check_size(t.size, grid)
+    if isinstance(grid, Layout):
+        return _render_layout(shape, m, t, grid)
     return _render_valid(shape, m, t, grid)
+
+
+def _render_layout(shape, m, t: np.ndarray, layout: Layout) -> np.ndarray:
+    """:func:`render` on a layout that is not a grid: ``t.shape + (size,)``."""
+    sampler = layout_sampler(m, layout)
+    flat_t = t.reshape(-1)
+    x, y = shape.xy(flat_t)
+    return sampler.frames(x, y, shape.snap_tol).reshape((*t.shape, layout.size))
 
 
 _FLOAT64 = np.dtype(np.float64)
@@ -275,11 +312,12 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
         A method that needs no shape: CT, AS, EN, PK, RO, GS (or a spec such as ``"RO:r=1.5"``).
     x, y : float or array_like
         Finite coordinates in grid units, broadcast together.
-    grid : Grid, keyword-only
+    grid : Grid or Layout, keyword-only
 
     Returns
     -------
     ndarray of float64, shape ``broadcast(x, y).shape + (grid.rows, grid.cols)``
+        (``+ (layout.size,)`` on a layout that is not a grid)
     """
     m = get_method(method)
     if m.needs_shape:
@@ -288,7 +326,7 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
             f"method {m.name} needs a shape (it picks its tactors from the shape's strokes); "
             f"free points work with {free}"
         )
-    grid = check_grid(grid)
+    grid = check_target(grid)
     try:
         if isinstance(x, (str, bytes)) or isinstance(y, (str, bytes)):
             raise TypeError
@@ -304,6 +342,8 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     x, y = x.reshape(-1), y.reshape(-1)
     _check_size(x.size, grid)
     tol = SNAP_REL * np.maximum(np.maximum(np.abs(x), np.abs(y)), 1.0)
+    if isinstance(grid, Layout):
+        return layout_sampler(m, grid).frames(x, y, tol).reshape((*shape, grid.size))
     frames = _sample_and_scatter(m, None, np.stack([x, y]), None, tol, grid)
     return frames.reshape(shape + grid.shape)
 
@@ -318,13 +358,17 @@ def render_point(shape, method, t: float, grid: Grid = _DEFAULT_GRID) -> tuple:
     -------
     tuple of (int, float)
         ``(flat index, raw intensity)`` of each lit tactor inside the grid, flat index =
-        ``row * cols + col``.
+        ``row * cols + col`` (on a layout that is not a grid: the actuator index).
     """
     m = get_method(method)
-    grid = check_grid(grid)
+    grid = check_target(grid)
     shape = check_shape(shape, m)
     if not 0.0 <= t <= 1.0:
         raise ValueError(f"t must be finite and within [0, 1], got {_validate.shown(t)}")
+    if isinstance(grid, Layout):
+        x, y = shape.point(float(t))
+        entries = layout_sampler(m, grid).entries1(x, y, shape.snap_tol)
+        return tuple((i, v) for i, v in entries if v > 0.0)
     return point_entries(shape, m.sample1, float(t), grid.cols, grid.rows)
 
 

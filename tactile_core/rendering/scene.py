@@ -13,7 +13,6 @@ from dataclasses import dataclass
 
 from .._shared import validate as _validate
 from .correction import check_correction
-from .geometry import Grid
 from .methods import get_method
 from .shapes import Shape
 from .trace import DIRECTIONS, FILTERS, LiveFrames, Sampling, Trace, check_hold
@@ -144,8 +143,8 @@ class Scene:
         """The :class:`Sampling` at ``rate_hz`` (default: the scene's rate)."""
         return Sampling(rate_hz or self.rate_hz, self.filter, self.subsamples)
 
-    def live(self, grid: Grid, rate_hz: float | None = None) -> LiveFrames:
-        """Frames of the scene at ``rate_hz``, for the output thread."""
+    def live(self, grid, rate_hz: float | None = None) -> LiveFrames:
+        """Frames of the scene at ``rate_hz`` on a Grid or Layout, for the output thread."""
         return LiveFrames(
             self.trace(), self.method, self.sampling(rate_hz), self.mu, self.gamma, grid, self.gain
         )

@@ -33,8 +33,10 @@ import numpy as np
 from .._shared import validate as _validate
 from .correction import check_correction, correct, correct1
 from .geometry import Grid
+from .layout import Layout
 from .methods import get_method
-from .rasterize import check_grid, check_shape, point_entries, render
+from .methods._layout import layout_sampler
+from .rasterize import check_shape, check_target, frame_shape, point_entries, render
 from .shapes import Shape
 
 DIRECTIONS = ("forward", "reverse")
@@ -279,7 +281,8 @@ def render_frames(
         Rate and temporal filter.
     mu, gamma : float, keyword-only
         Correction parameters; the defaults (0, 1) leave intensities unchanged.
-    grid : Grid, keyword-only
+    grid : Grid or Layout, keyword-only
+        On a layout that is not a grid, frames are ``(n_frames, size)``.
     n_frames : int, optional
         Number of frames; default: enough to cover one period,
         ``ceil(period_s * rate_hz)``.
@@ -302,7 +305,7 @@ def render_frames(
         Filtered intensities in [0, 1].
     """
     m = get_method(method)
-    grid = check_grid(grid)
+    grid = check_target(grid)
     mu, gamma = check_correction(mu, gamma)
     if not isinstance(sampling, Sampling):
         raise ValueError(f"sampling must be a Sampling, got {_validate.shown(sampling)}")
@@ -320,11 +323,12 @@ def render_frames(
     start = (np.arange(n_frames) + first_frame) / sampling.rate_hz + phase_s
     times = (start[:, None] + sampling.offsets_s()[None, :]).reshape(-1)
     t, on = trace.parameter(times)
-    samples = np.zeros((times.size, *grid.shape))
+    shape = frame_shape(grid)
+    samples = np.zeros((times.size, *shape))
     samples[on] = render(trace.shape, m, t[on], grid=grid)
     if corrected and (mu != 0.0 or gamma != 1.0 or gain != 1.0):
         samples = correct(samples, mu, gamma, gain=gain)
-    frames = samples.reshape((n_frames, s, *grid.shape)).mean(axis=1)
+    frames = samples.reshape((n_frames, s, *shape)).mean(axis=1)
     return start, frames
 
 
@@ -360,7 +364,8 @@ class LiveFrames:
     method : {"CT", "MM", "AS", "IM"}
     sampling : Sampling
     mu, gamma : float
-    grid : Grid
+    grid : Grid or Layout
+        On a layout that is not a grid the entries' indices are actuator indices.
     gain : float
         Master intensity in [0, 1], part of the correction.
     """
@@ -375,7 +380,10 @@ class LiveFrames:
         self.sampling = sampling
         self.mu, self.gamma = check_correction(mu, gamma)
         self.gain = _validate.in_range("gain", gain, 0.0, 1.0)
-        self.grid = check_grid(grid)
+        self.grid = check_target(grid)
+        self._layout = (
+            layout_sampler(self.method, self.grid) if isinstance(self.grid, Layout) else None
+        )
         self.cycle = frames_per_cycle(trace.period_s, sampling.rate_hz) if trace.repeat else None
         self._offsets = sampling.offsets_s().tolist()
         self._scale = 1.0 / len(self._offsets)
@@ -444,6 +452,8 @@ class LiveFrames:
         """Frame ``k`` by the scalar path, whether or not a table exists."""
         start = k / self.sampling.rate_hz
         trace, shape, sample1 = self.trace, self.trace.shape, self._sample1
+        if self._layout is not None:
+            return self._compute_layout(start)
         cols, rows = self.grid.cols, self.grid.rows
         if len(self._offsets) == 1:
             t = trace.parameter1(start + self._offsets[0])
@@ -463,9 +473,25 @@ class LiveFrames:
         scale = self._scale
         return tuple((i, v * scale) for i, v in acc.items())
 
+    def _compute_layout(self, start: float) -> tuple:
+        """:meth:`compute` on a layout that is not a grid."""
+        trace, shape, entries1 = self.trace, self.trace.shape, self._layout.entries1
+        acc: dict[int, float] = {}
+        for offset in self._offsets:
+            t = trace.parameter1(start + offset)
+            if t is None:
+                continue
+            x, y = shape.point(t)
+            for i, v in entries1(x, y, shape.snap_tol):
+                if v > 0.0:
+                    acc[i] = acc.get(i, 0.0) + correct1(v, self.mu, self.gamma, self.gain)
+        scale = self._scale
+        return tuple((i, v * scale) for i, v in acc.items())
+
     def frame(self, k: int) -> np.ndarray:
-        """Frame ``k`` as a dense ``(rows, cols)`` array (for display and tests)."""
+        """Frame ``k`` as a dense array (for display and tests): ``(rows, cols)`` on a grid,
+        ``(size,)`` on a layout."""
         out = np.zeros(self.grid.size)
         for i, v in self.entries(k):
             out[i] = v
-        return out.reshape(self.grid.shape)
+        return out.reshape(frame_shape(self.grid))

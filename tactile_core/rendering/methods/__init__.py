@@ -61,7 +61,18 @@ from dataclasses import dataclass, field
 from types import ModuleType
 
 from ..._shared import validate as _validate
-from . import area, closest, energy, gaussian, interpolated, midpoint, park, rolloff, vrch
+from . import (
+    area,
+    barycentric,
+    closest,
+    energy,
+    gaussian,
+    interpolated,
+    midpoint,
+    park,
+    rolloff,
+    vrch,
+)
 from ._plugin import CONTAINED as _CONTAINED
 from ._plugin import checked as _checked
 from ._plugin import max_tactors as _max_tactors
@@ -272,9 +283,13 @@ PEER_METHODS = ("EN", "PK", "RO", "GS", "VRCH")
 """The methods of other haptic systems and this project's Gaussian spread (Tactile Brush, Park
 et al., Syntacts, GS, VRCH-Server)."""
 
+LAYOUT_ONLY = ("BA",)
+"""This project's method for actuators anywhere (AS's weights on a grid)."""
+
 METHODS: dict[str, Method] = {
     **{m.NAME: _make(m, "paper") for m in (closest, midpoint, area, interpolated)},
     **{m.NAME: _make(m, "peer") for m in (energy, park, rolloff, gaussian, vrch)},
+    barycentric.NAME: _make(barycentric, "layout"),
 }
 """Registry of the methods by name: the paper's four, then the peers, then loaded plug-ins."""
 

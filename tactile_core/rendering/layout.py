@@ -1,0 +1,352 @@
+"""Actuator layouts: actuators anywhere, the grid as one case among them.
+
+A :class:`Layout` lists actuator positions in *layout units*, where one unit is the device
+profile's pitch (so a grid's layout is its tactor centres ``(col + 0.5, row + 0.5)``, and
+shapes, radii and sigmas mean the same on a grid and on a layout). Sleeves and belts wrap
+around one axis (:class:`Wrap`): coordinates along it are taken modulo the circumference and
+distances are measured the short way round, so a point crossing the seam moves on without a
+jump. Vests group actuators (a front and a back panel).
+
+Frames on a layout are flat, ``(..., size)`` in actuator order; on a grid (``layout.grid`` set)
+they keep the grid's ``(..., rows, cols)``. The paper's four methods are defined on a grid; the
+methods that depend only on the point (EN, PK, RO, GS, VRCH and BA) work on any layout
+(:mod:`tactile_core.rendering.methods`).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._shared import validate as _validate
+from ._grid import Grid
+
+MAX_ACTUATORS = 1024
+"""Most actuators of a layout (a device profile allows at most 255: one byte on the wire)."""
+MIN_SPACING = 1e-6
+"""Closest two actuators may be, in layout units (closer is a duplicate)."""
+AXES = ("x", "y")
+
+
+@dataclass(frozen=True)
+class Wrap:
+    """A layout that wraps around one axis (a sleeve, a belt).
+
+    Parameters
+    ----------
+    axis : {"x", "y"}
+        The axis that goes round.
+    circumference : float
+        Length of one turn, in layout units (> 0). Coordinates along ``axis`` are taken modulo
+        it; the actuators' own coordinates must lie within ``[0, circumference)``.
+    """
+
+    axis: str = "x"
+    circumference: float = 1.0
+
+    def __post_init__(self):
+        _validate.choice("wrap axis", self.axis, AXES)
+        c = _validate.real("wrap circumference", self.circumference)
+        if not 0.0 < c <= _validate.MAX_COORD:
+            raise ValueError(
+                f"wrap circumference must be > 0 and at most {_validate.MAX_COORD:g}, got "
+                f"{_validate.shown(self.circumference)}"
+            )
+        object.__setattr__(self, "circumference", c)
+
+    @property
+    def index(self) -> int:
+        """0 for x, 1 for y."""
+        return AXES.index(self.axis)
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where the actuators of an array are.
+
+    Parameters
+    ----------
+    positions : sequence of (x, y)
+        One position per actuator, in layout units (pitches), actuator (and channel) order.
+        Finite, within :data:`~tactile_core._shared.validate.MAX_COORD`, no two closer than
+        :data:`MIN_SPACING`; 1 to :data:`MAX_ACTUATORS` of them.
+    names : sequence of str, optional
+        A short name per actuator (``"front-3"``); the index as text by default.
+    wrap : Wrap, optional
+        The axis that goes round, for sleeves and belts.
+    groups : mapping of str to sequence of int, optional
+        Named groups of actuator indices (a vest's ``front`` and ``back``); an actuator may be
+        in no group or in several.
+    grid : Grid, optional
+        Set by :meth:`from_grid` only: the layout *is* that grid (positions at its cell
+        centres, row-major order), and the paper's methods apply.
+
+    Examples
+    --------
+    >>> belt = Layout([(k + 0.5, 0.5) for k in range(8)], wrap=Wrap("x", 8.0))
+    >>> belt.size, belt.frame_shape
+    (8, (8,))
+    >>> round(float(belt.distances(0.2, 0.5)[7]), 6)  # across the seam: 0.2 - (-0.5)
+    0.7
+    >>> Layout.from_grid(Grid(2, 3)).frame_shape
+    (3, 2)
+    """
+
+    positions: tuple
+    names: tuple = ()
+    wrap: Wrap | None = None
+    groups: tuple = ()
+    grid: Grid | None = None
+
+    def __post_init__(self):
+        pts = _positions(self.positions)
+        object.__setattr__(self, "positions", tuple(map(tuple, pts.tolist())))
+        n = len(pts)
+        names = tuple(self.names) if self.names else tuple(str(i) for i in range(n))
+        if len(names) != n or not all(isinstance(s, str) and 0 < len(s) <= 32 for s in names):
+            raise ValueError(
+                f"layout names must be {n} strings of 1-32 characters (one per actuator), got "
+                f"{_validate.shown(self.names)}"
+            )
+        if len(set(names)) != n:
+            twice = sorted({s for s in names if names.count(s) > 1})
+            raise ValueError(f"layout names must differ, got {twice[0]!r} twice")
+        object.__setattr__(self, "names", names)
+        if self.wrap is not None:
+            if not isinstance(self.wrap, Wrap):
+                raise ValueError(f"layout wrap must be a Wrap, got {_validate.shown(self.wrap)}")
+            along = pts[:, self.wrap.index]
+            c = self.wrap.circumference
+            bad = np.flatnonzero((along < 0.0) | (along >= c))
+            if bad.size:
+                i = int(bad[0])
+                raise ValueError(
+                    f"layout wrap: actuator {i} ({names[i]}) at {self.wrap.axis} = "
+                    f"{along[i]:g} lies outside the circumference [0, {c:g})"
+                )
+        object.__setattr__(self, "groups", _groups(self.groups, n))
+        if self.grid is not None and not isinstance(self.grid, Grid):
+            raise ValueError(
+                f"layout grid must be a Grid or None, got {_validate.shown(self.grid)}"
+            )
+        _check_spacing(pts, self.wrap, names)
+
+    @classmethod
+    def from_grid(cls, grid: Grid) -> Layout:
+        """The layout of a grid: tactor ``(col, row)`` at ``(col + 0.5, row + 0.5)``, actuator
+        ``row * cols + col``, named ``"r{row}c{col}"``."""
+        return _grid_layout(grid)
+
+    @property
+    def size(self) -> int:
+        """Number of actuators."""
+        return len(self.positions)
+
+    @property
+    def is_grid(self) -> bool:
+        """True for a grid's layout (:meth:`from_grid`): the paper's methods apply."""
+        return self.grid is not None
+
+    @property
+    def frame_shape(self) -> tuple:
+        """Shape of one frame: the grid's ``(rows, cols)``, else ``(size,)``."""
+        return self.grid.shape if self.grid is not None else (self.size,)
+
+    @property
+    def xy(self) -> np.ndarray:
+        """``(size, 2)`` float64: the positions as an array (read-only)."""
+        return _xy(self)
+
+    def cell_name(self, index: int) -> str:
+        """The name of actuator ``index`` (as :meth:`Grid.cell_name` names a cell)."""
+        return self.names[index]
+
+    def group_of(self, index: int) -> tuple[str, ...]:
+        """Names of the groups actuator ``index`` belongs to."""
+        return tuple(name for name, members in self.groups if index in members)
+
+    def canonical(self, x, y):
+        """``(x, y)`` with the wrapped coordinate taken into ``[0, circumference)``."""
+        x = np.asarray(x, dtype=np.float64)
+        y = np.asarray(y, dtype=np.float64)
+        if self.wrap is None:
+            return x, y
+        c = self.wrap.circumference
+        if self.wrap.axis == "x":
+            return np.mod(x, c), y
+        return x, np.mod(y, c)
+
+    def deltas(self, x, y) -> tuple[np.ndarray, np.ndarray]:
+        """Offsets from each actuator to each point, the short way round a wrap.
+
+        Parameters
+        ----------
+        x, y : float or array_like, broadcast together, shape ``S``
+            Points in layout units.
+
+        Returns
+        -------
+        dx, dy : ndarray of float64, shape ``S + (size,)``
+            ``point - actuator`` per axis; along a wrap within ``[-C/2, C/2]``.
+        """
+        x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+        return _deltas(self.xy, self.wrap, x, y)
+
+    def distances(self, x, y) -> np.ndarray:
+        """Distances from each point to each actuator in layout units, ``S + (size,)``
+        (along a wrap, the short way round)."""
+        dx, dy = self.deltas(x, y)
+        return np.hypot(dx, dy)
+
+    def delta1(self, x: float, y: float, index: int) -> tuple[float, float]:
+        """Scalar :meth:`deltas` for one point and one actuator, with plain floats."""
+        ax, ay = self.positions[index]
+        dx, dy = x - ax, y - ay
+        if self.wrap is not None:
+            c = self.wrap.circumference
+            if self.wrap.axis == "x":
+                dx -= c * round(dx / c)
+            else:
+                dy -= c * round(dy / c)
+        return dx, dy
+
+    def nearest(self, x: float, y: float) -> int:
+        """Index of the actuator nearest to ``(x, y)`` (the lowest index on a tie)."""
+        return int(np.argmin(self.distances(float(x), float(y))))
+
+    def bounds(self, margin: float = 0.5) -> tuple[float, float, float, float]:
+        """``(x0, x1, y0, y1)``: the actuators' extent plus ``margin``; along a wrap, one
+        turn ``[0, circumference]``."""
+        if self.grid is not None:
+            return (0.0, float(self.grid.cols), 0.0, float(self.grid.rows))
+        xy = self.xy
+        lo = xy.min(axis=0) - margin
+        hi = xy.max(axis=0) + margin
+        if self.wrap is not None:
+            lo[self.wrap.index] = 0.0
+            hi[self.wrap.index] = self.wrap.circumference
+        return (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
+
+    def describe(self) -> str:
+        """A few words: ``"8 actuators, wrapping in x (circumference 8)"``."""
+        if self.grid is not None:
+            return f"{self.grid.cols} x {self.grid.rows} grid"
+        text = f"{self.size} actuator{'s' if self.size != 1 else ''}"
+        if self.wrap is not None:
+            text += f", wrapping in {self.wrap.axis} (circumference {self.wrap.circumference:g})"
+        if self.groups:
+            text += ", groups " + ", ".join(name for name, _ in self.groups)
+        return text
+
+
+def _positions(positions) -> np.ndarray:
+    try:
+        if isinstance(positions, (str, bytes)):
+            raise TypeError
+        pts = np.array(positions, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(
+            f"layout positions must be a list of (x, y) pairs of numbers, got "
+            f"{_validate.shown(positions)}"
+        ) from None
+    if pts.ndim != 2 or pts.shape[1:] != (2,):
+        raise ValueError(
+            f"layout positions must be a list of (x, y) pairs, got an array of shape {pts.shape}"
+        )
+    if not 1 <= len(pts) <= MAX_ACTUATORS:
+        raise ValueError(
+            f"layout positions must hold 1 to {MAX_ACTUATORS} actuators, got {len(pts)}"
+        )
+    bad = np.flatnonzero(~np.isfinite(pts).all(axis=1) | (np.abs(pts) > _validate.MAX_COORD).any(1))
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(
+            f"layout positions[{i}] must be finite coordinates within "
+            f"{_validate.MAX_COORD:g}, got {_validate.shown(tuple(pts[i].tolist()))}"
+        )
+    return pts
+
+
+def _groups(groups, n: int) -> tuple:
+    items = groups.items() if isinstance(groups, dict) else groups
+    out = []
+    try:
+        for name, members in items:
+            if not isinstance(name, str) or not 0 < len(name) <= 32:
+                raise ValueError(f"layout group names must be 1-32 characters, got {name!r}")
+            idx = tuple(_validate.integer(f"layout group {name}", m, 0, n - 1) for m in members)
+            if len(set(idx)) != len(idx):
+                raise ValueError(f"layout group {name} lists an actuator twice")
+            out.append((name, idx))
+    except (TypeError, ValueError) as exc:
+        if isinstance(exc, ValueError) and str(exc).startswith("layout group"):
+            raise
+        raise ValueError(
+            f"layout groups must map names to lists of actuator indices 0..{n - 1}, got "
+            f"{_validate.shown(groups)}"
+        ) from None
+    names = [name for name, _ in out]
+    if len(set(names)) != len(names):
+        raise ValueError("layout groups must have different names")
+    return tuple(out)
+
+
+def _check_spacing(pts: np.ndarray, wrap: Wrap | None, names: tuple) -> None:
+    """Refuse two actuators at one place (within :data:`MIN_SPACING`, round a wrap too)."""
+    if len(pts) < 2:
+        return
+    dx, dy = _deltas(pts, wrap, pts[:, 0], pts[:, 1])
+    dist = np.hypot(dx, dy)
+    np.fill_diagonal(dist, np.inf)
+    pair = np.argwhere(dist < MIN_SPACING)
+    if pair.size:
+        i, j = sorted(pair[0].tolist())
+        where = " (round the wrap)" if abs(pts[i] - pts[j]).max() >= MIN_SPACING else ""
+        raise ValueError(
+            f"layout positions: actuators {i} ({names[i]}) and {j} ({names[j]}) are both at "
+            f"{_validate.shown(tuple(pts[i].tolist()))}{where} (duplicate positions)"
+        )
+
+
+def _deltas(xy: np.ndarray, wrap: Wrap | None, x, y) -> tuple[np.ndarray, np.ndarray]:
+    dx = x[..., None] - xy[:, 0]
+    dy = y[..., None] - xy[:, 1]
+    if wrap is not None:
+        c = wrap.circumference
+        d = dx if wrap.axis == "x" else dy
+        d -= c * np.round(d / c)
+    return dx, dy
+
+
+@functools.lru_cache(maxsize=64)
+def _grid_layout(grid: Grid) -> Layout:
+    if not isinstance(grid, Grid):
+        raise ValueError(f"grid must be a Grid, got {_validate.shown(grid)}")
+    cols, rows = np.meshgrid(np.arange(grid.cols) + 0.5, np.arange(grid.rows) + 0.5)
+    positions = np.stack([cols.ravel(), rows.ravel()], axis=1)
+    names = tuple(grid.cell_name(i) for i in range(grid.size))
+    return Layout(positions, names, grid=grid)
+
+
+@functools.lru_cache(maxsize=64)
+def _xy(layout: Layout) -> np.ndarray:
+    xy = np.array(layout.positions, dtype=np.float64).reshape(-1, 2)
+    xy.flags.writeable = False
+    return xy
+
+
+def as_layout(target) -> Layout:
+    """A :class:`Layout` for a Grid or a Layout (``ValueError`` naming ``grid`` otherwise)."""
+    if isinstance(target, Layout):
+        return target
+    if isinstance(target, Grid):
+        return _grid_layout(target)
+    raise ValueError(f"grid must be a Grid or a Layout, got {_validate.shown(target)}")
+
+
+def wrap_distance(d: float, circumference: float) -> float:
+    """``d`` taken the short way round: within ``[-C/2, C/2]``."""
+    return d - circumference * math.floor(d / circumference + 0.5)

@@ -1,0 +1,352 @@
+"""The methods that work on any layout: EN, PK, RO, GS, VRCH and BA, on actuators anywhere.
+
+On a :class:`~tactile_core.rendering.layout.Layout` that is not a grid, a method renders
+through a :class:`LayoutSampler`: ``frames(x, y, tol)`` for many points (dense ``(n, size)``)
+and ``entries1(x, y, tol)`` for one (the live path: ``((actuator, value), ...)`` of the lit
+actuators, computed from the actuators near the point only). Distances are in layout units,
+the short way round a wrap.
+
+=======  ==================================================================================
+``RO``   ``s(1 - d / r)`` for ``d < r`` (Syntacts' roll-off; ``curve`` smoothstep or linear)
+``GS``   ``exp(-d^2 / (2 sigma^2))``, zero below 0.05
+``VRCH`` 1 for ``d < r``
+``PK``   the three nearest actuators, ``sqrt((1/d_i) / sum_j 1/d_j)``; on an actuator, it
+         alone at 1; ties in distance go to the higher index (up/right on a grid, as there;
+         ``blend`` needs a grid)
+``BA``   barycentric weights over the layout's Delaunay cells, rectangles bilinear
+         (:mod:`._tessellation`): AS's weights on a grid
+``EN``   ``sqrt`` of BA's weights: Tactile Brush's energy model on BA's cells, as EN is on AS's
+=======  ==================================================================================
+
+A plug-in works on layouts when its module has ``sample_layout(layout, x, y, **params)``
+(dense ``(n, size)``) and ``sample1_layout(layout, x, y, **params)`` (``((index, value),
+...)``); the others are refused there, as the paper's four are.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+
+from ..layout import Layout
+from . import gaussian, rolloff
+from ._tessellation import Tessellation
+
+LAYOUT_METHODS = ("EN", "PK", "RO", "GS", "VRCH", "BA")
+"""The built-in methods that render on any layout."""
+
+
+class LayoutSampler:
+    """One method with its parameters, bound to one layout.
+
+    Parameters
+    ----------
+    frames : callable
+        ``frames(x, y, tol) -> (n, size)`` float64 for ``(n,)`` arrays.
+    entries1 : callable
+        ``entries1(x, y, tol) -> ((index, value), ...)`` with plain floats.
+    """
+
+    __slots__ = ("entries1", "frames")
+
+    def __init__(self, frames, entries1):
+        self.frames = frames
+        self.entries1 = entries1
+
+
+@functools.lru_cache(maxsize=64)
+def tessellation(layout: Layout) -> Tessellation:
+    """BA's cells of ``layout`` (built once per layout)."""
+    return Tessellation(layout)
+
+
+@functools.lru_cache(maxsize=64)
+def actuators(layout: Layout) -> _Near:
+    """The actuators of ``layout`` filed by place, for the live path (built once)."""
+    return _Near(layout)
+
+
+class _Near:
+    """Actuators in square buckets (with a wrap's copies one turn to each side, as many turns
+    as a reach needs), so that the live path visits only those near the point."""
+
+    def __init__(self, layout: Layout):
+        self.layout = layout
+        xy = layout.xy
+        self.n = len(xy)
+        if self.n > 1:
+            d = layout.distances(xy[:, 0], xy[:, 1])
+            np.fill_diagonal(d, np.inf)
+            spacing = float(np.median(d.min(axis=1)))
+        else:
+            spacing = 1.0
+        self.h = max(spacing, 1e-3)
+        self.turns = 0
+        self.wrap = layout.wrap
+        self._points = [(float(x), float(y), i) for i, (x, y) in enumerate(xy.tolist())]
+        self._buckets: dict = {}
+        self._copies(1)
+
+    def _copies(self, turns: int) -> None:
+        """File the actuators with ``turns`` copies each side of a wrap (once per reach)."""
+        if turns <= self.turns and self._buckets:
+            return
+        self.turns = turns
+        table: dict = {}
+        shifts = [0.0]
+        if self.wrap is not None:
+            c = self.wrap.circumference
+            shifts = [k * c for k in range(-turns, turns + 1)]
+        axis = self.wrap.index if self.wrap is not None else 0
+        for x, y, i in self._points:
+            for s in shifts:
+                px, py = (x + s, y) if axis == 0 else (x, y + s)
+                key = (math.floor(px / self.h), math.floor(py / self.h))
+                table.setdefault(key, []).append((px, py, i))
+        self._buckets = table
+
+    def within(self, x: float, y: float, reach: float) -> dict:
+        """``{actuator: distance}`` of the actuators closer than or at ``reach`` (the short
+        way round a wrap)."""
+        wrap = self.wrap
+        if wrap is not None:
+            c = wrap.circumference
+            if wrap.axis == "x":
+                x = x % c
+            else:
+                y = y % c
+            self._copies(math.ceil(reach / c) + 1)
+        h = self.h
+        i0, i1 = math.floor((x - reach) / h), math.floor((x + reach) / h)
+        j0, j1 = math.floor((y - reach) / h), math.floor((y + reach) / h)
+        if (i1 - i0 + 1) * (j1 - j0 + 1) > 4 * len(self._buckets):  # a reach beyond the array
+            keys = self._buckets.keys()
+        else:
+            keys = [(i, j) for i in range(i0, i1 + 1) for j in range(j0, j1 + 1)]
+        found: dict = {}
+        buckets = self._buckets
+        limit = reach * reach
+        for key in keys:
+            for px, py, i in buckets.get(key, ()):
+                d2 = (x - px) * (x - px) + (y - py) * (y - py)
+                if d2 <= limit:
+                    d = math.sqrt(d2)
+                    if d < found.get(i, math.inf):
+                        found[i] = d
+        return found
+
+    def nearest(self, x: float, y: float, k: int) -> list:
+        """The ``k`` nearest actuators as ``[(distance, index), ...]``, nearest first (ties to
+        the higher index: up/right on a grid)."""
+        k = min(k, self.n)
+        reach = self.h
+        while True:
+            found = self.within(x, y, reach)
+            if len(found) >= k:
+                ranked = sorted((d, -i) for i, d in found.items())
+                if ranked[k - 1][0] <= reach:
+                    return [(d, -i) for d, i in ranked[:k]]
+            reach *= 2.0
+
+
+def _distances(layout: Layout, x, y) -> np.ndarray:
+    """``(n, size)`` distances, computed as the live path computes them (same rounding)."""
+    dx, dy = layout.deltas(x, y)
+    return np.sqrt(dx * dx + dy * dy)
+
+
+# -- the methods ------------------------------------------------------------------------------
+
+
+def _radial(layout, reach, weight, weight1, strict=True):
+    near = actuators(layout)
+
+    def frames(x, y, tol):
+        d = _distances(layout, x, y)
+        inside = d < reach if strict else d <= reach
+        return np.where(inside, weight(np.where(inside, d, 0.0)), 0.0)
+
+    def entries1(x, y, tol):
+        out = []
+        for i, d in near.within(x, y, reach).items():
+            if d < reach or (not strict and d == reach):
+                v = weight1(d)
+                if v > 0.0:
+                    out.append((i, v))
+        out.sort()
+        return tuple(out)
+
+    return LayoutSampler(frames, entries1)
+
+
+def _ro(layout, r=1.0, curve="smoothstep"):
+    s = rolloff.CURVES[curve]
+    inv = 1.0 / r
+    return _radial(layout, r, lambda d: s(1.0 - d * inv), lambda d: s(1.0 - d * inv))
+
+
+def _vrch(layout, r=1.0):
+    return _radial(layout, r, lambda d: np.ones_like(d), lambda d: 1.0)
+
+
+def _gs(layout, sigma=0.5):
+    k = -1.0 / (2.0 * sigma * sigma)
+    cut = gaussian.CUTOFF
+    reach = gaussian.radius(sigma) * (1 + 1e-9)
+
+    def weight(d):
+        w = np.exp(d * d * k)
+        return np.where(w >= cut, w, 0.0)
+
+    def weight1(d):
+        w = math.exp(d * d * k)
+        return w if w >= cut else 0.0
+
+    return _radial(layout, reach, weight, weight1, strict=False)
+
+
+def _pk(layout, blend=0.0):
+    if blend != 0.0:
+        raise ValueError(
+            f"method PK:blend={blend:g} needs a grid (its bands run along the grid's centre "
+            f"lines); on this layout ({layout.describe()}) use PK without blend"
+        )
+    near = actuators(layout)
+    k = min(3, layout.size)
+
+    def frames(x, y, tol):
+        d = _distances(layout, x, y)
+        n = len(d)
+        # nearest first, ties to the higher index (up/right on a grid, as PK breaks them there)
+        order = (layout.size - 1) - np.argsort(d[:, ::-1], axis=1, kind="stable")[:, :k]
+        rows = np.arange(n)[:, None]
+        dk = d[rows, order]
+        tol = np.broadcast_to(np.asarray(tol, dtype=np.float64), (n,))
+        on = dk[:, 0] <= tol
+        inv = 1.0 / np.where(dk > 0.0, dk, 1.0)
+        w = np.sqrt(inv / inv.sum(axis=1, keepdims=True))
+        w[on] = 0.0
+        w[on, 0] = 1.0
+        out = np.zeros_like(d)
+        out[rows, order] = w
+        return out
+
+    def entries1(x, y, tol):
+        ranked = near.nearest(x, y, k)
+        if ranked[0][0] <= tol:
+            return ((ranked[0][1], 1.0),)
+        inv = [1.0 / d for d, _ in ranked]
+        total = sum(inv)
+        return tuple(sorted((i, math.sqrt(v / total)) for v, (_, i) in zip(inv, ranked)))
+
+    return LayoutSampler(frames, entries1)
+
+
+def _ba(layout):
+    cells = tessellation(layout)
+    size = layout.size
+
+    def frames(x, y, tol):
+        index, weight = cells.weights(x, y, tol)
+        out = np.zeros((len(index), size + 1))  # slot ``size``: unused (-1)
+        rows = np.arange(len(index))[:, None]
+        np.add.at(out, (rows, np.where(index >= 0, index, size)), weight)
+        return out[:, :size]
+
+    def entries1(x, y, tol):
+        lit: dict = {}
+        for i, w in cells.weights1(x, y, tol):
+            lit[i] = lit.get(i, 0.0) + w
+        return tuple(sorted(lit.items()))
+
+    return LayoutSampler(frames, entries1)
+
+
+def _en(layout):
+    ba = _ba(layout)
+
+    def frames(x, y, tol):
+        return np.sqrt(ba.frames(x, y, tol))
+
+    def entries1(x, y, tol):
+        return tuple((i, math.sqrt(w)) for i, w in ba.entries1(x, y, tol))
+
+    return LayoutSampler(frames, entries1)
+
+
+BUILT_IN = {"RO": _ro, "GS": _gs, "VRCH": _vrch, "PK": _pk, "BA": _ba, "EN": _en}
+
+
+def _plugin(module, layout, params):
+    fn, fn1 = module.sample_layout, module.sample1_layout
+
+    def frames(x, y, tol):
+        out = np.asarray(fn(layout, x, y, **params), dtype=np.float64)
+        if out.shape != (len(x), layout.size):
+            raise ValueError(
+                f"sample_layout returned shape {out.shape}, expected {(len(x), layout.size)}"
+            )
+        if not np.isfinite(out).all() or out.min(initial=0.0) < 0 or out.max(initial=0.0) > 1:
+            raise ValueError("sample_layout returned values outside [0, 1]")
+        return out
+
+    def entries1(x, y, tol):
+        out = tuple((int(i), float(v)) for i, v in fn1(layout, x, y, **params))
+        for i, v in out:
+            if not (0 <= i < layout.size and 0.0 <= v <= 1.0):
+                raise ValueError(
+                    f"sample1_layout returned ({i}, {v}): not an actuator and a value in [0, 1]"
+                )
+        return out
+
+    return LayoutSampler(frames, entries1)
+
+
+_SAMPLERS: dict = {}
+
+
+def layout_sampler(method, layout: Layout) -> LayoutSampler:
+    """The :class:`LayoutSampler` of ``method`` (a bound :class:`~.Method`) on ``layout``.
+
+    Raises
+    ------
+    ValueError
+        When the method is defined on grids only (the paper's four, plug-ins without
+        ``sample_layout``), saying why and which methods apply.
+    """
+    key = (method.name, method.params, method.module, layout)
+    hit = _SAMPLERS.get(key)
+    if hit is not None:
+        return hit
+    params = dict(method.params)
+    build = BUILT_IN.get(method.name) if not method.plugin else None
+    if build is not None:
+        hit = build(layout, **params)
+    elif (
+        method.plugin
+        and hasattr(method.module, "sample_layout")
+        and hasattr(method.module, "sample1_layout")
+    ):
+        hit = _plugin(method.module, layout, params)
+    else:
+        raise ValueError(refusal(method.name, layout))
+    if len(_SAMPLERS) > 256:
+        _SAMPLERS.clear()
+    _SAMPLERS[key] = hit
+    return hit
+
+
+def refusal(name: str, layout: Layout) -> str:
+    """Why ``name`` cannot render on ``layout``, and what can."""
+    why = (
+        "it is defined on a grid of tactors (the paper's sections 2.2-2.5 pick cells, columns "
+        "and rows)"
+        if name in ("CT", "MM", "AS", "IM")
+        else "it is defined on a grid of tactors"
+    )
+    return (
+        f"method {name} cannot render on this layout ({layout.describe()}): {why}; on "
+        f"actuators anywhere use {', '.join(LAYOUT_METHODS)} (BA is AS's weights generalised)"
+    )
