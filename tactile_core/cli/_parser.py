@@ -23,6 +23,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("render", help="write the frames of one trace to .csv or .npz")
     _add_scene_arguments(p, duration=2.0)
+    p.add_argument("--profile", default=None,
+                   help="render onto this device profile's actuators (a grid or a layout) "
+                        "instead of --cols x --rows")  # fmt: skip
     p.add_argument("--rate", type=number, default=100.0, help="frames per second (default 100)")
     p.add_argument("--out", required=True, help="output file, .csv or .npz")
     p.set_defaults(func=cmd_render)

@@ -12,7 +12,7 @@ import numpy as np
 from .._shared import validate as _validate
 from .._shared.outfile import atomic_file, check_output
 from ..rendering.correction import correct
-from ..rendering.rasterize import render
+from ..rendering.rasterize import check_renders, render
 from ._common import UsageError, _install_stop_handlers, _scene, _seconds
 
 MAX_RENDER_FRAMES = 1_000_000
@@ -22,6 +22,17 @@ MAX_RENDER_FRAMES = 1_000_000
 def cmd_render(args) -> int:
     """Write the frames of one trace to CSV or NPZ."""
     shape, method, mu, gamma, grid = _scene(args)
+    names = [grid.cell_name(i) for i in range(grid.size)]
+    if getattr(args, "profile", None) is not None:
+        from ..device.profile import ProfileError, load_profile
+
+        try:
+            profile = load_profile(args.profile)
+        except ProfileError as exc:
+            raise UsageError(str(exc)) from None
+        grid = profile.target
+        check_renders(method, grid)
+        names = list(profile.layout.names)
     _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
     out = check_output(args.out, (".csv", ".npz"), "--out")
     n = int(np.floor(args.duration * args.rate + 1e-9))
@@ -39,7 +50,6 @@ def cmd_render(args) -> int:
             with atomic_file(out, binary=True) as f:
                 np.savez(f, time=time_s, frames=frames)
         else:
-            names = [grid.cell_name(i) for i in range(grid.size)]
             table = np.column_stack([time_s, frames.reshape(len(t), grid.size)])
             with atomic_file(out) as f:
                 np.savetxt(
@@ -69,6 +79,7 @@ def cmd_stream(args) -> int:
         profile = load_profile(args.profile)
     except ProfileError as exc:
         raise UsageError(str(exc)) from None
+    check_renders(method, profile.target)
     scene = Scene(
         shape,
         method,
@@ -176,7 +187,7 @@ def cmd_emulate(args) -> int:
     path = emulator.open()
     print(path, flush=True)
     print(
-        f"emulating {profile.name} ({profile.grid.cols} x {profile.grid.rows}, "
+        f"emulating {profile.name} ({profile.layout.describe()}, "
         f"{profile.levels} levels) on {path}; Ctrl-C to end",
         file=sys.stderr,
         flush=True,

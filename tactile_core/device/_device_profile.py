@@ -14,6 +14,7 @@ import numpy as np
 from .._shared.jsonfile import write_json_atomic
 from ..rendering.geometry import ArraySpec, Grid
 from ..rendering.motor import MotorResponse
+from ._layout_json import layout_to_json
 from ._profile_json import FORMAT, VERSION, profile_fields
 from .wire import frame_length
 
@@ -61,6 +62,22 @@ class DeviceProfile:
     def grid(self) -> Grid:
         """The tactor grid."""
         return self.array.grid
+
+    @property
+    def layout(self):
+        """Where the actuators are (:class:`~tactile_core.rendering.layout.Layout`): the
+        grid's tactor centres for a grid profile."""
+        return self.array.layout
+
+    @property
+    def is_grid(self) -> bool:
+        """True for a grid of tactors (the paper's methods and experiments apply)."""
+        return self.array.is_grid
+
+    @property
+    def target(self):
+        """What frames are rendered onto: the Grid, or the Layout when it is not a grid."""
+        return self.array.target
 
     @property
     def levels(self) -> int:
@@ -158,6 +175,9 @@ class DeviceProfile:
             "baud": self.baud,
             "channel_order": "row-major" if identity else list(self.array.channels),
         }
+        if not self.is_grid:
+            del data["columns"], data["rows"]
+            data["layout"] = layout_to_json(self.layout, self.array.pitch_mm)
         if self.response is not None:
             data["response"] = {"drive": list(self.response[0]), "output": list(self.response[1])}
         if self.motor is not None:
@@ -198,6 +218,7 @@ class DeviceProfile:
             "levels": self.levels,
             "columns": self.grid.cols,
             "rows": self.grid.rows,
+            "layout": None if self.is_grid else self.layout.describe(),
             "calibration": calibration,
         }
 

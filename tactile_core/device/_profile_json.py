@@ -15,6 +15,7 @@ import numpy as np
 from .._shared import validate as _validate
 from ..rendering.geometry import ArraySpec, Grid
 from ..rendering.motor import MotorResponse
+from ._layout_json import layout_from_json
 
 FORMAT = "tactile-device-profile"
 VERSION = 1
@@ -117,15 +118,30 @@ def profile_fields(data, source: str = "profile") -> dict:
     description = _field(data, "description", source, required=False, default="")
     if not isinstance(description, str) or len(description) > 2000:
         raise ProfileError(f"{source}: field 'description' must be a string of <= 2000 chars")
-    cols = _integer(_field(data, "columns", source), "columns", source, 1, 64)
-    rows = _integer(_field(data, "rows", source), "rows", source, 1, 64)
-    if cols * rows > 255:
-        raise ProfileError(
-            f"{source}: fields 'columns' x 'rows' must be at most 255 channels, got {cols * rows}"
-        )
+    layout = None
+    if data.get("layout") is None:
+        cols = _integer(_field(data, "columns", source), "columns", source, 1, 64)
+        rows = _integer(_field(data, "rows", source), "rows", source, 1, 64)
     pitch = _number(_field(data, "pitch_mm", source), "pitch_mm", source)
     if pitch <= 0:
         raise ProfileError(f"{source}: field 'pitch_mm' must be > 0, got {_validate.shown(pitch)}")
+    if data.get("layout") is not None:
+        for key in ("columns", "rows"):
+            if key in data:
+                raise ProfileError(
+                    f"{source}: field '{key}' and field 'layout' exclude each other (a layout "
+                    f"lists its actuators; a grid gives columns and rows)"
+                )
+        try:
+            layout = layout_from_json(data["layout"], pitch, source)
+        except ValueError as exc:
+            raise ProfileError(str(exc)) from None
+        cols, rows = layout.size, 1
+    if cols * rows > 255:
+        what = "'layout.actuators'" if layout is not None else "'columns' x 'rows'"
+        raise ProfileError(
+            f"{source}: field {what} must be at most 255 channels, got {cols * rows}"
+        )
     levels = _integer(_field(data, "levels", source), "levels", source, 2, 256)
     baud = _integer(
         _field(data, "baud", source, required=False, default=115200),
@@ -136,6 +152,11 @@ def profile_fields(data, source: str = "profile") -> dict:
     )
     order = _field(data, "channel_order", source, required=False, default="row-major")
     size = cols * rows
+    if layout is not None and order == "column-major":
+        raise ProfileError(
+            f"{source}: field 'channel_order' 'column-major' needs a grid; a layout's channels "
+            f"follow its actuators (or give a list)"
+        )
     if order == "row-major":
         channels = tuple(range(size))
     elif order == "column-major":
@@ -154,7 +175,8 @@ def profile_fields(data, source: str = "profile") -> dict:
             f"{source}: field 'channel_order' must be 'row-major', 'column-major' or a list, "
             f"got {_validate.shown(order)}"
         )
-    array = ArraySpec(Grid(cols=cols, rows=rows), pitch_mm=pitch, levels=levels, channels=channels)
+    grid = None if layout is not None else Grid(cols=cols, rows=rows)
+    array = ArraySpec(grid, pitch_mm=pitch, levels=levels, channels=channels, layout=layout)
 
     response = None
     if data.get("response") is not None:

@@ -61,7 +61,7 @@ class _Plan:
         if self.active:
             self.rate = min(scene.rate_hz, self.max_rate)
             self.capped = scene.rate_hz > self.max_rate
-            self.live = scene.live(profile.grid, self.rate)
+            self.live = scene.live(profile.target, self.rate)
         else:
             self.rate = idle_rate_hz
             self.capped = False
@@ -144,7 +144,8 @@ class _ChannelLevels:
         return levels, lit
 
     def grid(self, levels: bytes) -> np.ndarray:
-        """Channel-ordered ``levels`` on the grid: ``(rows, cols)`` uint8, for display."""
+        """Channel-ordered ``levels`` on the grid: ``(rows, cols)`` uint8, for display
+        (``(size,)`` in actuator order on a layout that is not a grid)."""
         flat = np.zeros(self.profile.channels, dtype=np.uint8)
         flat[self._cell_of_channel] = np.frombuffer(bytes(levels), dtype=np.uint8)
-        return flat.reshape(self.profile.grid.shape)
+        return flat.reshape(self.profile.layout.frame_shape)

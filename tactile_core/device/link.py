@@ -215,7 +215,8 @@ class SimulatedArray:
         return dict(self.model.reader.errors)
 
     def levels(self, now: float | None = None) -> np.ndarray:
-        """Current levels as a ``(rows, cols)`` uint8 frame, zero after the watchdog."""
+        """Current levels as a ``(rows, cols)`` uint8 frame (``(size,)`` on a layout that is not
+        a grid), zero after the watchdog."""
         now = self._now() if now is None else now
         with self._lock:
             self.model.advance(now)
@@ -223,7 +224,7 @@ class SimulatedArray:
             channel_levels = np.frombuffer(self.model.levels, dtype=np.uint8)
         flat = np.zeros(self.profile.channels, dtype=np.uint8)
         flat[self.profile.array.channel_index] = channel_levels
-        return flat.reshape(self.profile.grid.shape)
+        return flat.reshape(self.profile.layout.frame_shape)
 
     def sent(self, now: float | None = None) -> np.ndarray:
         """Levels as fractions of full drive, ``(rows, cols)`` float64."""

@@ -402,7 +402,11 @@ class StreamerProcess:
     @property
     def last_levels(self) -> np.ndarray:
         """Levels of the last frame sent, ``(rows, cols)`` uint8 (the all-off frame last)."""
-        return np.frombuffer(self._levels, dtype=np.uint8).copy().reshape(self.profile.grid.shape)
+        return (
+            np.frombuffer(self._levels, dtype=np.uint8)
+            .copy()
+            .reshape(self.profile.layout.frame_shape)
+        )
 
     @property
     def last_frame(self):

@@ -42,7 +42,7 @@ class Recorder:
             time_s = time_s - time_s[0]
         cells = np.zeros_like(channel)
         cells[:, self.array.channel_index] = channel
-        return time_s, seq, cells.reshape(len(seq), *self.array.grid.shape)
+        return time_s, seq, cells.reshape(len(seq), *self.array.layout.frame_shape)
 
     def save(self, path) -> Path:
         """Write ``.csv`` (``time,seq,r0c0,...``) or ``.npz`` (``time``, ``seq``, ``levels``)."""
@@ -53,7 +53,7 @@ class Recorder:
             with atomic_file(path, binary=True) as f:
                 np.savez(f, time=time_s, seq=seq, levels=levels)
         else:
-            names = ["time", "seq", *(grid.cell_name(i) for i in range(grid.size))]
+            names = ["time", "seq", *(self.array.layout.cell_name(i) for i in range(grid.size))]
             with atomic_file(path) as f:
                 f.write(",".join(names) + "\n")
                 flat = levels.reshape(len(seq), grid.size)

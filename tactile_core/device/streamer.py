@@ -167,7 +167,7 @@ class Streamer:
         self._book = StatsBook()
         self._started_at = None
         self._saved_switch = None
-        self.last_levels = np.zeros(self.profile.grid.shape, dtype=np.uint8)
+        self.last_levels = np.zeros(self.profile.layout.frame_shape, dtype=np.uint8)
         """Levels of the last frame written, ``(rows, cols)`` uint8, for display."""
         self.last_frame = (None, None)
         """``(scene, trace_time_s)`` of the last frame written (time None while off), one

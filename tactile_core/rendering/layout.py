@@ -105,7 +105,7 @@ class Layout:
         pts = _positions(self.positions)
         object.__setattr__(self, "positions", tuple(map(tuple, pts.tolist())))
         n = len(pts)
-        names = tuple(self.names) if self.names else tuple(str(i) for i in range(n))
+        names = tuple(self.names) if self.names else tuple(f"a{i}" for i in range(n))
         if len(names) != n or not all(isinstance(s, str) and 0 < len(s) <= 32 for s in names):
             raise ValueError(
                 f"layout names must be {n} strings of 1-32 characters (one per actuator), got "
@@ -252,6 +252,8 @@ def _positions(positions) -> np.ndarray:
             f"layout positions must be a list of (x, y) pairs of numbers, got "
             f"{_validate.shown(positions)}"
         ) from None
+    if pts.size == 0:
+        raise ValueError(f"layout positions must hold 1 to {MAX_ACTUATORS} actuators, got 0")
     if pts.ndim != 2 or pts.shape[1:] != (2,):
         raise ValueError(
             f"layout positions must be a list of (x, y) pairs, got an array of shape {pts.shape}"

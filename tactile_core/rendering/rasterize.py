@@ -36,6 +36,14 @@ def check_target(grid) -> Grid | Layout:
     )
 
 
+def check_renders(method, target) -> None:
+    """``ValueError`` saying why, when ``method`` cannot render on ``target`` (a Grid or a
+    Layout): the paper's four and grid-only plug-ins on a layout that is not a grid."""
+    target = check_target(target)
+    if isinstance(target, Layout):
+        layout_sampler(get_method(method), target)
+
+
 def frame_shape(target) -> tuple:
     """Shape of one frame on a Grid ``(rows, cols)`` or a Layout (``(size,)`` unless a grid)."""
     return target.shape if isinstance(target, Grid) else target.frame_shape

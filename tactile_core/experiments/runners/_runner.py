@@ -103,6 +103,12 @@ class Runner:
         self.session = session
         self.pipeline = session.get_pipeline()
         self.profile = profile or default_profile()
+        if not self.profile.is_grid:
+            raise ValueError(
+                f"profile {self.profile.name} is a layout ({self.profile.layout.describe()}): the "
+                f"paper's experiments compare its grid methods (CT, MM, AS, IM) and need a grid "
+                f"profile such as palm-5x6"
+            )
         self.path = Path(session.folder) / f"{self.experiment}.csv"
         self._lock = ParticipantLock(session.folder) if write else None
         try:
