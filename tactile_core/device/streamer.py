@@ -357,6 +357,7 @@ class Streamer:
                         or plan.scene is None
                         or scene is None
                         or scene.shape != plan.scene.shape
+                        or scene.source is not plan.scene.source
                         or scene.epoch != plan.scene.epoch
                     )
                     if restart:

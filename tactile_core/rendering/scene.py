@@ -70,6 +70,14 @@ class Scene:
     hold_s : float or None
         Hold the trace at this many seconds into it, the array playing that instant (the
         tuner's scrubbing); None (default) runs the trace. Not part of a preset.
+    source : object or None
+        Instead of a shape's trace, a *source* of frames (points driven live by another
+        program, an imported pattern): an object with ``live(method, target, sampling, mu,
+        gamma, gain)`` that returns what :meth:`live` returns, something with
+        ``entries(k) -> ((index, value), ...)`` (corrected values of frame ``k`` counted from
+        the scene's start), ``precompute(background=False)`` and ``precomputed``. The scene's
+        method, correction, rate and filter apply; its shape and trace timing do not. Not part
+        of a preset.
     """
 
     shape: Shape | None = None
@@ -90,8 +98,14 @@ class Scene:
     felt_domain: bool = False
     epoch: int = 0
     hold_s: float | None = None
+    source: object = None
 
     def __post_init__(self):
+        if self.source is not None and not callable(getattr(self.source, "live", None)):
+            raise ValueError(
+                f"source must have a live(...) method (a frame source), got "
+                f"{_validate.shown(self.source)}"
+            )
         if self.shape is not None and not isinstance(self.shape, Shape):
             raise ValueError(
                 "shape must be a Line, Circle, Square or Polyline, "
@@ -122,8 +136,8 @@ class Scene:
 
     @property
     def active(self) -> bool:
-        """True when the scene renders something (a shape, playing)."""
-        return self.shape is not None and self.playing
+        """True when the scene renders something (a shape or a source, playing)."""
+        return (self.shape is not None or self.source is not None) and self.playing
 
     def trace(self) -> Trace:
         """The :class:`Trace` of the scene's shape and timing."""
@@ -145,6 +159,11 @@ class Scene:
 
     def live(self, grid, rate_hz: float | None = None) -> LiveFrames:
         """Frames of the scene at ``rate_hz`` on a Grid or Layout, for the output thread."""
+        if self.source is not None:
+            return self.source.live(
+                get_method(self.method), grid, self.sampling(rate_hz), self.mu, self.gamma,
+                self.gain,
+            )  # fmt: skip
         return LiveFrames(
             self.trace(), self.method, self.sampling(rate_hz), self.mu, self.gamma, grid, self.gain
         )
