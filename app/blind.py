@@ -13,7 +13,7 @@ from PySide6 import QtCore, QtWidgets
 from tactile_core._shared.outfile import atomic_file, check_output
 from tactile_core.rendering.methods import PAPER_METHODS, get_method
 
-from . import dialogs
+from . import dialogs, layouts
 from .state import TunerState
 from .widgets import MethodSetWidget
 
@@ -47,6 +47,9 @@ class BlindPanel(QtWidgets.QWidget):
     Ratings are autosaved as they are entered (:attr:`autosave_path`, with the method column
     empty until Reveal); Start over a session with unsaved ratings, and *Cancel session*, ask
     first (:attr:`confirm`). Cancelling puts back the scene from before the session.
+
+    On a layout that is not a grid the set keeps only the methods that render there (BA, RO,
+    GS and EN when fewer than two are left), with a note, and gets the others back on a grid.
     """
 
     blind_changed = QtCore.Signal(bool)
@@ -83,7 +86,9 @@ class BlindPanel(QtWidgets.QWidget):
         intro.setWordWrap(True)
         layout.addWidget(intro)
         self.chooser = MethodSetWidget(self.methods, 2, 8)
+        self.chooser.check = lambda spec: layouts.refusal(spec, state.layout)
         self.chooser.methods_changed.connect(self._on_methods_chosen)
+        self._grid_methods = None  # the set chosen on a grid, while a layout restricts it
         layout.addWidget(self.chooser)
         buttons = QtWidgets.QHBoxLayout()
         self.start_button = QtWidgets.QPushButton("Start (shuffle)")
@@ -118,7 +123,30 @@ class BlindPanel(QtWidgets.QWidget):
         self.save_button.clicked.connect(self._on_save_clicked)
         self.cancel_button.clicked.connect(lambda: self.cancel())
         state.playing_changed.connect(lambda _: self._account())
+        state.layout_changed.connect(self._on_state_layout_changed)
         self._enable(False)
+        self._on_state_layout_changed(state.layout)
+
+    @property
+    def chosen_methods(self) -> list[str]:
+        """The set to remember between sessions: the one chosen on a grid while a layout
+        restricts it."""
+        return list(self._grid_methods or self.methods)
+
+    def _on_state_layout_changed(self, layout) -> None:
+        """Keep the methods that render on ``layout`` (the window allows no layout change
+        during a session or with unsaved ratings)."""
+        wanted = self._grid_methods or self.methods
+        methods, dropped = layouts.restricted(wanted, layout)
+        if methods != self.methods:
+            try:
+                self.set_methods(methods)
+            except ValueError as exc:
+                self.chooser.refuse(str(exc))
+                return
+        self._grid_methods = list(wanted) if dropped else None
+        self.chooser.refuse(layouts.restriction_note(dropped, methods, layout, "blind test of"),
+                            warn=False)  # fmt: skip
 
     def _build_rows(self) -> None:
         """One row per key: the key, its method (hidden), the ratings, the time felt."""

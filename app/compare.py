@@ -11,6 +11,7 @@ import tactile_core as tc
 from tactile_core.rendering.curves import activation_curves
 from tactile_core.rendering.methods import PAPER_METHODS, get_method
 
+from . import layouts
 from .state import TunerState
 from .views import CurvesView, HeatmapView, cell_colors
 from .widgets import MethodSetWidget
@@ -24,7 +25,11 @@ class CompareView(QtWidgets.QWidget):
     Each column is corrected as its method is designed to be driven
     (:meth:`~tactile_core.rendering.methods.Method.own_correction`): the paper's four and GS
     with the correction set, EN, PK and RO with none, VRCH with the threshold only; its curve's
-    title says which."""
+    title says which.
+
+    The heatmaps draw the device's layout. On a layout that is not a grid only the methods that
+    render there can be compared: a set with others loses them (BA, RO, GS and EN when fewer
+    than two are left), with a note under the set, and gets them back on a grid."""
 
     def __init__(self, state: TunerState, parent=None, methods=PAPER_METHODS):
         super().__init__(parent)
@@ -40,7 +45,29 @@ class CompareView(QtWidgets.QWidget):
         self._curves: dict = {}
         self._built_for = None
         self._shown_scene = None
+        self._grid_methods = None  # the set chosen on a grid, while a layout restricts it
+        self.chooser.check = lambda spec: layouts.refusal(spec, state.layout)
         self.set_methods(list(methods))
+        state.layout_changed.connect(self._on_state_layout_changed)
+        self._on_state_layout_changed(state.layout)
+
+    @property
+    def chosen_methods(self) -> list[str]:
+        """The set to remember between sessions: the one chosen on a grid while a layout
+        restricts it."""
+        return list(self._grid_methods or self.methods)
+
+    def _on_state_layout_changed(self, layout) -> None:
+        for heat in self._heatmaps.values():
+            heat.set_layout(layout)
+        self._shown_scene = None
+        wanted = self._grid_methods or self.methods
+        methods, dropped = layouts.restricted(wanted, layout)
+        self._grid_methods = list(wanted) if dropped else None
+        if methods != self.methods:
+            self.set_methods(methods)
+        self.chooser.refuse(layouts.restriction_note(dropped, methods, layout, "comparing"),
+                            warn=False)  # fmt: skip
 
     # The views are built the first time they are needed (the tab shown, or asked for): a tuner
     # that never opens Compare never pays for its eight plots (half its start-up time).
@@ -93,7 +120,7 @@ class CompareView(QtWidgets.QWidget):
         for i, spec in enumerate(methods):
             method = get_method(spec)
             # Short titles: a plot item never shrinks below its title's width.
-            heat = HeatmapView(title=spec, colorbar=False)
+            heat = HeatmapView(title=spec, colorbar=False, layout=self.state.layout)
             heat.setToolTip(f"{spec}: {method.title}")
             heat.plot.setLabel("bottom", "")
             heat.plot.setLabel("left", "")
@@ -134,6 +161,7 @@ class CompareView(QtWidgets.QWidget):
                 mu=mu,
                 gamma=gamma,
                 samples=600,
+                grid=self.state.target,
             )
             colors = cell_colors(curves.cells)
             self.curves[name].set_curves(
@@ -154,10 +182,10 @@ class CompareView(QtWidgets.QWidget):
         for name in self.methods:
             heat = self.heatmaps[name]
             if t is None or scene.shape is None:
-                heat.set_frame(np.zeros((heat.rows, heat.cols)))
+                heat.set_frame(np.zeros(heat.values.shape))
                 heat.set_point(None)
             else:
-                frame = tc.render(scene.shape, name, t)
+                frame = tc.render(scene.shape, name, t, grid=self.state.target)
                 mu, gamma = get_method(name).own_correction(scene.mu, scene.gamma)
                 heat.set_frame(tc.correct(frame, mu, gamma, gain=scene.gain))
                 heat.set_point(scene.shape.point(t))

@@ -45,6 +45,8 @@ class DeviceController(QtCore.QObject):
     connection_changed = QtCore.Signal(str)
     """Description of the link now in use."""
     error_raised = QtCore.Signal(str)
+    profile_changed = QtCore.Signal(object)
+    """Another :class:`DeviceProfile` is in use (its layout is the state's now)."""
 
     _status_from_thread = QtCore.Signal(object)
 
@@ -61,6 +63,7 @@ class DeviceController(QtCore.QObject):
         # Emitted from a worker thread; Qt queues it to this object's (the GUI) thread.
         self._status_from_thread.connect(self.status_changed.emit)
         self._generation = 0
+        state.set_layout(self.profile.layout)  # the scene follows the layout before it streams
         self.streamer = self._open(None)
         state.scene_changed.connect(self._on_state_scene_changed)
 
@@ -127,8 +130,11 @@ class DeviceController(QtCore.QObject):
             self._switch(None)
 
     def set_profile(self, profile: DeviceProfile) -> None:
-        """Use another device profile (reopens the current link with it)."""
+        """Use another device profile (reopens the current link with it); the state follows
+        its layout first, so the new stream starts with a scene that renders there."""
         self.profile = profile
+        self.state.set_layout(profile.layout)
+        self.profile_changed.emit(profile)
         url = self.url
         self.url = "reopen"  # force the switch below even for the simulated array
         if not self._switch(url):
@@ -164,11 +170,13 @@ class DeviceController(QtCore.QObject):
         return self.streamer.stats
 
     def sent_levels(self) -> np.ndarray:
-        """Levels of the last frame sent, ``(rows, cols)`` ints."""
+        """Levels of the last frame sent, ``(rows, cols)`` ints (``(size,)`` on a layout that
+        is not a grid)."""
         return self.streamer.last_levels
 
     def sent(self) -> np.ndarray:
-        """Levels of the last frame sent as fractions of full drive, ``(rows, cols)``."""
+        """Levels of the last frame sent as fractions of full drive, ``(rows, cols)`` (or
+        ``(size,)``)."""
         return self.sent_levels() / (self.profile.levels - 1)
 
     def felt(self) -> np.ndarray | None:

@@ -6,15 +6,21 @@ from PySide6 import QtCore, QtWidgets
 from serial.tools import list_ports
 
 from tactile_core.device.link import SIMULATED_URLS
+from tactile_core.device.profile import profile_names
 
 from .device import DeviceController
 from .texts import tip
 
 
 class DevicePanel(QtWidgets.QWidget):
-    """Ports, connect/disconnect, the device profile, and the stream's status line."""
+    """Ports, connect/disconnect, the device profile, and the stream's status line.
+
+    The profile box lists the bundled profiles and the user's by name (choosing one emits
+    :attr:`profile_chosen`); *File...* loads one from a file (:attr:`profile_requested`)."""
 
     profile_requested = QtCore.Signal()
+    profile_chosen = QtCore.Signal(str)
+    """The name of a known profile picked in the profile box."""
 
     def __init__(self, device: DeviceController, parent=None):
         super().__init__(parent)
@@ -31,7 +37,12 @@ class DevicePanel(QtWidgets.QWidget):
         self.connect_button.setObjectName("connect")
         self.disconnect_button = QtWidgets.QPushButton("Disconnect")
         self.disconnect_button.setObjectName("disconnect")
-        self.profile_button = QtWidgets.QPushButton("Profile...")
+        self.profile_button = QtWidgets.QPushButton("File...")
+        self.profile_combo = QtWidgets.QComboBox()
+        self.profile_combo.setObjectName("profile")
+        self.profile_combo.setSizeAdjustPolicy(
+            QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToContents
+        )
         self.profile_label = QtWidgets.QLabel()
         self.link_label = QtWidgets.QLabel()
         self.lead_spin = QtWidgets.QDoubleSpinBox()
@@ -51,7 +62,10 @@ class DevicePanel(QtWidgets.QWidget):
         layout.addWidget(self.connect_button, 0, 3)
         layout.addWidget(self.disconnect_button, 0, 4)
         layout.addWidget(QtWidgets.QLabel("profile"), 1, 0)
-        layout.addWidget(self.profile_label, 1, 1)
+        profile_row = QtWidgets.QHBoxLayout()
+        profile_row.addWidget(self.profile_combo)
+        profile_row.addWidget(self.profile_label, 1)
+        layout.addLayout(profile_row, 1, 1)
         layout.addWidget(self.profile_button, 1, 2)
         self.lead_spin.setPrefix("lead ")
         layout.addWidget(self.lead_spin, 1, 3)
@@ -63,8 +77,14 @@ class DevicePanel(QtWidgets.QWidget):
             "rfc2217://..., spy://...); sim for the built-in simulated array. Enter connects."
         ))  # fmt: skip
         self.connect_button.setToolTip(tip("Stream to the device; it is asked who it is first"))
-        self.profile_button.setToolTip(tip("Load a device profile (grid, levels, baud, channel "
-                                           "order, calibration, motor response)"))  # fmt: skip
+        self.profile_button.setToolTip(tip("Load a device profile from a file (grid or actuator "
+                                           "layout, levels, baud, channel order, calibration, "
+                                           "motor response)"))  # fmt: skip
+        self.profile_combo.setToolTip(tip(
+            "The array's device profile: the paper's palm array, a 3 x 3 grid, a belt, a sleeve, "
+            "a vest panel, or your own (in ~/.config/tactile-tuner/devices). The views and the "
+            "methods follow its layout"
+        ))  # fmt: skip
         self.lead_spin.setToolTip(tip(
             "Send frames this far ahead, to be played at their time by the array's own clock "
             "(arrays with scheduled frames; others play frames on arrival). Longer: the host's "
@@ -78,6 +98,7 @@ class DevicePanel(QtWidgets.QWidget):
         self.connect_button.clicked.connect(self._on_connect_clicked)
         self.disconnect_button.clicked.connect(device.disconnect_device)
         self.profile_button.clicked.connect(self.profile_requested.emit)
+        self.profile_combo.activated.connect(self._on_profile_combo_activated)
         device.connection_changed.connect(self._on_device_connection_changed)
         device.status_changed.connect(self.show_stats)
         self._timer = QtCore.QTimer(self)
@@ -96,6 +117,25 @@ class DevicePanel(QtWidgets.QWidget):
             self.port_combo.addItem(label)
         if current:
             self.port_combo.setCurrentText(current)
+
+    def _fill_profiles(self) -> None:
+        """The known profiles by name, the one in use selected (added if it came from a file)."""
+        combo, current = self.profile_combo, self.device.profile.name
+        combo.blockSignals(True)
+        combo.clear()
+        names = list(profile_names())
+        for name in names:
+            combo.addItem(name, name)
+        if current not in names:
+            combo.addItem(f"{current} (file)", None)
+        combo.setCurrentIndex(names.index(current) if current in names else combo.count() - 1)
+        combo.blockSignals(False)
+
+    def _on_profile_combo_activated(self, index: int) -> None:
+        name = self.profile_combo.itemData(index)
+        if name is not None and name != self.device.profile.name:
+            self.profile_chosen.emit(name)
+        self._fill_profiles()  # what is in use (a refused change leaves the profile as it was)
 
     def _on_lead_changed(self, value: float) -> None:
         if not self.device.set_lead(value):
@@ -119,10 +159,12 @@ class DevicePanel(QtWidgets.QWidget):
 
     def _on_device_connection_changed(self, description: str) -> None:
         profile = self.device.profile
+        self._fill_profiles()
         self.profile_label.setText(
-            f"{profile.name}: {profile.grid.cols} x {profile.grid.rows}, {profile.levels} levels, "
-            f"{profile.baud} baud (max {profile.max_rate_hz:.0f} frames/s)"
+            f"{profile.layout.describe()}, {profile.levels} levels, {profile.baud} baud (max "
+            f"{profile.max_rate_hz:.0f} frames/s)"
         )
+        self.profile_label.setToolTip(profile.description or profile.name)
         self.link_label.setText(f"<b>{description}</b>")
         self.disconnect_button.setEnabled(not self.device.simulated)
         self.lead_spin.blockSignals(True)  # a preset may have set another lead

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from PySide6 import QtCore
 
-from tactile_core.device.profile import ProfileError, find_profile, load_profile
+from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_names
 from tactile_core.files import export
 from tactile_core.files.presets import Preset, PresetError, load_preset, save_preset
 
@@ -52,6 +52,9 @@ class FileActions(QtCore.QObject):
         self.blocked = lambda: ""
         """Why presets and curve exports are refused now ("" when they are not): they would
         name the method Blind A/B hides."""
+        self.profile_blocked = lambda: ""
+        """Why the device profile may not change now ("" when it may): a blind session or a
+        run depends on its layout."""
 
     def _refused(self) -> bool:
         reason = self.blocked()
@@ -75,17 +78,22 @@ class FileActions(QtCore.QObject):
         except PresetError as exc:
             self.error_raised.emit(str(exc))
             return False
+        switched = ""
         if preset.device_profile != self.device.profile.name:
             try:  # by name among the bundled and the user's profiles, never a path
                 self.device.set_profile(find_profile(preset.device_profile))
+                switched = f" on its device profile {preset.device_profile}"
             except ProfileError as exc:
                 self.message_posted.emit(f"kept profile {self.device.profile.name}: {exc}", 10_000)
         self.device.set_lead(preset.lead_ms)
         self.before_load()
+        self.state.last_message = ""  # what follows is this preset's, on this layout
         self.state.set_scene(preset.scene.replace(epoch=self.state.scene.epoch + 1))
         self.set_preset(preset)
         self.preset_loaded.emit()
-        self.message_posted.emit(f"loaded preset {preset.name}", 5000)
+        changes = self._changes()
+        self.message_posted.emit(f"loaded preset {preset.name}{switched}{changes}",
+                                 10_000 if changes or switched else 5000)  # fmt: skip
         return True
 
     def save_preset_file(self, path, name=None, notes=None) -> bool:
@@ -189,15 +197,40 @@ class FileActions(QtCore.QObject):
 
     # --- device profiles -------------------------------------------------------------------------
 
+    def use_profile(self, name_or_path) -> bool:
+        """Use a device profile: a known one by name (bundled or the user's), or a file. The
+        views and the scene follow its layout (:meth:`TunerState.set_layout`)."""
+        reason = self.profile_blocked()
+        if reason:
+            self.error_raised.emit(reason)
+            return False
+        try:
+            known = str(name_or_path) in profile_names()
+            profile = find_profile(name_or_path) if known else load_profile(name_or_path)
+        except ProfileError as exc:
+            self.error_raised.emit(str(exc))
+            return False
+        self.before_load()
+        self.state.last_message = ""
+        self.device.set_profile(profile)
+        self.message_posted.emit(
+            f"device profile {profile.name}: {profile.layout.describe()}" + self._changes(), 10_000
+        )
+        return True
+
+    def _changes(self) -> str:
+        """What the state changed to fit the layout (a method, a shape), as a sentence."""
+        return f". {self.state.last_message}" if self.state.last_message else ""
+
     def ask_open_profile(self) -> None:
         """Ask for a device profile and use it."""
+        if self.profile_blocked():
+            self.error_raised.emit(self.profile_blocked())
+            return
         path = dialogs.open_path(self.parent(), "profiles", "Device profile",
                                  ["Profiles (*.json)"])  # fmt: skip
         if path:
-            try:
-                self.device.set_profile(load_profile(path))
-            except ProfileError as exc:
-                self.error_raised.emit(str(exc))
+            self.use_profile(path)
 
     def save_calibrated_profile(self, path, calibration) -> bool:
         """Save the device profile with a calibration's offsets and gains (and thresholds),

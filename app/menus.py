@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from PySide6 import QtGui, QtWidgets
 
+from tactile_core.device.profile import profile_names
 from tactile_core.files.presets import builtin_presets
 
 from . import help as help_dialogs
@@ -48,6 +49,10 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     menu.addAction("Play / pause\tSpace", toggle_play)
     menu.addAction("All off\tEsc", all_off)
     menu.addAction("Restart trace", restart)
+    profiles = menu.addMenu("Device profile")
+    profiles.setObjectName("profiles_menu")
+    profiles.aboutToShow.connect(lambda: _fill_profiles(profiles, files))
+    _fill_profiles(profiles, files)
     menu.addSeparator()
     menu.addAction("Tune the correction by feel...", start_tuning)
     view = bar.addMenu("&View")
@@ -66,3 +71,15 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
                    keys.HelpContents)  # fmt: skip
     menu.addAction("About tactile-tuner", lambda: help_dialogs.show_about(window))
     return view, method_actions
+
+
+def _fill_profiles(menu: QtWidgets.QMenu, files) -> None:
+    """The known device profiles by name, the one in use ticked, and one from a file."""
+    menu.clear()
+    current = files.device.profile.name
+    for name in profile_names():
+        action = menu.addAction(name, lambda n=name: files.use_profile(n))
+        action.setCheckable(True)
+        action.setChecked(name == current)
+    menu.addSeparator()
+    menu.addAction("From a file...", files.ask_open_profile)

@@ -30,13 +30,15 @@ def restore_window(window) -> None:
     if window_state is not None:
         window.restoreState(window_state)
     mode = settings.value("view_mode")
-    if mode:
+    if mode and (mode != "predicted" or window.state.layout.grid is not None):  # grids only
         window.state.set_view_mode(str(mode))
     lanes = str(settings.value("lanes", "false")).lower() == "true"
     window.tune.lanes_check.setChecked(lanes)
     for chooser, key in ((window.compare.chooser, "compare_methods"),
                          (window.blind.chooser, "blind_methods")):  # fmt: skip
         methods = str(settings.value(key, "")).split()
+        if any(chooser.check(m) for m in methods):
+            continue  # for a grid, and this layout is not one: its own set, as its note says
         if methods and methods != chooser.methods and not chooser.apply(methods):
             chooser.refuse("")  # a method gone since (a plug-in): the default, silently
     folder = settings.value("results_folder")
@@ -57,7 +59,7 @@ def save_window(window) -> None:
     settings.setValue("windowState", window.saveState())
     settings.setValue("view_mode", window.state.view_mode)
     settings.setValue("lanes", window.tune.lanes_check.isChecked())
-    settings.setValue("compare_methods", " ".join(window.compare.methods))
-    settings.setValue("blind_methods", " ".join(window.blind.methods))
+    settings.setValue("compare_methods", " ".join(window.compare.chosen_methods))
+    settings.setValue("blind_methods", " ".join(window.blind.chosen_methods))
     settings.setValue("results_folder", window.experiments.setup.folder_edit.text())
     settings.sync()

@@ -5,7 +5,11 @@ from __future__ import annotations
 from PySide6 import QtCore
 
 import tactile_core as tc
+from tactile_core.rendering.geometry import Grid
+from tactile_core.rendering.layout import Layout
 from tactile_core.rendering.scene import Scene
+
+from . import layouts
 
 DEFAULT_SCENE = Scene(tc.Line((0.5, 1.84), (4.5, 4.16)), "AS", mu=0.33, gamma=0.7)
 """The Experiment 1 line with area sampling at the paper's mu and gamma."""
@@ -41,6 +45,20 @@ class TunerState(QtCore.QObject):
 
     :meth:`update` validates a change by building a new immutable :class:`Scene`; a bad value
     (NaN, out of range) emits :attr:`error_raised` and changes nothing.
+
+    The state also holds the device's :attr:`layout` (the views draw it, the scene renders on
+    it). On a layout that is not a grid the paper's four methods cannot render: choosing one
+    (:meth:`update`) is refused saying why, and a whole scene that has one (a preset, the last
+    session, the scene before a layout change) plays BA instead, with a status message
+    (:attr:`message_posted`); the same for a shape that lies off the layout, and for the
+    predicted view, which needs a grid.
+
+    Parameters
+    ----------
+    scene : Scene, optional
+        The Experiment 1 line with AS by default.
+    layout : Layout, optional
+        The device's layout; the paper's palm array by default.
     """
 
     scene_changed = QtCore.Signal(object)
@@ -56,15 +74,24 @@ class TunerState(QtCore.QObject):
     error_raised = QtCore.Signal(str)
     plugins_changed = QtCore.Signal()
     """A plug-in method was found broken and taken out of the list."""
+    layout_changed = QtCore.Signal(object)
+    """The device's :class:`Layout` changed (another profile)."""
+    message_posted = QtCore.Signal(str, int)
+    """A status line and how long to show it (ms): what a layout change changed."""
 
     _TIMING = ("duration_s", "pause_s", "direction", "repeat")
     _SAMPLING = ("rate_hz", "filter", "subsamples", "dither")
 
-    def __init__(self, scene: Scene | None = None, parent=None):
+    def __init__(self, scene: Scene | None = None, parent=None, layout: Layout | None = None):
         super().__init__(parent)
         self._scene = scene or DEFAULT_SCENE
         self._view_mode = "corrected"
         self._show_levels = False
+        self._layout = Layout.from_grid(Grid())
+        self.last_message = ""
+        """The last status message (one posted before anything listened: shown at start-up)."""
+        if layout is not None:
+            self.set_layout(layout)
 
     @property
     def scene(self) -> Scene:
@@ -76,6 +103,10 @@ class TunerState(QtCore.QObject):
         (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go."""
         if changes.get("playing") and "hold_s" not in changes:
             changes["hold_s"] = None
+        why = layouts.refusal(changes["method"], self._layout) if "method" in changes else ""
+        if why:
+            self.error_raised.emit(why)
+            return False
         try:
             new = self._scene.replace(**changes)
         except (ValueError, TypeError) as exc:
@@ -88,6 +119,10 @@ class TunerState(QtCore.QObject):
         if not isinstance(scene, Scene):
             self.error_raised.emit(f"scene must be a Scene, got {scene!r}")
             return False
+        why = layouts.refusal(scene.method, self._layout)
+        if why:  # a preset's or an earlier scene's method: the layout's smooth method instead
+            self._post(layouts.fallback_note(scene.method, self._layout))
+            scene = scene.replace(method=layouts.FALLBACK)
         old = self._scene
         if scene == old:
             return True
@@ -118,6 +153,39 @@ class TunerState(QtCore.QObject):
         self.update(epoch=self._scene.epoch + 1, playing=True)
 
     @property
+    def layout(self) -> Layout:
+        """Where the device's actuators are (a grid's layout for a grid)."""
+        return self._layout
+
+    @property
+    def target(self):
+        """What the scene renders onto: the :class:`Grid` of a grid, else the layout."""
+        return layouts.target(self._layout)
+
+    def set_layout(self, layout: Layout) -> None:
+        """Follow the device's layout: a method that cannot render on it becomes BA, a shape
+        that lies off it the layout's default shape, the predicted view (grids only) the
+        corrected one; each change is said in a status message."""
+        if layout == self._layout:
+            return
+        self._layout = layout
+        if layout.grid is None and self._view_mode == "predicted":
+            self._view_mode = "corrected"
+            self.view_mode_changed.emit("corrected")
+            self._post("the predicted view needs a grid: showing corrected intensities")
+        self.layout_changed.emit(layout)
+        scene = self._scene
+        if scene.shape is not None and not layouts.fits(scene.shape, layout):
+            shape = layouts.default_shape(layout)
+            self._post(f"the shape lies off this layout ({layout.describe()}): {shape} instead")
+            scene = scene.replace(shape=shape, hold_s=None)
+        self.set_scene(scene)
+
+    def _post(self, text: str) -> None:
+        self.last_message = text
+        self.message_posted.emit(text, 10_000)
+
+    @property
     def view_mode(self) -> str:
         """What the heatmap shows: raw, corrected, sent or felt intensities."""
         return self._view_mode
@@ -127,6 +195,12 @@ class TunerState(QtCore.QObject):
         if mode not in VIEW_MODES:
             self.error_raised.emit(
                 f"view mode must be one of {', '.join(VIEW_MODES)}, got {mode!r}"
+            )
+            return
+        if mode == "predicted" and self._layout.grid is None:
+            self.error_raised.emit(
+                "the predicted view needs a grid (the percept model sums tactors of a grid); "
+                f"this layout is {self._layout.describe()}"
             )
             return
         if mode != self._view_mode:

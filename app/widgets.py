@@ -34,7 +34,8 @@ class ElidedLabel(QtWidgets.QLabel):
 
 class MethodSetWidget(QtWidgets.QWidget):
     """A set of methods to compare, typed as specs (``AS EN RO:r=1.5``) or picked from a menu
-    of every registered method; a set outside ``low..high`` methods or with an unknown name is
+    of every registered method; a set outside ``low..high`` methods, with an unknown name or
+    with a method that :attr:`check` refuses (one that cannot render on the device's layout) is
     refused with the reason shown, and the last good set stays."""
 
     methods_changed = QtCore.Signal(list)
@@ -43,6 +44,8 @@ class MethodSetWidget(QtWidgets.QWidget):
         super().__init__(parent)
         self.low, self.high = low, high
         self.methods = list(methods)
+        self.check = lambda spec: ""
+        """Why a method may not be in the set ("" when it may): the owner sets it."""
         column = QtWidgets.QVBoxLayout(self)
         column.setContentsMargins(0, 0, 0, 0)
         column.setSpacing(2)
@@ -65,6 +68,7 @@ class MethodSetWidget(QtWidgets.QWidget):
         self.pick.setObjectName("method_set_pick")
         self.pick.setToolTip("Tick the methods to use from the list of every method")
         self.menu = QtWidgets.QMenu(self.pick)
+        self.menu.setToolTipsVisible(True)
         self.menu.aboutToShow.connect(self._fill_menu)
         self.pick.setMenu(self.menu)
         row.addWidget(self.pick)
@@ -83,6 +87,9 @@ class MethodSetWidget(QtWidgets.QWidget):
             action = self.menu.addAction(f"{name}  {METHODS[name].title}")
             action.setCheckable(True)
             action.setChecked(name in chosen)
+            why = self.check(name)
+            action.setEnabled(not why)
+            action.setToolTip(why)
             action.toggled.connect(lambda on, n=name: self._toggle(n, on))
 
     def _toggle(self, name: str, on: bool) -> None:
@@ -92,14 +99,15 @@ class MethodSetWidget(QtWidgets.QWidget):
     def _on_edited(self) -> None:
         self.apply(self.edit.text().split())
 
-    def refuse(self, message: str, keep=None) -> None:
+    def refuse(self, message: str, keep=None, *, warn: bool = True) -> None:
         """Show why a set was refused and show the set in use again (``keep``, by default
-        the last good one)."""
+        the last good one); ``warn=False``: a note in the text colour (the set was changed for
+        the layout) rather than a refusal in red."""
         if keep is not None:
             self.methods = list(keep)
         # A red that reads on the palette's window colour, light or dark.
         dark = self.palette().color(QtGui.QPalette.ColorRole.Window).lightness() < 128
-        self.problem.setStyleSheet(f"color: {'#ff8a80' if dark else '#c62828'}")
+        self.problem.setStyleSheet(f"color: {'#ff8a80' if dark else '#c62828'}" if warn else "")
         self.problem.setText(message)
         self.problem.setVisible(bool(message))
         self.edit.setText(" ".join(self.methods))
@@ -112,6 +120,9 @@ class MethodSetWidget(QtWidgets.QWidget):
                 raise ValueError(f"choose {self.low} to {self.high} methods, got {len(methods)}")
             if len(set(methods)) != len(methods):
                 raise ValueError("each method once")
+            why = next((w for w in map(self.check, methods) if w), "")
+            if why:
+                raise ValueError(why)
         except ValueError as exc:
             self.refuse(str(exc))
             return False

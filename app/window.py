@@ -13,9 +13,10 @@ from __future__ import annotations
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from tactile_core.device.profile import default_profile
 from tactile_core.rendering.methods import get_method
 
-from . import dialogs
+from . import dialogs, layouts
 from .blind import BlindPanel
 from .compare import CompareView
 from .controls import ControlsPanel
@@ -41,6 +42,7 @@ BLIND_FILES = (
     "Blind A/B in progress: presets and curve exports would name the hidden method. Reveal "
     "(or cancel the session) in the Blind A/B tab first."
 )
+PROFILE_BLOCKED = "The device profile cannot change {}: it is for this array's layout."
 
 
 def _same_tuning(a, b) -> bool:
@@ -96,7 +98,9 @@ class MainWindow(QtWidgets.QMainWindow):
         start = (
             preset if preset is not None else (restored_preset(self.settings) if restore else None)
         )
-        self.state = TunerState(start.scene if start is not None else None)
+        profile = profile or default_profile()
+        self.state = TunerState(start.scene if start is not None else None,
+                                layout=profile.layout)  # fmt: skip
         lead = {} if start is None else {"lead_ms": start.lead_ms}
         self.device = DeviceController(self.state, profile, process=process, realtime=realtime,
                                        **lead)  # fmt: skip
@@ -160,8 +164,8 @@ class MainWindow(QtWidgets.QMainWindow):
             reset_layout=self.reset_layout,
             lanes_check=self.tune.lanes_check,
         )
-        self.statusBar().showMessage("ready")
         self._connect_parts()
+        self.statusBar().showMessage(self.state.last_message or "ready")  # e.g. BA for AS
         self._key_filter = KeyFilter(
             self,
             windows=lambda: (self, self.experiments.participant_window),
@@ -202,6 +206,7 @@ class MainWindow(QtWidgets.QMainWindow):
         state, device, tune, gestures = self.state, self.device, self.tune, self.tune.gestures
         files = self.files
         state.error_raised.connect(self.show_error)
+        state.message_posted.connect(status)
         state.playing_changed.connect(self._on_state_playing_changed)
         state.scene_changed.connect(lambda _: self._update_title())
         device.error_raised.connect(self.show_error)
@@ -216,6 +221,8 @@ class MainWindow(QtWidgets.QMainWindow):
         self.controls.all_off_requested.connect(self.all_off)
         self.controls.draw_mode_toggled.connect(gestures.set_draw_mode)
         self.device_panel.profile_requested.connect(self.files.ask_open_profile)
+        self.device_panel.profile_chosen.connect(self.files.use_profile)
+        self.files.profile_blocked = self._profile_blocked
         self.files.curves = lambda: tune.shown_curves
         self.files.blocked = lambda: BLIND_FILES if self.blind.active else ""
         self.files.before_load = lambda: gestures.set_draw_mode(False)
@@ -272,6 +279,10 @@ class MainWindow(QtWidgets.QMainWindow):
         if key > len(names):
             return False
         name = names[key - 1]
+        why = layouts.refusal(name, self.state.layout)
+        if why:
+            self.show_error(why)
+            return True
         if self.tune.heatmap.drawing and get_method(name).needs_shape:
             self.show_error(f"{name} is not available in draw mode: {DRAW_HELP}")
             return True
@@ -295,6 +306,14 @@ class MainWindow(QtWidgets.QMainWindow):
         box.setText(message)
         box.setAttribute(QtCore.Qt.WidgetAttribute.WA_DeleteOnClose)
         box.open()  # not modal to the event loop: streaming and display keep running
+
+    def _profile_blocked(self) -> str:
+        """Why the device profile may not change now ("" when it may)."""
+        if self.experiments.running:
+            return PROFILE_BLOCKED.format("during an experiment run")
+        if self.blind.active or self.blind.unsaved:
+            return PROFILE_BLOCKED.format("while a Blind A/B session is on or unsaved")
+        return ""
 
     def start_tuning(self) -> None:
         """Guide the experimenter to the tuning procedure (the Experiments tab, set up)."""

@@ -12,6 +12,7 @@ from tactile_core.rendering.methods import (
     method_names,
 )
 
+from .. import layouts
 from ..texts import DRAW_HELP, tip
 from ._common import SceneGroupWidget, spin_box
 
@@ -32,18 +33,25 @@ METHOD_TIPS = {
     "Syntacts' own default.",
     "GS": "This project's Gaussian spread: weights of spread sigma, cut below 0.05.",
     "VRCH": "VRCH-Server's rule for one contact: every tactor within r at full. Bi-level.",
+    "BA": "Barycentric weights over the layout's Delaunay triangles (rectangles bilinear): AS's "
+    "weights on a grid, and the smooth method on actuators anywhere (sum of weights 1 inside "
+    "the hull).",
 }
 
 
 class MethodWidget(SceneGroupWidget):
     """The paper's four methods as radio buttons; *other* with a list of the peer methods and
-    the plug-ins (an unavailable plug-in greyed out), and the chosen method's parameter."""
+    the plug-ins (an unavailable plug-in greyed out), and the chosen method's parameter.
+
+    On a layout that is not a grid, the methods that cannot render there (the paper's four,
+    grid-only plug-ins) are greyed out, their tooltip saying why; in draw mode, MM and IM."""
 
     def __init__(self, state, parent=None):
         super().__init__("Method (keys 1-4)", state, parent)
         grid = QtWidgets.QGridLayout(self)
         self.method_buttons = QtWidgets.QButtonGroup(self)
         self._method_hidden = False
+        self._drawing = False
         for i, name in enumerate(PAPER_METHODS):
             method = METHODS[name]
             button = QtWidgets.QRadioButton(f"{i + 1}  {name}  {method.title}")
@@ -80,7 +88,8 @@ class MethodWidget(SceneGroupWidget):
         state.scene_changed.connect(self.refresh)
         state.plugins_changed.connect(self.fill_other_methods)
         state.plugins_changed.connect(self.refresh)
-        self.refresh()
+        state.layout_changed.connect(self._on_state_layout_changed)
+        self._on_state_layout_changed(state.layout)
 
     def _on_method_buttons_clicked(self, index: int) -> None:
         if index < len(PAPER_METHODS):
@@ -94,6 +103,7 @@ class MethodWidget(SceneGroupWidget):
         combo = self.other_combo
         combo.blockSignals(True)
         combo.clear()
+        model = combo.model()
         for name in method_names():
             if name in PAPER_METHODS:
                 continue
@@ -102,8 +112,10 @@ class MethodWidget(SceneGroupWidget):
             text = METHOD_TIPS.get(name, method.title)
             if method.plugin:
                 text += f" Plug-in ({method.source.removeprefix('plugin ')})."
-            combo.setItemData(combo.count() - 1, tip(text), QtCore.Qt.ItemDataRole.ToolTipRole)
-        model = combo.model()
+            why = layouts.refusal(name, self.state.layout)
+            model.item(combo.count() - 1).setEnabled(not why)
+            combo.setItemData(combo.count() - 1, tip(why or text),
+                              QtCore.Qt.ItemDataRole.ToolTipRole)  # fmt: skip
         for label, error in UNAVAILABLE.items():
             combo.addItem(f"{label}  (unavailable)", None)
             item = model.item(combo.count() - 1)
@@ -136,19 +148,35 @@ class MethodWidget(SceneGroupWidget):
             return
         self._set(method=spec)
 
+    def _on_state_layout_changed(self, layout) -> None:
+        grid = layout.grid is not None
+        self.setTitle("Method (keys 1-4)" if grid else "Method (keys 1-4 need a grid)")
+        self.fill_other_methods()
+        self._enable_buttons()
+        self.refresh()
+
+    def _enable_buttons(self) -> None:
+        """Each of the paper's buttons on unless the layout, draw mode or a blind test says no;
+        its tooltip says why."""
+        for i, name in enumerate(PAPER_METHODS):
+            why = layouts.refusal(name, self.state.layout)
+            if not why and self._drawing and name in ("MM", "IM"):
+                why = DRAW_HELP
+            button = self.method_buttons.button(i)
+            button.setEnabled(not (why or self._method_hidden))
+            button.setToolTip(tip(why or METHOD_TIPS[name]))
+        self.other_button.setEnabled(not self._method_hidden)
+        self.other_combo.setEnabled(not self._method_hidden)
+
     def set_draw_mode(self, on: bool) -> None:
         """Reflect draw mode: MM and IM are unavailable on free points."""
-        for name in ("MM", "IM"):
-            button = self.method_buttons.button(PAPER_METHODS.index(name))
-            button.setEnabled(not on)
-            button.setToolTip(tip(DRAW_HELP) if on else tip(METHOD_TIPS[name]))
+        self._drawing = bool(on)
+        self._enable_buttons()
 
     def set_method_hidden(self, hidden: bool) -> None:
         """Blind A/B testing: hide which method is selected (and its parameter)."""
         self._method_hidden = hidden
-        for button in self.method_buttons.buttons():
-            button.setEnabled(not hidden)
-        self.other_combo.setEnabled(not hidden)
+        self._enable_buttons()
         if hidden:
             self.method_buttons.setExclusive(False)
             for button in self.method_buttons.buttons():

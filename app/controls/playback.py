@@ -74,6 +74,20 @@ class PlaybackWidget(SceneGroupWidget):
         grid.addWidget(self.draw_check, 2, 1, 1, 2)
         state.scene_changed.connect(self.refresh)
         state.view_mode_changed.connect(self.refresh)
+        state.layout_changed.connect(self._on_state_layout_changed)
+        self._on_state_layout_changed(state.layout)
+
+    def _on_state_layout_changed(self, layout) -> None:
+        """'predicted' needs a grid (the percept model sums a grid's tactors)."""
+        button = self.view_buttons.button(VIEW_MODES.index("predicted"))
+        button.setEnabled(layout.grid is not None)
+        button.setToolTip(tip(
+            VIEW_TIPS["predicted"] if layout.grid is not None else
+            f"Not available on this layout ({layout.describe()}): the predicted percept is "
+            "modelled on a grid of tactors."
+        ))  # fmt: skip
+        self.levels_check.setText("values in cells" if layout.grid is not None
+                                  else "values on actuators")  # fmt: skip
         self.refresh()
 
     def _show(self, scene) -> None:

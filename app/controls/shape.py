@@ -6,6 +6,7 @@ from PySide6 import QtWidgets
 
 import tactile_core as tc
 
+from .. import layouts
 from ..texts import tip
 from ._common import SceneGroupWidget, spin_box
 
@@ -48,20 +49,28 @@ class ShapeWidget(SceneGroupWidget):
         self.shape_combo.currentIndexChanged.connect(self._on_shape_combo_changed)
         v.addWidget(self.shape_stack)
         state.scene_changed.connect(self.refresh)
+        state.layout_changed.connect(self._on_state_layout_changed)
+        self._on_state_layout_changed(state.layout)
         self.refresh()
+
+    def _on_state_layout_changed(self, layout) -> None:
+        grid = layout.grid is not None
+        self.setTitle("Shape (grid units)" if grid else "Shape (layout units: pitches)")
+        if layout.wrap is not None:
+            self.setToolTip(tip(
+                f"{layout.wrap.axis} wraps round at {layout.wrap.circumference:g}: a shape may "
+                "cross the seam, and coordinates past it come back on the other side"
+            ))  # fmt: skip
+        else:
+            self.setToolTip("")
 
     def _on_shape_combo_changed(self, index: int) -> None:
         if self._updating:
             return
         kind = SHAPES[index]
         scene = self.state.scene
-        # Sensible defaults centred where the current shape is.
-        cx, cy = 2.5, 3.0
-        defaults = {
-            "line": tc.Line((0.5, 1.84), (4.5, 4.16)),
-            "circle": tc.Circle((cx, cy), 2.0),
-            "square": tc.Square((cx, 3.5), 4.0),
-        }
+        # Defaults that fit the layout (the paper's on the palm array).
+        defaults = layouts.shape_defaults(self.state.layout)
         if scene.shape is None or type(scene.shape).__name__.lower() != kind:
             self.state.update(shape=defaults[kind])
 

@@ -7,16 +7,18 @@ from PySide6 import QtCore
 import tactile_core as tc
 from tactile_core.rendering.methods import get_method
 
+from .. import layouts
 from ..texts import DRAW_HELP
 
 
 class HeatmapGestures(QtCore.QObject):
     """Clicks and drags on the heatmap and the curves, turned into scenes.
 
-    - A click on a cell pulses its tactor alone (0.3 s), Shift+click holds it; the scene before
-      comes back afterwards.
-    - Draw mode: dragging on the heatmap moves a free point (CT and AS only); leaving it puts
-      back the whole scene it changed.
+    - A click on a cell (a disc on a layout) pulses its tactor alone (0.3 s), Shift+click holds
+      it; the scene before comes back afterwards.
+    - Draw mode: dragging on the heatmap moves a free point (the methods that need no shape);
+      leaving it puts back the whole scene it changed. Round a wrap the point is taken into
+      one turn, so a path drawn across the seam goes on at the other end.
     - Dragging the curves' cursor holds the trace at that time (:attr:`scrub_s`): the views
       and the array show that instant until it plays again (Space).
 
@@ -47,6 +49,7 @@ class HeatmapGestures(QtCore.QObject):
         heatmap.point_drawn.connect(self._on_heatmap_point_drawn)
         heatmap.draw_released.connect(self._on_heatmap_draw_released)
         heatmap.cell_clicked.connect(self.pulse_cell)
+        heatmap.actuator_clicked.connect(self.pulse_actuator)
         curves.scrubbed.connect(self._on_curves_scrubbed)
 
     @property
@@ -64,24 +67,32 @@ class HeatmapGestures(QtCore.QObject):
     def pulse_cell(self, col: int, row: int, hold: bool = False) -> None:
         """Play one tactor alone at full drive: a 0.3 s pulse, or held (Shift+click) until the
         next click, Space or Esc. The scene before it comes back afterwards."""
+        self._pulse_at((col + 0.5, row + 0.5), "CT", f"tactor ({col},{row})", hold)
+
+    def pulse_actuator(self, index: int, hold: bool = False) -> None:
+        """:meth:`pulse_cell` for an actuator of a layout (PK at its position: it alone, at
+        full drive)."""
+        layout = self.state.layout
+        self._pulse_at(layout.positions[index], "PK", f"actuator {layout.names[index]}", hold)
+
+    def _pulse_at(self, centre, method: str, name: str, hold: bool) -> None:
         if not self.can_pulse() or self.heatmap.drawing:
             return
         held = self._pulse is not None and self._pulse[1]
         self.end_pulse(restore=True)
         if held:
             return  # a click releases a held tactor
-        centre = (col + 0.5, row + 0.5)
         backup = self.state.scene
         self._pulse = (backup, hold)
         self.state.set_scene(backup.replace(
-            shape=tc.Line(centre, centre), method="CT", mu=0.0, gamma=1.0, gain=1.0,
+            shape=tc.Line(centre, centre), method=method, mu=0.0, gamma=1.0, gain=1.0,
             duration_s=0.3, pause_s=0.0, repeat=hold, playing=True, epoch=backup.epoch + 1,
             hold_s=None,
         ))  # fmt: skip
         what = "holding" if hold else "pulsing"
         self.message_posted.emit(
-            f"{what} tactor ({col},{row})" + (": click again or press Esc to release" if hold
-                                              else ""), 4000)  # fmt: skip
+            f"{what} {name}" + (": click again or press Esc to release" if hold else ""), 4000
+        )
         if not hold:
             self._pulse_timer.start(400)
 
@@ -117,9 +128,10 @@ class HeatmapGestures(QtCore.QObject):
             self._draw_backup = self.state.scene
             changes = {"pause_s": 0.0, "playing": False}
             if get_method(self.state.scene.method).needs_shape:
-                changes["method"] = "AS"
-                self.message_posted.emit(f"draw mode uses AS: {DRAW_HELP}", 10_000)
-            centre = (self.heatmap.cols / 2, self.heatmap.rows / 2)
+                free = "AS" if self.state.layout.grid is not None else layouts.FALLBACK
+                changes["method"] = free
+                self.message_posted.emit(f"draw mode uses {free}: {DRAW_HELP}", 10_000)
+            centre = self.heatmap.centre()
             self.heatmap.set_drawing(True)
             self.state.update(shape=tc.Line(centre, centre), **changes)
             self._draw_method = self.state.scene.method
@@ -135,8 +147,7 @@ class HeatmapGestures(QtCore.QObject):
         self.draw_mode_changed.emit(on)
 
     def _on_heatmap_point_drawn(self, x: float, y: float) -> None:
-        x = min(max(x, 0.0), float(self.heatmap.cols))
-        y = min(max(y, 0.0), float(self.heatmap.rows))
+        x, y = self.heatmap.clamp(x, y)
         self.state.update(shape=tc.Line((x, y), (x, y)), playing=True)
 
     def _on_heatmap_draw_released(self) -> None:

@@ -10,8 +10,11 @@ from PySide6 import QtCore
 
 from tactile_core.rendering.correction import correct1
 from tactile_core.rendering.methods import get_method, mark_unavailable
+from tactile_core.rendering.methods._layout import layout_sampler
 from tactile_core.rendering.percept import REFERENCE
 from tactile_core.rendering.rasterize import point_entries
+
+from ..layouts import FALLBACK
 
 DISPLAY_HZ = 60
 
@@ -52,6 +55,7 @@ class LiveDisplay(QtCore.QObject):
         self._trace_cache = (None, None)
         self._last = None  # (t, phase) of the last frame played: paused, the views stay there
         self._buffer = np.zeros(0)
+        self._sampler = (None, None, None)  # (method, layout, its sampler on that layout)
         self.timer = QtCore.QTimer(self)
         self.timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
         self.timer.timeout.connect(self._on_timer_timeout)
@@ -104,24 +108,39 @@ class LiveDisplay(QtCore.QObject):
             tune.curves.set_cursor(phase)
             self.frame_shown.emit(scene, t, phase)
 
+    def _entries(self, scene, t) -> tuple:
+        """The lit tactors at ``t``: ``((flat index, raw value), ...)``, on the grid or, on a
+        layout, through the method's sampler for it (built once per method and layout)."""
+        layout = self.state.layout
+        grid = layout.grid
+        if grid is not None:
+            sample1 = get_method(scene.method).sample1
+            return point_entries(scene.shape, sample1, t, grid.cols, grid.rows)
+        method, on, sampler = self._sampler
+        if method != scene.method or on is not layout:
+            sampler = layout_sampler(get_method(scene.method), layout)
+            self._sampler = (scene.method, layout, sampler)
+        x, y = scene.shape.point(t)
+        return sampler.entries1(x, y, scene.shape.snap_tol)
+
     def _values(self, scene, t):
-        """The heatmap's values ``(rows, cols)`` and per-cell labels (or None) in the view mode;
-        None for the values when a plug-in failed."""
+        """The heatmap's values (``(rows, cols)`` on a grid, ``(size,)`` on a layout) and
+        per-tactor labels (or None) in the view mode; None for the values when a plug-in
+        failed."""
         mode = self.state.view_mode
-        grid = self.device.profile.grid
+        shape = self.state.layout.frame_shape
         show_levels = self.state.show_levels
         labels = None
         if mode in ("raw", "corrected", "predicted"):
-            # One buffer, reused: only the (at most four) lit tactors are computed and written.
-            if self._buffer.shape != grid.shape:
-                self._buffer = np.zeros(grid.shape)
+            # One buffer, reused: only the (at most a few) lit tactors are computed and written.
+            if self._buffer.shape != shape:
+                self._buffer = np.zeros(shape)
             values = self._buffer
             flat = values.reshape(-1)
             flat.fill(0.0)
             if t is not None:
-                sample1 = get_method(scene.method).sample1
                 try:
-                    entries = point_entries(scene.shape, sample1, t, grid.cols, grid.rows)
+                    entries = self._entries(scene, t)
                 except ValueError as exc:  # only a plug-in raises here (it is checked first)
                     self._plugin_failed(scene, exc)
                     return None, None
@@ -135,6 +154,8 @@ class LiveDisplay(QtCore.QObject):
                 labels = np.char.mod("%.2f", values)
         else:
             values = self.device.sent()
+            if values.shape != shape:  # the stream of another layout, not yet replaced
+                return None, None
             if mode == "felt":
                 felt = self.device.felt()
                 values = felt if felt is not None else values
@@ -146,10 +167,12 @@ class LiveDisplay(QtCore.QObject):
 
     def _plugin_failed(self, scene, exc) -> None:
         """A plug-in method failed while playing: say so, list it as unavailable, and go back
-        to AS with the array paused (all off)."""
+        to AS (BA on a layout) with the array paused (all off)."""
         mark_unavailable(scene.method, str(exc))
-        self.error_raised.emit(f"{exc}; the plug-in is listed as unavailable, back to AS (paused)")
-        self.state.update(method="AS", playing=False)
+        back = "AS" if self.state.layout.grid is not None else FALLBACK
+        self.error_raised.emit(f"{exc}; the plug-in is listed as unavailable, back to {back} "
+                               "(paused)")  # fmt: skip
+        self.state.update(method=back, playing=False)
         self.state.plugins_changed.emit()
 
     def display_rate(self) -> tuple[float, float]:

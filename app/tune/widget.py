@@ -47,9 +47,9 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self.device = device
         self.method_hidden = False
         self.shown_curves = None
-        grid = device.profile.grid
-        self.heatmap = HeatmapView(grid.cols, grid.rows, title="Array")
+        self.heatmap = HeatmapView(layout=state.layout, title="Array")
         self.heatmap.setObjectName("heatmap")
+        self._caption()
         self.curves = CurvesView()
         self.lanes_check = QtWidgets.QCheckBox("one lane per tactor")
         self.lanes_check.setObjectName("lanes")
@@ -82,6 +82,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         state.scene_changed.connect(self._on_state_scene_changed)
         state.view_mode_changed.connect(self._on_state_view_mode_changed)
         state.show_levels_changed.connect(self.heatmap.set_show_values)
+        state.layout_changed.connect(self._on_state_layout_changed)
         self.heatmap.cell_hovered.connect(self.curves.highlight)
         self.curves.curve_hovered.connect(self.heatmap.highlight)
 
@@ -145,6 +146,25 @@ class TuneWidget(QtWidgets.QStackedWidget):
         if not self._views_timer.isActive():
             self._views_timer.start()
 
+    def _on_state_layout_changed(self, layout) -> None:
+        """Another device layout: draw mode and a pulse end (their scenes were for the old
+        one), the heatmap draws the new layout, the plots are redrawn."""
+        self.gestures.set_draw_mode(False)
+        self.gestures.end_pulse(restore=True)
+        self.heatmap.set_layout(layout)
+        self._caption()
+        self.curves.clear_curves()
+        self.heatmap.set_path(None)
+        if not self._views_timer.isActive():
+            self._views_timer.start()
+        QtCore.QTimer.singleShot(0, self.fit_heatmap)
+
+    def _caption(self) -> None:
+        """Under a layout, its profile's description (which way it runs, where it wraps)."""
+        profile = self.device.profile
+        grid = self.state.layout.grid is not None
+        self.heatmap.set_caption("" if grid else f"{profile.name}: {profile.description}")
+
     def refresh(self) -> None:
         """Redraw the correction curve, the activation curves and the heatmap's frames and
         outline for the state's scene now."""
@@ -168,16 +188,21 @@ class TuneWidget(QtWidgets.QStackedWidget):
             return
         heatmap.set_path(None)
         felt_view = self.state.view_mode == "felt" and profile.motor is not None
-        curves = activation_curves(
-            scene.shape,
-            scene.method,
-            duration_s=scene.duration_s,
-            direction=scene.direction,
-            mu=scene.mu,
-            gamma=scene.gamma,
-            samples=400,
-            motor=profile.motor if felt_view else None,
-        )
+        try:
+            curves = activation_curves(
+                scene.shape,
+                scene.method,
+                duration_s=scene.duration_s,
+                direction=scene.direction,
+                mu=scene.mu,
+                gamma=scene.gamma,
+                samples=400,
+                grid=self.state.target,
+                motor=profile.motor if felt_view else None,
+            )
+        except ValueError as exc:  # a plug-in that cannot render here (the state checks ours)
+            self.error_raised.emit(f"no activation curves: {exc}")
+            return
         if felt_view:
             # What the motors make of the corrected drive: their lag, then their response.
             curves = dataclasses.replace(curves, corrected=profile.felt(curves.felt))

@@ -14,7 +14,8 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
     """Activation curves: each activated tactor's intensity over one trace (Figures 3, 4).
 
     Two layouts: *overlaid* (every curve on one axis, as the paper's figures) and *lanes* (one
-    row per tactor, labelled ``(col,row)``, so that bi-level methods' sequences, whose curves all
+    row per tactor, labelled ``(col,row)`` on a grid and by the actuator's name on a layout
+    (:meth:`names`), so that bi-level methods' sequences, whose curves all
     sit at 1, can be read). Corrected intensities are solid, raw ones dashed; the pause after the
     trace is shaded. The time cursor is dashed, in the text colour (no curve's colour); dragging
     it scrubs the trace (:attr:`scrubbed`). Hovering a curve highlights it and emits
@@ -87,6 +88,7 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
         same = (
             previous is not None
             and previous.cells == curves.cells
+            and previous.names == curves.names
             and raw == self._raw
             and len(self._lines) == len(curves.cells) * (2 if raw else 1)
         )
@@ -105,6 +107,16 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
                 self._lines[i * step + 1].setData(curves.time_s, self._y(curves.raw[:, i], i))
         self._frame(curves, period_s)
 
+    def name(self, index: int) -> str:
+        """The name of the ``index``-th curve's tactor: ``(col,row)`` on a grid, the
+        actuator's name on a layout."""
+        curves = self.curves
+        return curves.names[index] if curves.names else cell_label(curves.cells[index])
+
+    def names(self) -> list[str]:
+        """The tactors whose curves are shown, by name, in order of activation."""
+        return [] if self.curves is None else [self.name(i) for i in range(len(self.curves.cells))]
+
     def _y(self, values, index):
         """A curve's y: the intensity, or in lanes its lane's baseline plus 0.85 of it."""
         if not self.lanes:
@@ -120,7 +132,7 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
             color = colors[cell]
             solid = self.plot(curves.time_s, self._y(curves.corrected[:, i], i),
                               pen=pg.mkPen(color, width=2))  # fmt: skip
-            solid.setToolTip(cell_label(cell))
+            solid.setToolTip(self.name(i))
             self._lines.append(solid)
             self._solid[cell] = solid
             if raw:
@@ -140,9 +152,9 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
         left = self.getAxis("left")
         if self.lanes and n:
             self.setYRange(-0.1, n, padding=0)
-            left.setTicks([[(n - 1 - i + 0.42, cell_label(c)) for i, c in enumerate(curves.cells)],
-                           []])  # fmt: skip
-            self.setLabel("left", "tactor (col,row)")
+            left.setTicks([[(n - 1 - i + 0.42, self.name(i)) for i in range(n)], []])
+            on_grid = isinstance(curves.cells[0], tuple)
+            self.setLabel("left", "tactor (col,row)" if on_grid else "actuator")
         else:
             self.setYRange(0, 1.05, padding=0)
             left.setTicks(None)

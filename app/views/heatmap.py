@@ -1,21 +1,45 @@
-"""The live heatmap: one cell per tactor, the shape, the point, and what the trace lights."""
+"""The live heatmap: the array as the device profile lays it out, the shape, the point, and what
+the trace lights.
+
+A grid is drawn as one image cell per tactor (:mod:`._cells`); actuators anywhere as discs at
+their positions (:mod:`._discs`). This module holds what both share: the plot, the shape's
+outline, the moving point, the readout, the banner, clicks and drags.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6 import QtCore, QtGui, QtWidgets
+from PySide6 import QtCore, QtGui
+
+from tactile_core.rendering.geometry import Grid
+from tactile_core.rendering.layout import Layout
 
 from ..theme import plot_colors
-from ._common import PaletteMixin, cell_label, style_plot
+from ._cells import GridCells
+from ._common import PaletteMixin, style_plot
+from ._discs import Discs
 
 
-class _DrawableImage(pg.ImageItem):
-    """The heatmap's image: clicks (draw mode, or a cell to pulse) and drags (draw mode)."""
+class _Pad(pg.GraphicsObject):
+    """An invisible item over the array that takes clicks (a tactor to pulse, or a point in
+    draw mode) and drags (draw mode)."""
 
     def __init__(self, view):
-        super().__init__(axisOrder="row-major")
+        super().__init__()
         self._view = view
+        self._rect = QtCore.QRectF()
+        self.setZValue(25)
+
+    def set_rect(self, rect: QtCore.QRectF) -> None:
+        self.prepareGeometryChange()
+        self._rect = QtCore.QRectF(rect)
+
+    def boundingRect(self) -> QtCore.QRectF:  # Qt override
+        return self._rect
+
+    def paint(self, *args) -> None:  # Qt override: nothing to draw
+        pass
 
     def mouseClickEvent(self, ev):
         if ev.button() != QtCore.Qt.MouseButton.LeftButton:
@@ -23,14 +47,8 @@ class _DrawableImage(pg.ImageItem):
             return
         pos = self.mapToParent(ev.pos())
         ev.accept()
-        if self._view.drawing:
-            self._view.point_drawn.emit(pos.x(), pos.y())
-            self._view.draw_released.emit()
-            return
-        col, row = int(np.floor(pos.x())), int(np.floor(pos.y()))
-        if 0 <= col < self._view.cols and 0 <= row < self._view.rows:
-            shift = bool(ev.modifiers() & QtCore.Qt.KeyboardModifier.ShiftModifier)
-            self._view.cell_clicked.emit(col, row, shift)
+        shift = bool(ev.modifiers() & QtCore.Qt.KeyboardModifier.ShiftModifier)
+        self._view._clicked(pos.x(), pos.y(), shift)
 
     def mouseDragEvent(self, ev):
         if not self._view.drawing or ev.button() != QtCore.Qt.MouseButton.LeftButton:
@@ -44,44 +62,52 @@ class _DrawableImage(pg.ImageItem):
 
 
 class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
-    """The array as a live heatmap: one cell per tactor, row 0 at the bottom, in grid units.
+    """The array as a live heatmap, in layout units (pitches; grid units on a grid).
 
-    Shows the shape's outline and the moving point over the cells, optionally each cell's
-    value, a coloured frame around every tactor the trace activates (the colours of the
-    activation curves), the pointer's coordinates, and "not streaming" over the cells when the
-    array is not being driven. Hovering a cell emits :attr:`cell_hovered`; clicking one emits
-    :attr:`cell_clicked` (the window pulses that tactor); in draw mode, dragging emits
-    :attr:`point_drawn`.
+    On a grid, one cell per tactor, row 0 at the bottom; on any other layout, a disc per
+    actuator at its position, named, a wrap unrolled into one turn with its seam marked
+    (:meth:`set_layout` switches between them). Shows the shape's outline and the moving point
+    over them, optionally each tactor's value, a coloured frame around every tactor the trace
+    activates (the colours of the activation curves), the pointer's coordinates, and "not
+    streaming" over the array when it is not being driven. Hovering a tactor emits
+    :attr:`cell_hovered`; clicking one emits :attr:`cell_clicked` on a grid and
+    :attr:`actuator_clicked` on a layout (the window pulses that tactor); in draw mode,
+    dragging emits :attr:`point_drawn`.
+
+    Parameters
+    ----------
+    cols, rows : int
+        The grid drawn when no ``layout`` is given.
+    layout : Layout, optional
+        The layout to draw (a grid's layout draws that grid).
     """
 
     point_drawn = QtCore.Signal(float, float)
     draw_released = QtCore.Signal()
     cell_hovered = QtCore.Signal(object)
-    """``(col, row)`` under the pointer, or None."""
+    """``(col, row)`` (an actuator's index on a layout) under the pointer, or None."""
     cell_clicked = QtCore.Signal(int, int, bool)
-    """``col, row, shift``."""
+    """``col, row, shift`` (grids)."""
+    actuator_clicked = QtCore.Signal(int, bool)
+    """``index, shift`` (layouts that are not grids)."""
 
-    def __init__(
-        self, cols: int = 5, rows: int = 6, *, title: str = "", colorbar: bool = True, parent=None
-    ):
+    def __init__(self, cols: int = 5, rows: int = 6, *, title: str = "", colorbar: bool = True,
+                 layout: Layout | None = None, parent=None):  # fmt: skip
         super().__init__(parent=parent)
-        self.cols, self.rows = cols, rows
         self.drawing = False
         self.readout = self.addLabel("", row=0, col=0, justify="left")
         self.plot = self.addPlot(row=1, col=0, title=title or None)
+        # Below the plot, in the room a layout's strip does not need (see _fit_height): what
+        # the profile says of its layout (which way x runs, where the seam is).
+        self.caption = self.addLabel("", row=2, col=0, justify="left")
+        self._tallest = self.plot.maximumHeight()
         self.plot.setAspectLocked(True)
         self.plot.setMenuEnabled(False)
         self.plot.setMouseEnabled(False, False)
         self.plot.hideButtons()
-        self.plot.setRange(xRange=(0, cols), yRange=(0, rows), padding=0.0)
-        for name, n in (("bottom", cols), ("left", rows)):
-            axis = self.plot.getAxis(name)
-            axis.setTicks([[(i, str(i)) for i in range(n + 1)], []])  # grid units: cell edges
-        self.plot.setLabel("bottom", "x (grid units)")
         self.plot.setLabel("left", "y")
-        self.image = _DrawableImage(self)
+        self.image = pg.ImageItem(axisOrder="row-major")
         self.image.setImage(np.zeros((rows, cols)), levels=(0.0, 1.0))
-        self.image.setRect(QtCore.QRectF(0, 0, cols, rows))
         self.plot.addItem(self.image)
         self.colorbar = None
         if colorbar:
@@ -91,49 +117,103 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
             self.colorbar.setImageItem(self.image, insert_in=self.plot)
         else:
             self.image.setColorMap(pg.colormap.get("viridis"))
-        grid_pen = pg.mkPen((255, 255, 255, 90), width=1)
-        for c in range(1, cols):
-            self.plot.addItem(pg.InfiniteLine(c, angle=90, pen=grid_pen))
-        for r in range(1, rows):
-            self.plot.addItem(pg.InfiniteLine(r, angle=0, pen=grid_pen))
-        self._frames: dict = {}
+        self.pad = _Pad(self)
+        self.plot.addItem(self.pad)
         self.outline = pg.PlotDataItem(
             pen=pg.mkPen("w", width=2, style=QtCore.Qt.PenStyle.DashLine)
         )
+        self.outline.setZValue(10)
         self.plot.addItem(self.outline)
         self.path = pg.PlotDataItem(pen=pg.mkPen("#ff9800", width=2))  # the felt centroid
+        self.path.setZValue(10)
         self.plot.addItem(self.path)
         self.point = pg.ScatterPlotItem(
             [0.0], [0.0], size=14, brush=pg.mkBrush("#ff3030"), pen=pg.mkPen("w", width=2)
         )
         self.point.setVisible(False)
+        self.point.setZValue(12)
         self.point_xy = None
-        """Where the moving point is drawn (grid units), or None while hidden."""
+        """Where the moving point is drawn (layout units), or None while hidden."""
         self.plot.addItem(self.point)
-        self.highlight_item = QtWidgets.QGraphicsRectItem(0, 0, 1, 1)
-        self.highlight_item.setVisible(False)
-        self.highlight_item.setZValue(20)
-        self.plot.addItem(self.highlight_item)
-        self.texts = []
-        for r in range(rows):
-            for c in range(cols):
-                item = pg.TextItem("", color="w", anchor=(0.5, 0.5))
-                item.setPos(c + 0.5, r + 0.5)
-                item.setVisible(False)
-                self.plot.addItem(item)
-                self.texts.append(item)
         self.banner = pg.TextItem("", color="#ffffff", anchor=(0.5, 0.5), fill=(192, 57, 43, 220))
-        self.banner.setPos(cols / 2, rows / 2)
         self.banner.setZValue(30)
         self.banner.setVisible(False)
         self.plot.addItem(self.banner)
-        self._text_values = [None] * (rows * cols)
         self._show_texts = False
         self._hovered = None
-        self.values = np.zeros((rows, cols))
+        self.layout = None
+        self.cells = None
+        self.set_layout(layout if layout is not None else Layout.from_grid(Grid(cols, rows)))
         self.scene().sigMouseMoved.connect(self._on_mouse_moved)
+        self.plot.vb.sigResized.connect(self._on_plot_resized)
         self.apply_palette()
         self._ready = True
+
+    # --- the layout ----------------------------------------------------------------------------
+
+    def set_layout(self, layout: Layout) -> None:
+        """Draw ``layout``: a grid as cells, any other layout as discs (built once per layout;
+        nothing happens for the layout already drawn)."""
+        if layout == self.layout:
+            return
+        self.layout = layout
+        if self.cells is not None:
+            self.cells.remove()
+        self._hovered = None
+        grid = layout.grid
+        self.cells = GridCells(self, grid) if grid is not None else Discs(self, layout)
+        x0, x1, y0, y1 = self.cells.range
+        self.plot.setRange(xRange=(x0, x1), yRange=(y0, y1), padding=0.0)
+        bottom, left = self.cells.ticks()
+        self.plot.getAxis("bottom").setTicks([bottom, []])
+        self.plot.getAxis("left").setTicks([left, []])
+        self.plot.setLabel("bottom", self.cells.axis_label)
+        self.pad.set_rect(self.cells.pad_rect)
+        self.banner.setPos((x0 + x1) / 2, (y0 + y1) / 2)
+        self.cells.show_texts(self._show_texts)
+        self.point_xy = None
+        self.point.setVisible(False)
+        self.outline.setData([], [])
+        self.path.setData([], [])
+        if self._ready:
+            self.apply_palette()
+            self._fit_height()
+        self.updateGeometry()
+
+    @property
+    def cols(self) -> int:
+        """Columns of the grid drawn (on a layout: its actuators, as one row)."""
+        return self.layout.grid.cols if self.layout.grid is not None else self.layout.size
+
+    @property
+    def rows(self) -> int:
+        """Rows of the grid drawn (1 on a layout)."""
+        return self.layout.grid.rows if self.layout.grid is not None else 1
+
+    @property
+    def values(self) -> np.ndarray:
+        """The values shown: ``(rows, cols)`` on a grid, ``(size,)`` on a layout."""
+        return self.cells.values
+
+    @property
+    def highlight_item(self):
+        """The outline of the hovered tactor (a rectangle on a grid, a ring on a layout)."""
+        return self.cells.highlight_item
+
+    @property
+    def _frames(self) -> dict:
+        return self.cells.frames
+
+    def centre(self) -> tuple[float, float]:
+        """The middle of the array, in layout units (where draw mode starts)."""
+        x0, x1, y0, y1 = self.cells.range
+        return self.cells.clamp((x0 + x1) / 2, (y0 + y1) / 2)
+
+    def clamp(self, x: float, y: float) -> tuple[float, float]:
+        """A drawn point kept on the array (round a wrap: within one turn)."""
+        return self.cells.clamp(float(x), float(y))
+
+    # --- palette and size ------------------------------------------------------------------------
 
     def apply_palette(self) -> None:
         """Take the background and text colours from the application palette."""
@@ -145,20 +225,57 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
                 axis = self.colorbar.getAxis(name)
                 axis.setPen(pg.mkPen(colors["foreground"]))
                 axis.setTextPen(pg.mkPen(colors["foreground"]))
-        self.readout.setAttr("color", colors["foreground"].name())
-        self.readout.setText(self.readout.text)
-        pen = QtGui.QPen(colors["foreground"])
-        pen.setWidthF(4)
-        pen.setCosmetic(True)
-        self.highlight_item.setPen(pen)
+        for label in (self.readout, self.caption):
+            label.setAttr("color", colors["foreground"].name())
+            label.setText(label.text)
+        self._wrap_caption()
+        outline = colors["foreground"] if self.layout.grid is None else QtGui.QColor("white")
+        self.outline.setPen(pg.mkPen(outline, width=2, style=QtCore.Qt.PenStyle.DashLine))
+        self.cells.set_palette(colors)
+
+    def _on_plot_resized(self, _vb=None) -> None:
+        self._fit_height()
+        self.cells.fit_labels()
+
+    def _fit_height(self) -> None:
+        """On a layout, the plot no taller than the strip it shows at its width (a belt is a
+        row of actuators: the rest of the height goes below it, not into empty plot); a grid
+        fills the view as it always has."""
+        vb = self.plot.vb
+        self._wrap_caption()
+        if self.layout.grid is not None or vb.width() <= 0:
+            self.plot.setMaximumHeight(self._tallest)
+            return
+        w, h = self._spans()
+        extra = self.plot.height() - vb.height()
+        self.plot.setMaximumHeight(max(vb.width() * h / w + extra, 160.0))
+
+    def set_caption(self, text: str) -> None:
+        """Words under the array (wrapped to its width): the profile's description of a
+        layout; "" for none."""
+        self.caption.setText(text)
+        self._wrap_caption()
+
+    def _wrap_caption(self) -> None:
+        self.caption.item.setTextWidth(max(self.plot.width() - 30, 120.0))
+        self.caption.updateMin()
+        self.caption.setMinimumWidth(0)  # the caption follows the plot's width, never sets it
+
+    def _spans(self) -> tuple[float, float]:
+        x0, x1, y0, y1 = self.cells.range
+        return x1 - x0, y1 - y0
 
     def heightForWidth(self, width: int) -> int:  # Qt override
-        return round(width * self.rows / (self.cols + 1.5))
+        w, h = self._spans()
+        return round(width * h / (w + 1.5))
 
     def preferred_width(self, height: int) -> int:
-        """The width at which the cells fill ``height`` (axes and colour bar included)."""
+        """The width at which the array fills ``height`` (axes and colour bar included)."""
+        w, h = self._spans()
         extra = 110 if self.colorbar is not None else 60
-        return round((height - 70) * self.cols / self.rows) + extra
+        return round((height - 70) * w / h) + extra
+
+    # --- the pointer -----------------------------------------------------------------------------
 
     def _on_mouse_moved(self, pos) -> None:
         vb = self.plot.vb
@@ -166,15 +283,24 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
             self._hover(None)
             return
         p = vb.mapSceneToView(pos)
-        x, y = p.x(), p.y()
-        col, row = int(np.floor(x)), int(np.floor(y))
-        inside = 0 <= col < self.cols and 0 <= row < self.rows
-        cell = (col, row) if inside else None
-        value = f", {self.values[row, col]:.2f}" if inside else ""
-        self.readout.setText(
-            f"x {x:.2f}, y {y:.2f}" + (f"  tactor {cell_label(cell)}{value}" if inside else "")
-        )
-        self._hover(cell)
+        key = self.cells.key_at(p.x(), p.y())
+        x, y = self.cells.canonical(p.x(), p.y())
+        where = f"  {self.cells.describe(key)}" if key is not None else ""
+        self.readout.setText(f"x {x:.2f}, y {y:.2f}{where}")
+        self._hover(key)
+
+    def _clicked(self, x: float, y: float, shift: bool) -> None:
+        if self.drawing:
+            self.point_drawn.emit(x, y)
+            self.draw_released.emit()
+            return
+        key = self.cells.key_at(x, y)
+        if key is None:
+            return
+        if self.layout.grid is not None:
+            self.cell_clicked.emit(key[0], key[1], shift)
+        else:
+            self.actuator_clicked.emit(key, shift)
 
     def leaveEvent(self, event) -> None:  # Qt override
         self._hover(None)  # the mouse left: no highlight stays behind
@@ -189,12 +315,11 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
             self.readout.setText("")
 
     def highlight(self, cell) -> None:
-        """Outline ``(col, row)`` (None: no outline), e.g. when its curve is hovered."""
-        if cell is None:
-            self.highlight_item.setVisible(False)
-        else:
-            self.highlight_item.setRect(cell[0], cell[1], 1.0, 1.0)
-            self.highlight_item.setVisible(True)
+        """Outline a tactor (``(col, row)``, an index on a layout; None: none), e.g. when its
+        curve is hovered."""
+        self.cells.highlight(cell)
+
+    # --- what is shown ---------------------------------------------------------------------------
 
     def set_streaming(self, streaming: bool, text: str = "not streaming") -> None:
         """Mark the heatmap when the array is not being driven."""
@@ -202,37 +327,26 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         self.banner.setVisible(not streaming)
 
     def set_frame(self, values, labels=None) -> None:
-        """Show intensities ``(rows, cols)`` in [0, 1]; ``labels`` per cell when shown."""
-        values = np.asarray(values, dtype=np.float64)
-        if values.shape != self.values.shape:
-            self.values = values.copy()
-            self.image.setImage(self.values, levels=(0.0, 1.0), autoLevels=False)
-        elif not np.array_equal(values, self.values):  # unchanged (off, paused): no repaint
-            np.copyto(self.values, values)
-            self.image.setImage(self.values, levels=(0.0, 1.0), autoLevels=False)
+        """Show intensities in [0, 1], ``(rows, cols)`` on a grid and ``(size,)`` on a layout;
+        ``labels`` per tactor when values are shown. Nothing is repainted when they did not
+        change."""
+        self.cells.set_values(values)
         if self._show_texts and labels is not None:
-            flat = np.asarray(labels).reshape(-1)
-            for i, text in enumerate(flat.tolist()):
-                if text != self._text_values[i]:
-                    self._text_values[i] = text
-                    self.texts[i].setText(str(text))
-                    v = values.reshape(-1)[i]
-                    self.texts[i].setColor("k" if v > 0.6 else "w")
+            self.cells.set_texts(labels)
 
     def set_show_values(self, show: bool) -> None:
-        """Show or hide the per-cell numbers."""
+        """Show or hide the per-tactor numbers."""
         self._show_texts = bool(show)
-        for item in self.texts:
-            item.setVisible(self._show_texts)
-        self._text_values = [None] * len(self.texts)
+        self.cells.show_texts(self._show_texts)
 
     def set_outline(self, points) -> None:
-        """Draw the shape's outline, ``(n, 2)`` points (None to hide)."""
+        """Draw the shape's outline, ``(n, 2)`` points (None to hide); round a wrap, unrolled
+        with a gap at the seam."""
         if points is None:
             self.outline.setData([], [])
         else:
-            pts = np.asarray(points)
-            self.outline.setData(pts[:, 0], pts[:, 1])
+            x, y = self.cells.path(points)
+            self.outline.setData(x, y, connect="finite")
 
     def set_path(self, points) -> None:
         """Draw a path, ``(n, 2)`` points, NaN rows as gaps (None to hide): the predicted
@@ -244,12 +358,13 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
             self.path.setData(pts[:, 0], pts[:, 1], connect="finite")
 
     def set_point(self, xy) -> None:
-        """Draw the moving point at ``(x, y)`` (None to hide).
+        """Draw the moving point at ``(x, y)`` (None to hide); round a wrap, within one turn.
 
         The point is one spot at the item's origin, moved by its position: a frame changes a
         transform, not the scatter's data.
         """
-        xy = None if xy is None else (float(xy[0]), float(xy[1]))
+        if xy is not None:
+            xy = self.cells.canonical(float(xy[0]), float(xy[1]))
         if xy == self.point_xy:
             return
         self.point_xy = xy
@@ -260,23 +375,8 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
             self.point.setVisible(True)
 
     def set_cell_frames(self, colors: dict) -> None:
-        """Frame cells ``{(col, row): colour}`` (the activation curves' colours)."""
-        for cell, item in list(self._frames.items()):
-            if cell not in colors:
-                self.plot.removeItem(item)
-                del self._frames[cell]
-        for cell, color in colors.items():
-            item = self._frames.get(cell)
-            if item is None:
-                col, row = cell
-                item = QtWidgets.QGraphicsRectItem(col + 0.06, row + 0.06, 0.88, 0.88)
-                self.plot.addItem(item)
-                self._frames[cell] = item
-            pen = QtGui.QPen(QtGui.QColor(color))
-            pen.setWidthF(3)
-            pen.setCosmetic(True)
-            item.setPen(pen)
-            item.setToolTip(cell_label(cell))
+        """Frame tactors ``{(col, row) or index: colour}`` (the activation curves' colours)."""
+        self.cells.set_frames(colors)
 
     def set_drawing(self, enabled: bool) -> None:
         """Enable or disable draw mode (drag to move the point)."""

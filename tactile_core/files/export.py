@@ -73,11 +73,11 @@ def write_lut_header(path, mu: float, gamma: float, levels: int = 23) -> Path:
 def write_curves_csv(path, curves: ActivationCurves) -> Path:
     """``time`` then, per active tactor, its raw and corrected intensity, named as the tuner
     names tactors: ``"(4,2) raw"``, ``"(4,2) corrected"`` for column 4, row 2 (quoted, as
-    CSV quotes a field with a comma)."""
+    CSV quotes a field with a comma); on a layout, by the actuator's name (``front raw``)."""
     path = check_output(path, (".csv",), "curves export")
     names = ["time"]
-    for col, row in curves.cells:
-        names += [f'"({col},{row}) raw"', f'"({col},{row}) corrected"']
+    for name in _names(curves):
+        names += [_csv_field(f"{name} raw"), _csv_field(f"{name} corrected")]
     table = np.empty((len(curves.time_s), 1 + 2 * len(curves.cells)))
     table[:, 0] = curves.time_s
     table[:, 1::2] = curves.raw
@@ -91,22 +91,17 @@ def plot_curves(path, curves: ActivationCurves, *, title: str = "", colors=None)
     """Plot activation curves to ``.png`` or ``.svg`` (matplotlib, no GUI backend).
 
     Corrected intensities are solid and raw ones dashed, one colour per tactor (``colors``:
-    ``{(col, row): colour}``), as in the paper's Figures 3 and 4.
+    ``{(col, row): colour}``, or by actuator index on a layout), as in the paper's Figures 3
+    and 4.
     """
     from matplotlib.figure import Figure
 
     path = check_output(path, (".png", ".svg"), "curves export")
     fig = Figure(figsize=(7.0, 3.6), dpi=150, layout="constrained")
     ax = fig.add_subplot()
-    for i, cell in enumerate(curves.cells):
+    for i, (cell, name) in enumerate(zip(curves.cells, _names(curves))):
         color = None if colors is None else colors.get(cell)
-        (line,) = ax.plot(
-            curves.time_s,
-            curves.corrected[:, i],
-            color=color,
-            lw=1.8,
-            label=f"({cell[0]},{cell[1]})",
-        )
+        (line,) = ax.plot(curves.time_s, curves.corrected[:, i], color=color, lw=1.8, label=name)
         ax.plot(curves.time_s, curves.raw[:, i], color=line.get_color(), lw=1.0, ls="--")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("intensity")
@@ -114,8 +109,24 @@ def plot_curves(path, curves: ActivationCurves, *, title: str = "", colors=None)
     ax.set_xlim(0, float(curves.time_s[-1]) if len(curves.time_s) else 1.0)
     if title:
         ax.set_title(title, fontsize=10)
+    on_grid = not curves.cells or isinstance(curves.cells[0], tuple)
     ax.legend(ncol=4, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.18), frameon=False,
-              title="tactor (col,row)", title_fontsize=7)  # fmt: skip
+              title="tactor (col,row)" if on_grid else "actuator", title_fontsize=7)  # fmt: skip
     with atomic_file(path, binary=True) as f:
         fig.savefig(f, format=path.suffix.lower()[1:])
     return path
+
+
+def _names(curves: ActivationCurves) -> tuple:
+    """The tactors' names: ``"(col,row)"`` on a grid, the actuators' names on a layout."""
+    if curves.names:
+        return curves.names
+    return tuple(f"({c[0]},{c[1]})" if isinstance(c, tuple) else str(c) for c in curves.cells)
+
+
+def _csv_field(text: str) -> str:
+    """``text`` as one CSV field: quoted (and its quotes doubled) when it holds a comma, a quote
+    or a line break."""
+    if any(ch in text for ch in ',"\n\r'):
+        return '"' + text.replace('"', '""') + '"'
+    return text

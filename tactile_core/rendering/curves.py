@@ -9,7 +9,8 @@ import numpy as np
 from .._shared import validate as _validate
 from .correction import check_correction, correct
 from .geometry import Grid
-from .rasterize import check_grid, render
+from .layout import Layout
+from .rasterize import check_target, render
 from .trace import DIRECTIONS
 
 _DEFAULT_GRID = Grid()
@@ -23,8 +24,9 @@ class ActivationCurves:
     ----------
     time_s : ndarray of float64, shape (n,)
         Sample times over one trace, 0 .. ``duration_s``.
-    cells : tuple of (int, int)
-        ``(col, row)`` of the ``k`` tactors that are ever active, in order of first activation.
+    cells : tuple of (int, int), or tuple of int
+        ``(col, row)`` of the ``k`` tactors that are ever active, in order of first activation;
+        on a layout that is not a grid, their actuator indices.
     raw : ndarray of float64, shape (n, k)
         Intensities before correction.
     corrected : ndarray of float64, shape (n, k)
@@ -39,6 +41,9 @@ class ActivationCurves:
     raw: np.ndarray
     corrected: np.ndarray
     felt: np.ndarray | None = None
+    names: tuple = ()
+    """Each cell's name as the tuner shows it: ``"(4,2)"`` on a grid, the actuator's name
+    (``"front-left"``) on a layout."""
 
     def onsets_s(self) -> np.ndarray:
         """``(k,)`` time of each tactor's first sample with nonzero intensity, in seconds."""
@@ -70,7 +75,9 @@ def activation_curves(
         Correction for the ``corrected`` curves.
     samples : int
         Number of samples over the trace, >= 2.
-    grid : Grid
+    grid : Grid or Layout
+        On a :class:`~tactile_core.rendering.layout.Layout` that is not a grid, with the
+        methods that work there (the paper's four raise ``ValueError`` saying why).
     motor : MotorResponse, optional
         Also low-pass the corrected curves through the motors (``felt``): each sample is held
         until the next, from motors at rest; only the tactors the trace lights are simulated.
@@ -83,7 +90,7 @@ def activation_curves(
     _validate.choice("direction", direction, DIRECTIONS)
     mu, gamma = check_correction(mu, gamma)
     samples = _validate.integer("samples", samples, 2)
-    grid = check_grid(grid)
+    grid = check_target(grid)
     u = np.linspace(0.0, 1.0, samples)
     t = 1.0 - u if direction == "reverse" else u
     frames = render(shape, method, t, grid=grid).reshape(samples, grid.size)
@@ -95,10 +102,12 @@ def activation_curves(
     felt = None
     if motor is not None:
         felt, _ = motor.select(order).effective(corrected, (samples - 1) / duration_s)
+    if isinstance(grid, Layout):
+        cells = tuple(int(i) for i in order)
+        names = tuple(grid.names[i] for i in cells)
+    else:
+        cells = tuple(grid.cell(int(i)) for i in order)
+        names = tuple(f"({col},{row})" for col, row in cells)
     return ActivationCurves(
-        time_s=u * duration_s,
-        cells=tuple(grid.cell(int(i)) for i in order),
-        raw=raw,
-        corrected=corrected,
-        felt=felt,
+        time_s=u * duration_s, cells=cells, raw=raw, corrected=corrected, felt=felt, names=names
     )

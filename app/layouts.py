@@ -1,0 +1,177 @@
+"""What the tuner does with the device's layout: which methods render on it, a shape that fits
+it, and a path drawn round a wrap.
+
+A device profile's actuators sit on a grid (the paper's palm array, a 3 x 3 grid) or anywhere
+(:class:`~tactile_core.rendering.layout.Layout`: a belt, a sleeve, a vest panel). Coordinates are
+layout units (pitches) either way. No Qt here: the state (:mod:`.state`) and the views call
+these functions.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+
+import tactile_core as tc
+from tactile_core.rendering.geometry import Grid
+from tactile_core.rendering.layout import Layout
+from tactile_core.rendering.methods import method_names
+from tactile_core.rendering.rasterize import check_renders
+
+FALLBACK = "BA"
+"""The method a scene falls back to on a layout its method cannot render on: barycentric
+weights, AS's weights generalised to actuators anywhere."""
+
+LAYOUT_SETS = ("BA", "RO", "GS", "EN")
+"""Compare's and Blind A/B's methods on a layout that is not a grid, when theirs cannot render
+there: the smooth method and the peer methods of other systems."""
+
+PALM = Grid()
+PALM_SHAPES = {
+    "line": tc.Line((0.5, 1.84), (4.5, 4.16)),
+    "circle": tc.Circle((2.5, 3.0), 2.0),
+    "square": tc.Square((2.5, 3.5), 4.0),
+}
+"""The shape box's defaults on the paper's palm array (the Experiment 1 line)."""
+
+
+def target(layout: Layout):
+    """What to render onto: the grid of a grid's layout, the layout itself otherwise."""
+    return layout.grid if layout.grid is not None else layout
+
+
+def refusal(method, layout: Layout) -> str:
+    """Why ``method`` (a spec) cannot render on ``layout``, or "" when it can."""
+    if layout.grid is not None:
+        return ""
+    try:
+        check_renders(method, layout)
+    except ValueError as exc:
+        return str(exc)
+    return ""
+
+
+def fallback_note(method: str, layout: Layout) -> str:
+    """The status line when a scene's ``method`` plays BA instead on ``layout`` (the full
+    reason is the method's tooltip)."""
+    return (f"playing {FALLBACK} instead of {method}, which needs a grid (this layout: "
+            f"{layout.describe()}; {', '.join(methods_for(layout))} render on it)")  # fmt: skip
+
+
+def methods_for(layout: Layout) -> list[str]:
+    """The registered methods that render on ``layout`` (all of them on a grid)."""
+    return [name for name in method_names() if not refusal(name, layout)]
+
+
+def restricted(methods, layout: Layout) -> tuple[list[str], list[str]]:
+    """A method set for ``layout``: ``methods`` without those that cannot render there, made up
+    from :data:`LAYOUT_SETS` to four when fewer than two are left; and the specs left out."""
+    kept = [m for m in methods if not refusal(m, layout)]
+    dropped = [m for m in methods if m not in kept]
+    if len(kept) < 2:
+        kept += [m for m in LAYOUT_SETS if m not in kept][: 4 - len(kept)]
+    return kept, dropped
+
+
+def restriction_note(dropped, methods, layout: Layout, doing: str) -> str:
+    """What :func:`restricted` left out, for the note under a method set ("" for nothing)."""
+    if not dropped:
+        return ""
+    return (f"{' '.join(dropped)} cannot render on this layout ({layout.describe()}): {doing} "
+            f"{' '.join(methods)}; the paper's four need a grid")  # fmt: skip
+
+
+def fits(shape, layout: Layout) -> bool:
+    """Whether ``shape`` lies on ``layout``: its outline within the layout's extent (a grid's
+    cells, or the actuators and half a pitch round them), a quarter of a pitch to spare; along
+    a wrap anything fits."""
+    if shape is None:
+        return True
+    x0, x1, y0, y1 = layout.bounds()
+    pts = np.asarray(shape.outline(), dtype=float)
+    inside = [(pts[:, 0] >= x0 - 0.25) & (pts[:, 0] <= x1 + 0.25),
+              (pts[:, 1] >= y0 - 0.25) & (pts[:, 1] <= y1 + 0.25)]  # fmt: skip
+    if layout.wrap is not None:
+        inside[layout.wrap.index] = True
+    return bool(np.all(inside[0] & inside[1]))
+
+
+def shape_defaults(layout: Layout) -> dict:
+    """A line, a circle and a square that fit ``layout``: the palm array's own on the palm
+    array; round a wrap, the line goes once round (crossing the seam, from one end of the other
+    axis to the other: a helix on a sleeve); elsewhere, centred on the actuators."""
+    if layout.grid == PALM:
+        return dict(PALM_SHAPES)
+    xy = layout.xy
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    centre = (lo + hi) / 2
+    x0, x1, y0, y1 = layout.bounds()  # half a pitch round the actuators: never empty
+    small = min(x1 - x0, y1 - y0)
+    if layout.wrap is not None:
+        c = layout.wrap.circumference
+        if layout.wrap.axis == "x":
+            line = tc.Line((0.0, float(lo[1])), (c, float(hi[1])))
+        else:
+            line = tc.Line((float(lo[0]), 0.0), (float(hi[0]), c))
+    else:
+        line = tc.Line(tuple(map(float, lo)), tuple(map(float, hi)))
+    point = tuple(map(float, centre))
+    return {
+        "line": line,
+        "circle": tc.Circle(point, round(0.4 * small, 3)),
+        "square": tc.Square(point, round(0.8 * small, 3)),
+    }
+
+
+def default_shape(layout: Layout):
+    """The shape a scene gets on a layout its shape does not fit: the line (round a wrap) or
+    the circle (elsewhere) of :func:`shape_defaults`."""
+    shapes = shape_defaults(layout)
+    if layout.grid == PALM or layout.wrap is not None:
+        return shapes["line"]
+    xy = layout.xy
+    flat = np.ptp(xy[:, 0]) == 0 or np.ptp(xy[:, 1]) == 0  # actuators in a row: the line
+    return shapes["line"] if flat else shapes["circle"]
+
+
+def unrolled(points, layout: Layout) -> tuple[np.ndarray, np.ndarray]:
+    """A path ``(n, 2)`` as drawn on the unrolled strip of a wrapped layout: cut where it
+    crosses the seam (a gap, NaN, between the two ends of the strip) and each piece taken into
+    one turn ``[0, circumference]``. Unchanged on a layout without a wrap.
+
+    Examples
+    --------
+    >>> from tactile_core.rendering.layout import Wrap
+    >>> belt = Layout([(k, 0.0) for k in range(8)], wrap=Wrap("x", 8.0))
+    >>> x, y = unrolled([(6.0, 0.0), (10.0, 0.0)], belt)
+    >>> x.tolist()
+    [6.0, 8.0, nan, 0.0, 2.0]
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    if layout.wrap is None or len(pts) == 0:
+        return pts[:, 0].copy(), pts[:, 1].copy()
+    c, k = layout.wrap.circumference, layout.wrap.index
+    pieces, piece = [], [pts[0]]
+    for p, q in itertools.pairwise(pts):
+        a, b = p[k], q[k]
+        seams = np.arange(math.floor(min(a, b) / c) + 1, math.ceil(max(a, b) / c)) * c
+        for at in seams if b > a else seams[::-1]:
+            cut = p + (q - p) * ((at - a) / (b - a))
+            cut[k] = at  # exactly on the seam
+            pieces.append([*piece, cut])
+            piece = [cut]
+        piece.append(q)
+    pieces.append(piece)
+    xs, ys = [], []
+    for piece in pieces:
+        arr = np.array(piece)
+        middle = (arr[:, k].min() + arr[:, k].max()) / 2
+        arr[:, k] -= c * math.floor(middle / c)  # the turn this piece lies on
+        if xs:
+            xs.append(np.nan)
+            ys.append(np.nan)
+        xs += arr[:, 0].tolist()
+        ys += arr[:, 1].tolist()
+    return np.array(xs), np.array(ys)
