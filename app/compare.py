@@ -58,14 +58,15 @@ class CompareView(QtWidgets.QWidget):
         return list(self._grid_methods or self.methods)
 
     def _on_state_layout_changed(self, layout) -> None:
-        for heat in self._heatmaps.values():
-            heat.set_layout(layout)
+        self._built_for = None  # the views are built anew for the layout (when next shown)
         self._shown_scene = None
         wanted = self._grid_methods or self.methods
         methods, dropped = layouts.restricted(wanted, layout)
         self._grid_methods = list(wanted) if dropped else None
         if methods != self.methods:
             self.set_methods(methods)
+        elif self.isVisible():
+            self._build()
         self.chooser.refuse(layouts.restriction_note(dropped, methods, layout, "comparing"),
                             warn=False)  # fmt: skip
 
@@ -138,7 +139,10 @@ class CompareView(QtWidgets.QWidget):
         first = self._curves[methods[0]]
         for spec in methods[1:]:
             self._curves[spec].setXLink(first)
-        grid.setRowStretch(0, 3)
+        # A strip (a belt: wider than tall) needs less height than a grid; the curves get it.
+        w, h = self._heatmaps[methods[0]].extent()
+        strip = self.state.layout.grid is None and h < 0.6 * w
+        grid.setRowStretch(0, 1 if strip else 3)
         grid.setRowStretch(1, 2)
         self._shown_scene = None
 

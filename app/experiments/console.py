@@ -89,6 +89,20 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.health_timer = QtCore.QTimer(self)
         self.health_timer.timeout.connect(self._on_health_timer_timeout)
         self.health_timer.start(500)
+        state.layout_changed.connect(self._on_state_layout_changed)
+        self._on_state_layout_changed(state.layout)
+
+    def _on_state_layout_changed(self, layout) -> None:
+        """The paper's experiments (and tuning by feel) run on a grid: on another layout Start
+        is off and the run box says why; the analysis still works."""
+        grid = layout.grid is not None
+        why = ("" if grid else f"The paper's experiments and tuning by feel need a grid profile "
+               f"such as palm-5x6; this profile is a layout ({layout.describe()}). The analysis "
+               "of a results folder works on any profile.")  # fmt: skip
+        self.setup.start_button.setEnabled(grid)
+        self.setup.start_button.setToolTip(why)
+        if not self.running:
+            self.run_label.setText(why or "Set up a session and press Start.")
 
     def _run_box(self) -> QtWidgets.QGroupBox:
         """The run as it goes: participant, trial, progress, health, results path, log."""

@@ -59,7 +59,7 @@ class Discs:
         self.values = np.zeros(layout.size)
         self._items = []
         self._lut = _lut()
-        self._shown = [-1] * layout.size  # the table index each disc shows
+        self._shown = [0] * layout.size  # the table index each disc shows (0: the brush below)
         self.range = self._range(r)
         x0, x1, y0, y1 = self.range
         self.pad_rect = QtCore.QRectF(x0, y0, x1 - x0, y1 - y0)
@@ -101,6 +101,8 @@ class Discs:
         self.frames: dict = {}
         metrics = QtGui.QFontMetrics(self.names[0].textItem.font())
         self._name_px = max(metrics.horizontalAdvance(n) for n in layout.names) + 6
+        seam = self.seams[-1][1].textItem.toPlainText() if self.seams else ""
+        self._seam_px = metrics.horizontalAdvance(seam)
         self._text_px = metrics.height()
         self._label_gap = self._vertical_gap(xy, r)
 
@@ -254,7 +256,9 @@ class Discs:
         """A drawn point kept on the layout: round a wrap, taken into one turn (a path may
         cross the seam); otherwise within the view."""
         x0, x1, y0, y1 = self.range
-        x, y = min(max(x, x0), x1), min(max(y, y0), y1)
+        axis = self.layout.wrap.axis if self.layout.wrap is not None else ""
+        x = x if axis == "x" else min(max(x, x0), x1)
+        y = y if axis == "y" else min(max(y, y0), y1)
         return self.canonical(x, y)
 
     def canonical(self, x: float, y: float) -> tuple[float, float]:
@@ -344,6 +348,8 @@ class Discs:
             item.setAnchor((0.5, 1.0) if up else (0.5, 0.0))
             item.setPos(x, y + r if up else y - r)
             item.setVisible(below or stagger)
+        for _, label in self.seams:  # beside the seam, over a disc when the strip is small
+            label.setVisible(self._seam_px <= 2.5 * spacing)
         texts = self._show_texts and self.size / px_x >= 30
         for item in self.texts:
             item.setVisible(texts)

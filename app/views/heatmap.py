@@ -246,7 +246,7 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         if self.layout.grid is not None or vb.width() <= 0:
             self.plot.setMaximumHeight(self._tallest)
             return
-        w, h = self._spans()
+        w, h = self.extent()
         extra = self.plot.height() - vb.height()
         self.plot.setMaximumHeight(max(vb.width() * h / w + extra, 160.0))
 
@@ -261,17 +261,18 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         self.caption.updateMin()
         self.caption.setMinimumWidth(0)  # the caption follows the plot's width, never sets it
 
-    def _spans(self) -> tuple[float, float]:
+    def extent(self) -> tuple[float, float]:
+        """Width and height of the view, in layout units."""
         x0, x1, y0, y1 = self.cells.range
         return x1 - x0, y1 - y0
 
     def heightForWidth(self, width: int) -> int:  # Qt override
-        w, h = self._spans()
+        w, h = self.extent()
         return round(width * h / (w + 1.5))
 
     def preferred_width(self, height: int) -> int:
         """The width at which the array fills ``height`` (axes and colour bar included)."""
-        w, h = self._spans()
+        w, h = self.extent()
         extra = 110 if self.colorbar is not None else 60
         return round((height - 70) * w / h) + extra
 

@@ -1,0 +1,199 @@
+"""The tuner's views on layouts that are not grids (issue 22 item 2): the heatmap draws the
+belt, the sleeve and the vest as discs where their actuators are, a wrap as one turn with its
+seam, the curves name the actuators, and a path drawn across the seam streams on.
+
+Driven through the state object, checked on what the views show and on what the simulated
+array is sent."""
+
+import numpy as np
+import pyqtgraph as pg
+import pytest
+
+import tactile_core as tc
+from tactile_core.device.profile import find_profile
+from tactile_core.rendering.curves import activation_curves
+from tactile_tuner.layouts import default_shape, fits, shape_defaults, unrolled
+
+pytestmark = pytest.mark.usefixtures("qt_settings")
+
+LAYOUTS = ("belt-8", "sleeve-2x6", "vest-4x5")
+VIRIDIS = pg.colormap.get("viridis").getLookupTable(0.0, 1.0, 256, alpha=False)
+
+
+def open_window(qtbot, profile):
+    from tactile_tuner.window import MainWindow
+
+    win = MainWindow(profile=find_profile(profile), restore=False, process=False)
+    qtbot.addWidget(win)
+    win.resize(1400, 900)
+    win.show()
+    qtbot.waitExposed(win)
+    qtbot.waitUntil(lambda: win.device.stats.frames > 5, timeout=10000)
+    return win
+
+
+@pytest.fixture
+def belt(qtbot):
+    win = open_window(qtbot, "belt-8")
+    yield win
+    win.close()
+
+
+def disc_colour(heatmap, i):
+    return heatmap.cells._spots[i].brush().color().getRgb()[:3]
+
+
+@pytest.mark.parametrize("name", LAYOUTS)
+def test_each_shipped_layout_is_drawn_as_a_disc_per_actuator(qtbot, name):
+    win = open_window(qtbot, name)
+    layout = find_profile(name).layout
+    heatmap = win.tune.heatmap
+    assert win.state.layout == layout and heatmap.layout == layout
+    assert not heatmap.image.isVisible()  # no grid image: discs
+    x, y = heatmap.cells.scatter.getData()
+    assert len(x) == layout.size
+    np.testing.assert_array_equal(np.column_stack([x, y]), layout.xy)
+    names = [item.textItem.toPlainText() for item in heatmap.cells.names]
+    assert names == list(layout.names)
+    seams = heatmap.cells.seams
+    if layout.wrap is None:
+        assert seams == [] and heatmap.cells._ghosts is None
+    else:  # a dashed line at 0 and at the circumference, each labelled
+        c = layout.wrap.circumference
+        assert [line.getData()[0][0] for line, _ in seams] == [0.0, c]
+        assert [label.textItem.toPlainText().strip() for _, label in seams] == [
+            "seam", f"seam ({c:g} = 0)"]  # fmt: skip
+        assert seams[0][0].opts["pen"].style() == pg.QtCore.Qt.PenStyle.DashLine
+        x0, x1, _, _ = heatmap.cells.range
+        assert x0 < 0.0 and x1 > c  # one turn and a little of each neighbour
+    groups = [label.textItem.toPlainText() for _, label in heatmap.cells.groups]
+    assert groups == [group for group, _ in layout.groups]
+    assert win.state.scene.method == "BA" and fits(win.state.scene.shape, layout)
+    assert "playing BA instead of AS" in win.statusBar().currentMessage()
+    win.close()
+
+
+def test_the_discs_show_the_levels_sent(belt, qtbot):
+    belt.state.set_view_mode("sent")
+    belt.state.update(playing=True, hold_s=0.3, dither=False)  # one frame, held
+    heatmap = belt.tune.heatmap
+
+    def shown():
+        sent = belt.device.sent()
+        return sent.any() and np.array_equal(heatmap.values, sent)
+
+    qtbot.waitUntil(shown, timeout=3000)
+    sent = belt.device.sent()
+    assert sent.shape == (8,) and (sent > 0).sum() >= 2
+    for i, v in enumerate(sent):
+        assert disc_colour(heatmap, i) == tuple(VIRIDIS[round(v * 255)]), i
+    lit = int(np.argmax(sent))
+    ghosts = heatmap.cells._ghost_of  # the front actuator, drawn again past the seam
+    assert ghosts == [0]
+    assert heatmap.cells._ghosts[0].brush().color().getRgb()[:3] == disc_colour(heatmap, 0)
+    assert f"actuator {belt.state.layout.names[lit]}" in heatmap.cells.describe(lit)
+
+
+def test_a_frame_changes_only_the_discs_whose_colour_changed(qtbot):
+    from tactile_tuner.views.heatmap import HeatmapView
+
+    view = HeatmapView(layout=find_profile("vest-4x5").layout)
+    qtbot.addWidget(view)
+    calls = []
+    for i, spot in enumerate(view.cells._spots):
+        spot.setBrush = lambda brush, i=i, f=spot.setBrush: (calls.append(i), f(brush))
+    frame = np.zeros(20)
+    frame[[5, 6]] = 0.5
+    view.set_frame(frame)
+    assert sorted(calls) == [5, 6]
+    calls.clear()
+    view.set_frame(frame.copy())  # the same values: nothing to repaint
+    frame[6] = 0.25  # the caller's buffer, changed in place
+    view.set_frame(frame)
+    assert calls == [6] and view.values[6] == 0.25
+    view.set_point((1.0, 2.0))
+    assert view.point.isVisible() and view.point_xy == (1.0, 2.0)
+
+
+def test_the_moving_point_and_the_outline_go_round_the_belt(belt):
+    heatmap = belt.tune.heatmap
+    heatmap.set_point((9.25, 0.0))  # past the seam: drawn a quarter pitch after it
+    assert heatmap.point_xy == (1.25, 0.0)
+    belt.state.update(shape=tc.Line((6.0, 0.0), (10.0, 0.0)))
+    belt.tune.refresh()
+    x, _ = heatmap.outline.getData()
+    assert list(x[:2]) == [6.0, 8.0] and list(x[-2:]) == [0.0, 2.0]  # cut at the seam
+    assert np.isnan(x).sum() == 1
+
+
+def test_the_curves_panel_lists_the_actuators_by_name(belt):
+    belt.tune.refresh()
+    curves = belt.tune.curves
+    scene = belt.state.scene
+    expected = activation_curves(scene.shape, "BA", duration_s=scene.duration_s,
+                                 grid=belt.state.layout, samples=400)  # fmt: skip
+    assert curves.names() == list(expected.names)
+    assert curves.names()[:3] == ["front", "front-left", "left"]  # round the waist
+    assert curves._solid[2].toolTip() == "left"
+    assert set(belt.tune.heatmap._frames) == set(expected.cells)  # rings in the curves' colours
+    belt.tune.lanes_check.setChecked(True)
+    ticks = [label for _, label in curves.getAxis("left")._tickLevels[0]]
+    assert sorted(ticks) == sorted(expected.names)
+    assert curves.getAxis("left").labelText == "actuator"
+
+
+def test_a_path_drawn_across_the_seam_streams_on(belt, qtbot):
+    belt.controls.playback.draw_check.setChecked(True)
+    heatmap = belt.tune.heatmap
+    assert heatmap.drawing and belt.state.scene.method == "BA"
+    levels = belt.device.sent_levels
+    heatmap.point_drawn.emit(7.2, 0.0)  # by front-right (7), towards the seam at 8
+    assert belt.state.scene.shape == tc.Line((7.2, 0.0), (7.2, 0.0))
+    qtbot.waitUntil(lambda: levels()[7] > levels()[0] > 0, timeout=3000)  # front (0) too
+    heatmap.point_drawn.emit(8.3, 0.1)  # dragged past the seam: front, a little way round
+    shape = belt.state.scene.shape
+    assert shape.p0 == pytest.approx((0.3, 0.1))
+    qtbot.waitUntil(lambda: levels()[0] > levels()[1] > 0 and levels()[7] == 0, timeout=3000)
+    heatmap.point_drawn.emit(-0.7, 0.0)  # and back across it, the other way
+    assert belt.state.scene.shape.p0 == pytest.approx((7.3, 0.0))
+    qtbot.waitUntil(lambda: levels()[7] > levels()[0] > 0 and levels()[1] == 0, timeout=3000)
+    assert heatmap.point_xy is None or 0.0 <= heatmap.point_xy[0] <= 8.0
+    heatmap.draw_released.emit()
+    qtbot.waitUntil(lambda: not levels().any(), timeout=3000)
+
+
+def test_clicking_a_disc_pulses_that_actuator_alone(belt, qtbot):
+    before = belt.state.scene
+    belt.tune.heatmap.actuator_clicked.emit(3, False)
+    assert belt.state.scene.method == "PK"
+    qtbot.waitUntil(lambda: belt.device.sent_levels()[3] == 22, timeout=2000)
+    assert (belt.device.sent_levels() > 0).sum() == 1
+    qtbot.waitUntil(lambda: belt.state.scene.shape == before.shape, timeout=2000)  # back
+
+
+def test_a_grid_profile_keeps_the_grid_image(qtbot):
+    win = open_window(qtbot, "grid-3x3")
+    heatmap = win.tune.heatmap
+    assert heatmap.image.isVisible() and heatmap.values.shape == (3, 3)
+    assert heatmap.cells.range == (0.0, 3.0, 0.0, 3.0)
+    assert win.state.scene.method == "AS"  # the paper's methods render on any grid
+    assert fits(win.state.scene.shape, win.state.layout)  # the palm's line did not fit
+    win.close()
+
+
+def test_shapes_for_a_layout_fit_it_and_paths_unroll_at_the_seam():
+    belt, sleeve, vest = (find_profile(n).layout for n in LAYOUTS)
+    assert default_shape(belt) == tc.Line((0.0, 0.0), (8.0, 0.0))  # once round the waist
+    assert default_shape(sleeve) == tc.Line((0.0, 0.0), (6.0, 1.5))  # a helix, wrist to elbow
+    assert isinstance(default_shape(vest), tc.Circle)
+    for layout in (belt, sleeve, vest):
+        assert all(fits(shape, layout) for shape in shape_defaults(layout).values())
+    assert not fits(tc.Circle((2.5, 3.0), 2.0), belt)  # the palm's circle is off the belt
+    assert fits(tc.Line((-3.0, 0.0), (20.0, 0.0)), belt)  # any way round
+    x, y = unrolled([(6.0, 0.0), (10.0, 1.0)], belt)
+    np.testing.assert_allclose(x, [6.0, 8.0, np.nan, 0.0, 2.0])
+    np.testing.assert_allclose(y, [0.0, 0.5, np.nan, 0.5, 1.0])
+    x, _ = unrolled([(1.0, 0.0), (-17.0, 0.0)], belt)  # twice round the other way
+    np.testing.assert_allclose(x, [1, 0, np.nan, 8, 0, np.nan, 8, 0, np.nan, 8, 7])
+    x, _ = unrolled([(0.5, 0.5), (2.5, 1.5)], vest)
+    np.testing.assert_allclose(x, [0.5, 2.5])
