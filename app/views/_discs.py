@@ -121,6 +121,8 @@ class Discs:
             y0, y1 = (lo, hi) if wrap.axis == "y" else (y0, y1)
         if self.layout.groups and (wrap is None or wrap.axis == "x"):
             y1 += 0.35  # the group names above their outlines
+        if wrap is not None and wrap.axis == "x":
+            y1 += 0.5  # a row for the seams' labels, above everything else
         if x1 - x0 < MIN_SPAN:
             x0, x1 = (x0 + x1 - MIN_SPAN) / 2, (x0 + x1 + MIN_SPAN) / 2
         if y1 - y0 < MIN_SPAN:
@@ -340,8 +342,8 @@ class Discs:
         spacing = self.spacing / px_x
         gap = self._label_gap / px_y
         below = self._name_px <= spacing and self._text_px <= gap
-        # names too wide for one row: every other one above its disc, where there is room
-        stagger = not below and self._name_px <= 2 * spacing and 2 * self._text_px <= gap
+        # names too wide for one row of actuators (a belt): every other one above its disc
+        stagger = not below and self._name_px <= 2 * spacing and gap == math.inf
         r = self.size / 2
         for i, (item, (x, y)) in enumerate(zip(self.names, self.layout.positions)):
             up = stagger and i % 2 == 1

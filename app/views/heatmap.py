@@ -98,8 +98,9 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         self.readout = self.addLabel("", row=0, col=0, justify="left")
         self.plot = self.addPlot(row=1, col=0, title=title or None)
         # Below the plot, in the room a layout's strip does not need (see _fit_height): what
-        # the profile says of its layout (which way x runs, where the seam is).
-        self.caption = self.addLabel("", row=2, col=0, justify="left")
+        # the profile says of its layout (which way x runs, where the seam is). In the view's
+        # layout only while it has words: a grid fills the view as it always has.
+        self.caption = pg.LabelItem("", justify="left")
         self._tallest = self.plot.maximumHeight()
         self.plot.setAspectLocked(True)
         self.plot.setMenuEnabled(False)
@@ -253,6 +254,11 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
     def set_caption(self, text: str) -> None:
         """Words under the array (wrapped to its width): the profile's description of a
         layout; "" for none."""
+        shown = self.caption in self.ci.items
+        if text and not shown:
+            self.ci.addItem(self.caption, row=2, col=0)
+        elif not text and shown:
+            self.ci.removeItem(self.caption)
         self.caption.setText(text)
         self._wrap_caption()
 
