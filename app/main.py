@@ -31,7 +31,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--device", metavar="URL", help="port or pyserial URL (default: simulated array)"
     )
     p.add_argument(
-        "--profile", metavar="FILE", help="device profile JSON (default: the palm array)"
+        "--profile",
+        metavar="FILE",
+        help="device profile: a JSON file or a known profile's name, e.g. belt-8 (default: the "
+        "palm array)",
     )
     p.add_argument("--preset", metavar="FILE", help="start from this preset")
     p.add_argument(
@@ -89,11 +92,12 @@ def main(argv=None) -> int:
         print(f"tactile-tuner: {problem}", file=sys.stderr)
         return 1
 
-    from tactile_core.device.profile import ProfileError, load_profile
+    from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_names
     from tactile_core.files.presets import PresetError, load_preset
 
-    try:
-        profile = load_profile(args.profile)
+    try:  # a known profile's name (bundled or the user's), or a file
+        known = args.profile is not None and args.profile in profile_names()
+        profile = find_profile(args.profile) if known else load_profile(args.profile)
         preset = load_preset(args.preset) if args.preset else None
     except (ProfileError, PresetError) as exc:
         print(f"tactile-tuner: error: {exc}", file=sys.stderr)

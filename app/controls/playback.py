@@ -86,8 +86,11 @@ class PlaybackWidget(SceneGroupWidget):
             f"Not available on this layout ({layout.describe()}): the predicted percept is "
             "modelled on a grid of tactors."
         ))  # fmt: skip
-        self.levels_check.setText("values in cells" if layout.grid is not None
-                                  else "values on actuators")  # fmt: skip
+        # (the same words on a layout: a longer label would widen the dock past its width)
+        self.levels_check.setToolTip(tip(
+            "Write each cell's value (or device level) in it" if layout.grid is not None
+            else "Write each actuator's value (or device level) on its disc, where it fits"
+        ))  # fmt: skip
         self.refresh()
 
     def _show(self, scene) -> None:
