@@ -174,7 +174,13 @@ class TunerState(QtCore.QObject):
             self.view_mode_changed.emit("corrected")
             self._post("the predicted view needs a grid: showing corrected intensities")
         self.layout_changed.emit(layout)
-        scene = self._scene
+        self.fit_scene()
+
+    def fit_scene(self) -> None:
+        """Make the scene one the layout can play: BA for a method that cannot render on it, the
+        layout's default shape for a shape that lies off it (a scene made for another array),
+        each said in a status message."""
+        scene, layout = self._scene, self._layout
         if scene.shape is not None and not layouts.fits(scene.shape, layout):
             shape = layouts.default_shape(layout)
             self._post(f"the shape lies off this layout ({layout.describe()}): {shape} instead")

@@ -101,6 +101,8 @@ class MainWindow(QtWidgets.QMainWindow):
         profile = profile or default_profile()
         self.state = TunerState(start.scene if start is not None else None,
                                 layout=profile.layout)  # fmt: skip
+        if start is not None and start.device_profile != profile.name:
+            self.state.fit_scene()  # a scene made for another array: its shape may lie off this
         lead = {} if start is None else {"lead_ms": start.lead_ms}
         self.device = DeviceController(self.state, profile, process=process, realtime=realtime,
                                        **lead)  # fmt: skip

@@ -150,3 +150,17 @@ def test_the_grid_sets_come_back_on_a_grid(belt):  # noqa: F811
     assert belt.files.use_profile("palm-5x6")
     assert belt.compare.methods == list(PAPER_METHODS) == belt.blind.methods
     assert belt.compare.chooser.problem.text() == ""
+
+
+def test_a_scene_made_for_the_belt_starts_on_the_palm_array_with_a_shape_that_fits(qtbot):
+    from tactile_tuner.window import MainWindow
+
+    belt_scene = Scene(tc.Line((0.0, 0.0), (8.0, 0.0)), "RO", mu=0.1, gamma=1.2)
+    preset = Preset(belt_scene, name="round the waist", device_profile="belt-8")
+    win = MainWindow(preset=preset, restore=False, process=False)  # the palm array
+    qtbot.addWidget(win)
+    scene = win.state.scene
+    assert scene.shape == tc.Line((0.5, 1.84), (4.5, 4.16))  # the palm's own line
+    assert (scene.method, scene.mu, scene.gamma) == ("RO", 0.1, 1.2)  # the rest is kept
+    assert "the shape lies off this layout (5 x 6 grid)" in win.statusBar().currentMessage()
+    win.close()
