@@ -62,93 +62,87 @@ def tessellation(layout: Layout) -> Tessellation:
     return Tessellation(layout)
 
 
-@functools.lru_cache(maxsize=64)
-def actuators(layout: Layout) -> _Near:
-    """The actuators of ``layout`` filed by place, for the live path (built once)."""
-    return _Near(layout)
+@functools.lru_cache(maxsize=256)
+def candidates(layout: Layout, reach: float | None = None, k: int = 0) -> _Candidates:
+    """The live path's candidate actuators of ``layout`` per small square of the plane (built
+    once per layout and reach): those within ``reach`` (``k = 0``), or those that may be among
+    the ``k`` nearest (``reach`` None)."""
+    return _Candidates(layout, reach, k)
 
 
-class _Near:
-    """Actuators in square buckets (with a wrap's copies one turn to each side, as many turns
-    as a reach needs), so that the live path visits only those near the point."""
+class _Candidates:
+    """For each square bucket of side ``h`` around the actuators, the actuators that can matter
+    to a point in it, so that the live path computes a handful of distances.
 
-    def __init__(self, layout: Layout):
+    A point ``p`` in a bucket with centre ``c`` and half-diagonal ``b`` is within ``reach`` of
+    actuator ``a`` only if ``d(a, c) < reach + b``; and the ``k`` nearest actuators of ``p`` are
+    within ``D_k(p) <= D_k(c) + b`` of it (``D_k`` moves no faster than the point), hence within
+    ``D_k(c) + 2 b`` of ``c``. Points beyond the table (far outside the array) are checked
+    against every actuator. Distances run the short way round a wrap, computed as the batch
+    path computes them (the same rounding).
+    """
+
+    MAX_BUCKETS = 40_000
+
+    def __init__(self, layout: Layout, reach: float | None, k: int):
         self.layout = layout
+        self.wrap = layout.wrap
         xy = layout.xy
-        self.n = len(xy)
-        if self.n > 1:
+        n = len(xy)
+        self.all = tuple((i, float(x), float(y)) for i, (x, y) in enumerate(xy.tolist()))
+        if n > 1:
             d = layout.distances(xy[:, 0], xy[:, 1])
             np.fill_diagonal(d, np.inf)
             spacing = float(np.median(d.min(axis=1)))
         else:
             spacing = 1.0
-        self.h = max(spacing, 1e-3)
-        self.turns = 0
-        self.wrap = layout.wrap
-        self._points = [(float(x), float(y), i) for i, (x, y) in enumerate(xy.tolist())]
-        self._buckets: dict = {}
-        self._copies(1)
+        margin = reach if reach is not None else 1.0
+        x0, x1, y0, y1 = layout.bounds(margin)
+        h = max(spacing / 2.0, 1e-3)
+        while math.ceil((x1 - x0) / h) * math.ceil((y1 - y0) / h) > self.MAX_BUCKETS:
+            h *= 2.0
+        self.h, self.x0, self.y0 = h, x0, y0
+        ni, nj = math.ceil((x1 - x0) / h), math.ceil((y1 - y0) / h)
+        b = h * math.sqrt(0.5)
+        cx = x0 + (np.arange(ni) + 0.5) * h
+        cy = y0 + (np.arange(nj) + 0.5) * h
+        gx, gy = np.meshgrid(cx, cy, indexing="ij")
+        dist = layout.distances(gx.ravel(), gy.ravel())  # (buckets, n)
+        if reach is None:
+            kth = np.partition(dist, min(k, n) - 1, axis=1)[:, min(k, n) - 1]
+            limit = kth + 2.0 * b
+        else:
+            limit = np.full(len(dist), reach + b)
+        near = dist <= limit[:, None] * (1 + 1e-12) + 1e-12
+        self.table = {}
+        for flat in range(len(dist)):
+            members = np.flatnonzero(near[flat])
+            self.table[divmod(flat, nj)] = tuple(self.all[i] for i in members.tolist())
 
-    def _copies(self, turns: int) -> None:
-        """File the actuators with ``turns`` copies each side of a wrap (once per reach)."""
-        if turns <= self.turns and self._buckets:
-            return
-        self.turns = turns
-        table: dict = {}
-        shifts = [0.0]
-        if self.wrap is not None:
-            c = self.wrap.circumference
-            shifts = [k * c for k in range(-turns, turns + 1)]
-        axis = self.wrap.index if self.wrap is not None else 0
-        for x, y, i in self._points:
-            for s in shifts:
-                px, py = (x + s, y) if axis == 0 else (x, y + s)
-                key = (math.floor(px / self.h), math.floor(py / self.h))
-                table.setdefault(key, []).append((px, py, i))
-        self._buckets = table
+    def near(self, x: float, y: float) -> tuple:
+        """``((index, ax, ay), ...)``: the candidates for the point ``(x, y)``."""
+        wrap = self.wrap
+        kx, ky = x, y
+        if wrap is not None:
+            c = wrap.circumference
+            if wrap.axis == "x":
+                kx = x % c
+            else:
+                ky = y % c
+        key = (math.floor((kx - self.x0) / self.h), math.floor((ky - self.y0) / self.h))
+        return self.table.get(key, self.all)
 
-    def within(self, x: float, y: float, reach: float) -> dict:
-        """``{actuator: distance}`` of the actuators closer than or at ``reach`` (the short
-        way round a wrap)."""
+    def distance(self, x: float, y: float, ax: float, ay: float) -> float:
+        """The distance from ``(x, y)`` to an actuator at ``(ax, ay)``, the short way round."""
+        dx, dy = x - ax, y - ay
         wrap = self.wrap
         if wrap is not None:
             c = wrap.circumference
             if wrap.axis == "x":
-                x = x % c
+                dx -= c * round(dx / c)
             else:
-                y = y % c
-            self._copies(math.ceil(reach / c) + 1)
-        h = self.h
-        i0, i1 = math.floor((x - reach) / h), math.floor((x + reach) / h)
-        j0, j1 = math.floor((y - reach) / h), math.floor((y + reach) / h)
-        if (i1 - i0 + 1) * (j1 - j0 + 1) > 4 * len(self._buckets):  # a reach beyond the array
-            keys = self._buckets.keys()
-        else:
-            keys = [(i, j) for i in range(i0, i1 + 1) for j in range(j0, j1 + 1)]
-        found: dict = {}
-        buckets = self._buckets
-        limit = reach * reach
-        for key in keys:
-            for px, py, i in buckets.get(key, ()):
-                d2 = (x - px) * (x - px) + (y - py) * (y - py)
-                if d2 <= limit:
-                    d = math.sqrt(d2)
-                    if d < found.get(i, math.inf):
-                        found[i] = d
-        return found
-
-    def nearest(self, x: float, y: float, k: int) -> list:
-        """The ``k`` nearest actuators as ``[(distance, index), ...]``, nearest first (ties to
-        the higher index: up/right on a grid)."""
-        k = min(k, self.n)
-        reach = self.h
-        while True:
-            found = self.within(x, y, reach)
-            if len(found) >= k:
-                ranked = sorted((d, -i) for i, d in found.items())
-                if ranked[k - 1][0] <= reach:
-                    return [(d, -i) for d, i in ranked[:k]]
-            reach *= 2.0
+                dy -= c * round(dy / c)
+        return math.sqrt(dx * dx + dy * dy)
 
 
 def _distances(layout: Layout, x, y) -> np.ndarray:
@@ -161,7 +155,8 @@ def _distances(layout: Layout, x, y) -> np.ndarray:
 
 
 def _radial(layout, reach, weight, weight1, strict=True):
-    near = actuators(layout)
+    table = candidates(layout, float(reach))
+    near, distance = table.near, table.distance
 
     def frames(x, y, tol):
         d = _distances(layout, x, y)
@@ -170,12 +165,12 @@ def _radial(layout, reach, weight, weight1, strict=True):
 
     def entries1(x, y, tol):
         out = []
-        for i, d in near.within(x, y, reach).items():
+        for i, ax, ay in near(x, y):
+            d = distance(x, y, ax, ay)
             if d < reach or (not strict and d == reach):
                 v = weight1(d)
                 if v > 0.0:
                     out.append((i, v))
-        out.sort()
         return tuple(out)
 
     return LayoutSampler(frames, entries1)
@@ -213,8 +208,9 @@ def _pk(layout, blend=0.0):
             f"method PK:blend={blend:g} needs a grid (its bands run along the grid's centre "
             f"lines); on this layout ({layout.describe()}) use PK without blend"
         )
-    near = actuators(layout)
     k = min(3, layout.size)
+    table = candidates(layout, None, k)
+    near, distance = table.near, table.distance
 
     def frames(x, y, tol):
         d = _distances(layout, x, y)
@@ -234,12 +230,13 @@ def _pk(layout, blend=0.0):
         return out
 
     def entries1(x, y, tol):
-        ranked = near.nearest(x, y, k)
+        # nearest first, ties to the higher index, as the batch path ranks them
+        ranked = sorted((distance(x, y, ax, ay), -i) for i, ax, ay in near(x, y))[:k]
         if ranked[0][0] <= tol:
-            return ((ranked[0][1], 1.0),)
+            return ((-ranked[0][1], 1.0),)
         inv = [1.0 / d for d, _ in ranked]
         total = sum(inv)
-        return tuple(sorted((i, math.sqrt(v / total)) for v, (_, i) in zip(inv, ranked)))
+        return tuple((-i, math.sqrt(v / total)) for v, (_, i) in zip(inv, ranked))
 
     return LayoutSampler(frames, entries1)
 
@@ -255,11 +252,14 @@ def _ba(layout):
         np.add.at(out, (rows, np.where(index >= 0, index, size)), weight)
         return out[:, :size]
 
-    def entries1(x, y, tol):
+    if not cells.repeats:
+        return LayoutSampler(frames, cells.weights1)
+
+    def entries1(x, y, tol):  # an actuator twice in one cell (a wrap of one or two turns)
         lit: dict = {}
         for i, w in cells.weights1(x, y, tol):
             lit[i] = lit.get(i, 0.0) + w
-        return tuple(sorted(lit.items()))
+        return tuple(lit.items())
 
     return LayoutSampler(frames, entries1)
 

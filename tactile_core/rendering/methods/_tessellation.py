@@ -153,9 +153,14 @@ class Tessellation:
 
     def _build_scalar(self) -> None:
         """Tuples and buckets for :meth:`weights1`."""
+        self.repeats = False
         if self.kind != "plane":
             self._line = (self.line_s.tolist(), self.line_xy.tolist(), self.line_index.tolist())
             return
+        for v in self.verts.tolist():
+            used = [i for i in v if i >= 0]
+            self.repeats |= len(set(used)) < len(used)
+        self.repeats |= bool((self.hull_index[:, 0] == self.hull_index[:, 1]).any())
         cells = []
         for o, m, v, r in zip(self.origin, self.inverse, self.verts, self.rect):
             cells.append(
@@ -169,7 +174,7 @@ class Tessellation:
         lo = self.ext.min(axis=0) - 1.0
         span = self.ext.max(axis=0) + 1.0 - lo
         n_cells = max(len(cells), 1)
-        self._h = max(float(np.sqrt(span[0] * span[1] / n_cells)), 1e-6)
+        self._h = max(float(np.sqrt(span[0] * span[1] / n_cells)) / 2.0, 1e-6)
         self._lo = (float(lo[0]), float(lo[1]))
         buckets: dict = {}
         edges: dict = {}
@@ -378,6 +383,12 @@ def _snap1(u: float, tol: float) -> float:
 def _entries(verts, ws, tol: float, fade: float) -> tuple:
     """Nonzero ``(actuator, weight * fade)``, weights below ``tol`` dropped and the rest
     renormalised (as :meth:`Tessellation.weights` does)."""
-    kept = [(i, w) for i, w in zip(verts, ws) if i >= 0 and w >= tol and w > 0.0]
-    total = sum(w for _, w in kept)
+    kept = [(i, w) for i, w in zip(verts, ws) if i >= 0 and w > 0.0]
+    if all(w >= tol for _, w in kept):
+        if fade == 1.0:
+            return tuple(kept)
+        total = 1.0
+    else:
+        kept = [(i, w) for i, w in kept if w >= tol]
+        total = sum(w for _, w in kept)
     return tuple((i, w / total * fade) for i, w in kept)
