@@ -27,8 +27,9 @@ def test_two_point_const_speed_path_rendered_by_as_at_its_midpoint_time():
     # Traced over its own duration, the frame at 0.5 s into the trace is that frame; the
     # correction then lifts each lit tactor to 0.67 * 0.175 ** 0.7 + 0.33.
     trace = tc.Trace(path, path.duration_s, 0.0, repeat=False)
-    _, frames = tc.render_frames(trace, "AS", mu=0.33, gamma=0.7, n_frames=1, phase_s=0.495,
-                                 sampling=tc.Sampling(100.0))  # fmt: skip
+    _, frames = tc.render_frames(
+        trace, "AS", mu=0.33, gamma=0.7, n_frames=1, phase_s=0.495, sampling=tc.Sampling(100.0)
+    )
     corrected = 0.67 * 0.175**0.7 + 0.33
     assert lit(frames[0]) == pytest.approx({cell: corrected for cell in expected})
 
@@ -69,8 +70,12 @@ def test_envelope_multiplies_raw_intensity_and_zero_stays_zero():
 def test_live_path_equals_batch_on_a_grid_and_a_layout(method):
     # (the pause is off any distance that is a whole number of pitches from an actuator, where
     # d < r decides within rounding)
-    path = TimedPath([(0.4, 0.7), (3.55, 1.2), (3.55, 1.2), (1.0, 4.3)], [0.0, 0.4, 0.7, 1.5],
-                     [0.3, 1.0, 0.8, 0.5], fade="FADE_IN_OUT")  # fmt: skip
+    path = TimedPath(
+        [(0.4, 0.7), (3.55, 1.2), (3.55, 1.2), (1.0, 4.3)],
+        [0.0, 0.4, 0.7, 1.5],
+        [0.3, 1.0, 0.8, 0.5],
+        fade="FADE_IN_OUT",
+    )
     targets = [GRID]
     if method not in tc.METHOD_NAMES:
         targets.append(find_profile("vest-4x5").target)
@@ -78,8 +83,9 @@ def test_live_path_equals_batch_on_a_grid_and_a_layout(method):
         trace = tc.Trace(path, path.duration_s, 0.25)
         sampling = tc.Sampling(200.0, "box", 3)
         live = tc.LiveFrames(trace, method, sampling, 0.2, 0.8, target)
-        _, batch = tc.render_frames(trace, method, sampling=sampling, mu=0.2, gamma=0.8,
-                                    grid=target)  # fmt: skip
+        _, batch = tc.render_frames(
+            trace, method, sampling=sampling, mu=0.2, gamma=0.8, grid=target
+        )
         scalar = np.array([live.frame(k) for k in range(len(batch))])
         assert scalar == pytest.approx(batch, abs=1e-12)
         assert batch.any()
@@ -114,8 +120,13 @@ def test_strokes_merge_only_segments_at_one_speed():
 
 
 def test_forms_round_trip_dict_spec_and_preset(tmp_path):
-    path = TimedPath([(0.5, 1.0), (2.25, 3.5), (4.5, 1.0)], [0.1, 0.9, 2.1], [1.0, 0.25, 0.6],
-                     "CONST_SPEED", "FADE_OUT")  # fmt: skip
+    path = TimedPath(
+        [(0.5, 1.0), (2.25, 3.5), (4.5, 1.0)],
+        [0.1, 0.9, 2.1],
+        [1.0, 0.25, 0.6],
+        "CONST_SPEED",
+        "FADE_OUT",
+    )
     assert shape_from_dict(path.to_dict()) == path
     assert path.spec == "timed:0.5,1,0.1,1,2.25,3.5,0.9,0.25,4.5,1,2.1,0.6;speed;fade-out"
     assert parse_shape(path.spec) == path
