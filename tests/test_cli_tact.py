@@ -41,9 +41,12 @@ def test_render_writes_the_patterns_frames(tmp_path, capsys):
         (["--shape", f"tact:{SAMPLE}", "--tact-position", "Head"], "position 'Head' holds no"),
         (["--shape", f"tact:{SAMPLE}", "--direction", "reverse"], "does not apply to a .tact"),
         (["--shape", f"tact:{SAMPLE}", "--method", "AS"], "AS cannot render on this layout"),
+        (["--shape", "tact:EMPTY"], "no paths or dots to play"),
     ],
 )
 def test_render_refuses_what_it_cannot_play(tmp_path, capsys, extra, message):
+    empty = ts.write(tmp_path, ts.document(), "empty.tact")
+    extra = [f"tact:{empty}" if a == "tact:EMPTY" else a for a in extra]  # a file with nothing
     args = ["render", "--method", "EN", "--profile", "vest-4x5", "--out", str(tmp_path / "f.csv")]
     assert main(args + extra) == 2
     assert message in capsys.readouterr().err

@@ -38,9 +38,12 @@ def load_tact_arg(args):
     if getattr(args, "direction", "forward") != "forward":
         raise UsageError("--direction reverse does not apply to a .tact file (it plays as written)")
     try:
-        return load_pattern(path, getattr(args, "tact_position", None))
+        pattern = load_pattern(path, getattr(args, "tact_position", None))
     except TactError as exc:
         raise UsageError(str(exc)) from None
+    if not pattern.position:
+        raise UsageError(f"{path}: no paths or dots to play (no enabled track holds any)")
+    return pattern
 
 
 def render_tact(args, pattern, method, mu, gamma, target, names, max_frames: int) -> int:
