@@ -133,9 +133,12 @@ def test_positions_disabled_tracks_and_the_end():
     )
     pattern = pattern_of(data)
     assert pattern.position == "VestFront" and pattern.skipped == ()
-    assert pattern.duration_s == pytest.approx(5.0)  # a disabled track still lasts
+    assert pattern.duration_s == pytest.approx(1.0)  # a disabled track is not played
     data["project"]["tracks"][1]["enable"] = True
     assert pattern_of(data).skipped == ("VestBack",)
+    data["project"]["tracks"].reverse()  # positions in the order the file plays them
+    assert pattern_of(data).position == "VestBack"
+    data["project"]["tracks"].reverse()
     assert pattern_of(data, "VestBack").dots(VEST.target)[0][2] == 16
     with pytest.raises(TactError, match="position 'Head' holds no paths or dots"):
         pattern_of(data, "Head")

@@ -121,7 +121,7 @@ class TactPattern:
 
     @property
     def duration_s(self) -> float:
-        """When the file's last effect ends, in seconds (frames after it are empty)."""
+        """When the file's last played effect ends, in seconds (frames after it are empty)."""
         return self.file.duration_s
 
     @property

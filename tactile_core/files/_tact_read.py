@@ -89,7 +89,7 @@ class TactFile:
     paths, dots : tuple
         :class:`TactPath` and :class:`TactDot` records of the enabled tracks.
     duration_s : float
-        When the last effect ends, in seconds.
+        When the last effect of an enabled track ends, in seconds.
     positions : tuple of str
         The positions that hold paths or dots, in the order they first appear.
     """
@@ -200,11 +200,13 @@ class _Reader:
                 self.fail(f"{field}.enable", f"must be true or false, got {_kind(enable)}")
             effects = self.array(track.get("effects", []), f"{field}.effects", MAX_EFFECTS)
             for j, effect in enumerate(effects):
+                found = len(paths) + len(dots)
                 end = self.effect(effect, f"{field}.effects[{j}]", layouts, paths, dots, enable)
-                end_ms = max(end_ms, end)
-        for item in (*paths, *dots):
-            if item.position not in positions:
-                positions.append(item.position)
+                if enable:
+                    end_ms = max(end_ms, end)
+                for item in (*paths, *dots)[found:]:  # in the file's order
+                    if item.position not in positions:
+                        positions.append(item.position)
         return TactFile(
             name=name if isinstance(name, str) else "",
             layouts=layouts,
