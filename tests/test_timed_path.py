@@ -137,6 +137,16 @@ def test_forms_round_trip_dict_spec_and_preset(tmp_path):
     assert parse_shape("timed:0,0,0,1,1,1,2,1").pattern == "CONST_TDM"
 
 
+def test_a_preset_holds_a_path_of_the_most_points(tmp_path):
+    n = 10_000
+    rng = np.random.default_rng(1)
+    path = TimedPath(rng.uniform(0, 5, (n, 2)).tolist(), (np.arange(n) * 1.234567e-3).tolist(),
+                     rng.uniform(0, 1, n).tolist())  # fmt: skip
+    save_preset(Preset(Scene(path, duration_s=path.duration_s)), tmp_path / "long.json")
+    assert (tmp_path / "long.json").stat().st_size > 1 << 20  # past the other files' bound
+    assert load_preset(tmp_path / "long.json").scene.shape == path
+
+
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
