@@ -120,6 +120,12 @@ class TactPattern:
         return self.file.name
 
     @property
+    def key(self) -> tuple:
+        """What makes two patterns the same content (the file's and the position): a copy of
+        the scene in the stream's process goes on playing, not from its start."""
+        return (self.file, self.position)
+
+    @property
     def duration_s(self) -> float:
         """When the file's last played effect ends, in seconds (frames after it are empty)."""
         return self.file.duration_s
