@@ -1,8 +1,10 @@
-"""The tuner's files: presets (open, save, built-in), exports (curves, correction table), and
-device profiles (load one, save a calibrated one)."""
+"""The tuner's files: presets (open, save, built-in), exports (curves, correction table),
+bHaptics ``.tact`` files (import, export, a drawing kept as the shape), and device profiles
+(load one, save a calibrated one)."""
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 from PySide6 import QtCore
@@ -10,6 +12,8 @@ from PySide6 import QtCore
 from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_names
 from tactile_core.files import export
 from tactile_core.files.presets import Preset, PresetError, load_preset, save_preset
+from tactile_core.files.tact import TactError, load_pattern, path_of_scene, write_tact
+from tactile_core.rendering.shapes import TimedPath, path_from_samples
 
 from . import dialogs
 from .views import cell_colors
@@ -55,6 +59,9 @@ class FileActions(QtCore.QObject):
         self.profile_blocked = lambda: ""
         """Why the device profile may not change now ("" when it may): a blind session or a
         run depends on its layout."""
+        self._stroke: list = []
+        """The last drawing in draw mode: ``(seconds, x, y)`` per point drawn."""
+        self._stroke_done = True
 
     def _refused(self) -> bool:
         reason = self.blocked()
@@ -194,6 +201,102 @@ class FileActions(QtCore.QObject):
                                  ["C header (*.h)", "CSV (*.csv)"])  # fmt: skip
         if path:
             self.export_lut(path)
+
+    # --- bHaptics .tact files ---------------------------------------------------------------------
+
+    def import_tact_file(self, path, position=None) -> bool:
+        """Import a ``.tact`` file onto the current array. A position with one path becomes the
+        scene's shape (a time-keyed path, over its own duration); anything more (several paths,
+        dots) plays as the scene's pattern, which the views do not draw."""
+        if self._refused():
+            return False
+        try:
+            pattern = load_pattern(path, position)
+        except (TactError, ValueError) as exc:
+            self.error_raised.emit(str(exc))
+            return False
+        target = self.device.profile.target
+        paths, dots = pattern.paths(target), pattern.dots(target)
+        if not paths and not dots:
+            self.error_raised.emit(f"{path}: no paths or dots to play")
+            return False
+        self.before_load()
+        scene = self.state.scene.replace(epoch=self.state.scene.epoch + 1, playing=True)
+        if len(paths) == 1 and not dots:
+            (shape,) = paths
+            start = shape.times_s[0]
+            shape = TimedPath(shape.points, [s - start for s in shape.times_s], shape.intensities,
+                              shape.pattern, shape.fade)  # fmt: skip
+            scene = scene.replace(shape=shape, duration_s=shape.duration_s, source=None)
+            what = "its path is the shape"
+        else:
+            scene = scene.replace(shape=None, source=pattern)
+            what = (f"{len(paths)} paths and {len(dots)} dots play as a pattern of "
+                    f"{pattern.duration_s:g} s (Restart replays it; the views draw shapes "
+                    "only)")  # fmt: skip
+        self.state.set_scene(scene)
+        self.preset_name, self.preset_notes, self.preset_scene = Path(path).stem, "", scene
+        self.preset_loaded.emit()
+        skipped = f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""
+        self.message_posted.emit(f"imported {pattern.position} of {Path(path).name}: {what}"
+                                 f"{skipped}", 10_000)  # fmt: skip
+        return True
+
+    def export_tact_file(self, path) -> bool:
+        """The scene's trace (its shape over its duration) as a ``.tact`` file, in 0..1 of the
+        current array's actuators."""
+        path = Path(path)
+        try:
+            written = write_tact(path, path_of_scene(self.state.scene), self.device.profile.target,
+                                 name=path.stem)  # fmt: skip
+        except (OSError, ValueError) as exc:
+            self.error_raised.emit(f"could not export {path}: {exc}")
+            return False
+        self.message_posted.emit(f"exported the trace to {written}", 5000)
+        return True
+
+    def ask_import_tact(self) -> None:
+        """Ask for a ``.tact`` file and import it."""
+        path = dialogs.open_path(self.parent(), "tact", "Import bHaptics .tact",
+                                 ["bHaptics (*.tact)"])  # fmt: skip
+        if path:
+            self.import_tact_file(path)
+
+    def ask_export_tact(self) -> None:
+        """Ask where to export the scene's trace as ``.tact``, and export it."""
+        name = f"{self.preset_name or 'trace'}.tact"
+        path = dialogs.save_path(self.parent(), "tact", "Export bHaptics .tact", name,
+                                 ["bHaptics (*.tact)"])  # fmt: skip
+        if path:
+            self.export_tact_file(path)
+
+    def record_drawn_point(self, x: float, y: float) -> None:
+        """Draw mode moved the point to ``(x, y)``: add it to the drawing (a new drawing starts
+        after the pointer was released)."""
+        if self._stroke_done:
+            self._stroke, self._stroke_done = [], False
+        self._stroke.append((time.perf_counter(), float(x), float(y)))
+
+    def end_drawn_stroke(self) -> None:
+        """The pointer was released: the drawing is complete."""
+        self._stroke_done = True
+
+    def keep_drawing(self) -> bool:
+        """Leave draw mode with the last drawing as the scene's shape: a time-keyed path that
+        replays it at the pace it was drawn (save it as a preset, export it as ``.tact``)."""
+        try:
+            shape = path_from_samples([s for s, _, _ in self._stroke],
+                                      [(x, y) for _, x, y in self._stroke])  # fmt: skip
+        except ValueError:
+            self.error_raised.emit("draw a path first: turn on draw mode and drag on the heatmap")
+            return False
+        self.before_load()
+        scene = self.state.scene
+        self.state.set_scene(scene.replace(shape=shape, duration_s=shape.duration_s, source=None,
+                                           epoch=scene.epoch + 1, playing=True))  # fmt: skip
+        self.message_posted.emit(f"the drawing is the shape: {len(shape.points)} points over "
+                                 f"{shape.duration_s:.2f} s", 10_000)  # fmt: skip
+        return True
 
     # --- device profiles -------------------------------------------------------------------------
 

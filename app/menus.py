@@ -43,6 +43,10 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     )
     menu.addAction("Export correction table (CSV, C header)...", files.ask_export_lut)
     menu.addSeparator()
+    menu.addAction("Import .tact...", files.ask_import_tact)
+    menu.addAction("Export .tact...", files.ask_export_tact)
+    menu.addAction("Keep the drawing as the shape", files.keep_drawing)
+    menu.addSeparator()
     # Ctrl+Q on every platform (the standard key is empty on some, e.g. Windows, offscreen).
     menu.addAction("Quit", window.close, QtGui.QKeySequence("Ctrl+Q"))
     menu = bar.addMenu("&Array")

@@ -228,6 +228,8 @@ class MainWindow(QtWidgets.QMainWindow):
         self.files.curves = lambda: tune.shown_curves
         self.files.blocked = lambda: BLIND_FILES if self.blind.active else ""
         self.files.before_load = lambda: gestures.set_draw_mode(False)
+        tune.heatmap.point_drawn.connect(self.files.record_drawn_point)
+        tune.heatmap.draw_released.connect(self.files.end_drawn_stroke)
         self.files.error_raised.connect(self.show_error)
         self.files.message_posted.connect(status)
         self.files.preset_loaded.connect(self._update_title)

@@ -41,7 +41,8 @@ def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None
         "--shape",
         required=True,
         metavar="SHAPE",
-        help="line:X0,Y0,X1,Y1 | circle:CX,CY,R | square:CX,CY,EDGE (grid units)",
+        help="line:X0,Y0,X1,Y1 | circle:CX,CY,R | square:CX,CY,EDGE (grid units) | "
+        "tact:FILE.tact (a bHaptics file)",
     )
     paper, peers = ", ".join(METHOD_NAMES), ", ".join(PEER_METHODS)
     p.add_argument("--method", required=True, metavar="M",
@@ -61,8 +62,9 @@ def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None
 
 
 def _scene(args):
-    """Validate the shared scene arguments; ValueError names what is wrong."""
-    shape = parse_shape(args.shape)
+    """Validate the shared scene arguments; ValueError names what is wrong. The shape is None
+    for ``--shape tact:FILE`` (a pattern, loaded by the command)."""
+    shape = None if args.shape.startswith("tact:") else parse_shape(args.shape)
     method = get_method(args.method).spec
     mu, gamma = check_correction(args.mu, args.gamma)
     _validate.duration("duration", args.duration)

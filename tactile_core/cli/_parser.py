@@ -9,6 +9,7 @@ from ..device._stream_talk import DEFAULT_LEAD_MS
 from ._common import _add_scene_arguments, number, whole
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._render import cmd_emulate, cmd_render, cmd_stream
+from ._tact import add_export_parser, add_tact_option
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -28,6 +29,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "instead of --cols x --rows")  # fmt: skip
     p.add_argument("--rate", type=number, default=100.0, help="frames per second (default 100)")
     p.add_argument("--out", required=True, help="output file, .csv or .npz")
+    add_tact_option(p)
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("stream", help="stream a scene to a device without the GUI")
@@ -75,7 +77,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="send frames this far ahead, to be played at their time by the array's clock "
         f"(arrays with scheduled frames; 0: played on arrival; default {DEFAULT_LEAD_MS:g})",
     )
+    add_tact_option(p)
     p.set_defaults(func=cmd_stream)
+
+    add_export_parser(sub)
 
     p = sub.add_parser("emulate", help="run the device emulator on a pseudo-terminal")
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")

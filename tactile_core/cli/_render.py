@@ -14,6 +14,7 @@ from .._shared.outfile import atomic_file, check_output
 from ..rendering.correction import correct
 from ..rendering.rasterize import check_renders, render
 from ._common import UsageError, _install_stop_handlers, _scene, _seconds
+from ._tact import load_tact_arg, render_tact
 
 MAX_RENDER_FRAMES = 1_000_000
 """Most frames ``tactile render`` writes (duration x rate + 1): 240 MB of floats."""
@@ -33,6 +34,9 @@ def cmd_render(args) -> int:
         grid = profile.target
         check_renders(method, grid)
         names = list(profile.layout.names)
+    pattern = load_tact_arg(args)
+    if pattern is not None:
+        return render_tact(args, pattern, method, mu, gamma, grid, names, MAX_RENDER_FRAMES)
     _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
     out = check_output(args.out, (".csv", ".npz"), "--out")
     n = int(np.floor(args.duration * args.rate + 1e-9))
@@ -80,6 +84,9 @@ def cmd_stream(args) -> int:
     except ProfileError as exc:
         raise UsageError(str(exc)) from None
     check_renders(method, profile.target)
+    pattern = load_tact_arg(args)
+    if pattern is not None and args.seconds is None:
+        args.seconds = max(pattern.duration_s, 0.1)  # the file, then the array off
     scene = Scene(
         shape,
         method,
@@ -93,6 +100,7 @@ def cmd_stream(args) -> int:
         subsamples=args.subsamples,
         dither=args.dither,
         felt_domain=args.felt_amplitude,
+        source=pattern,
     )
     if args.felt_amplitude and profile.response is None:
         raise UsageError(f"--felt-amplitude needs a motor response curve: profile "

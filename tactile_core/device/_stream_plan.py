@@ -49,6 +49,20 @@ def _raise_priority() -> str:
     return ""
 
 
+def same_source(a, b) -> bool:
+    """Whether two scenes' frame sources are the same content (then a new scene with other
+    μ/γ goes on from the same frame instead of restarting): the same object, or two of one
+    type whose ``key`` (a value such as a file's content and position) is equal. A scene sent
+    to the stream's child process arrives as a copy, so identity alone would restart an
+    imported pattern on every slider move."""
+    if a is b:
+        return True
+    if a is None or b is None or type(a) is not type(b):
+        return False
+    key = getattr(a, "key", None)
+    return key is not None and key == getattr(b, "key", None)
+
+
 class _Plan:
     """What the output thread derived from one scene: frames, rate, period."""
 

@@ -40,7 +40,13 @@ import numpy as np
 
 from ..rendering.correction import Dither
 from ..rendering.scene import Scene, check_scene
-from ._stream_plan import _ChannelLevels, _Plan, _raise_priority, _reduce_timer_slack
+from ._stream_plan import (
+    _ChannelLevels,
+    _Plan,
+    _raise_priority,
+    _reduce_timer_slack,
+    same_source,
+)
 from ._stream_stats import StatsBook, StreamStats
 from ._stream_talk import ArrayTalk
 from .host_clock import HostClock
@@ -357,7 +363,7 @@ class Streamer:
                         or plan.scene is None
                         or scene is None
                         or scene.shape != plan.scene.shape
-                        or scene.source is not plan.scene.source
+                        or not same_source(scene.source, plan.scene.source)
                         or scene.epoch != plan.scene.epoch
                     )
                     if restart:

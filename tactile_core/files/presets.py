@@ -34,6 +34,10 @@ from ..rendering.shapes import shape_from_dict
 FORMAT = "tactile-preset"
 VERSION = 1
 
+MAX_PRESET_BYTES = 4 << 20
+"""Largest preset file read (4 MiB): a preset holding a drawn or imported path of 10,000 points
+(:class:`~tactile_core.rendering.shapes.TimedPath`) is about 1.2 MB; the others a few KB."""
+
 _SCENE_KEYS = ("method", "mu", "gamma", "rate_hz", "filter", "subsamples", "dither", "gain",
                "felt_domain")  # fmt: skip
 _TRACE_KEYS = ("duration_s", "pause_s", "direction", "repeat", "emphasis")
@@ -178,7 +182,8 @@ def load_preset(path) -> Preset:
     PresetError
         When the file is missing, unreadable, not JSON, or invalid; nothing is changed.
     """
-    return preset_from_dict(read_json(path, PresetError), source=str(path))
+    data = read_json(path, PresetError, max_bytes=MAX_PRESET_BYTES)
+    return preset_from_dict(data, source=str(path))
 
 
 def save_preset(preset: Preset, path) -> Path:

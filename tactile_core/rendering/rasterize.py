@@ -196,7 +196,9 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     ndarray of float64, shape ``t.shape + (grid.rows, grid.cols)``
         Intensities in [0, 1] indexed ``[..., row, col]``, row 0 at the bottom. Tactors that
         would fall outside the grid are dropped (and, for AS, the area outside it is lost).
-        On a layout that is not a grid, ``t.shape + (layout.size,)`` in actuator order.
+        On a layout that is not a grid, ``t.shape + (layout.size,)`` in actuator order. For a
+        shape with an intensity envelope (a :class:`~tactile_core.rendering.shapes.TimedPath`)
+        the method's intensities are multiplied by ``shape.intensity(t)``.
 
     Raises
     ------
@@ -239,7 +241,18 @@ def _render_layout(shape, m, t: np.ndarray, layout: Layout) -> np.ndarray:
     sampler = layout_sampler(m, layout)
     flat_t = t.reshape(-1)
     x, y = shape.xy(flat_t)
-    return sampler.frames(x, y, shape.snap_tol).reshape((*t.shape, layout.size))
+    frames = _enveloped(shape, flat_t, sampler.frames(x, y, shape.snap_tol))
+    return frames.reshape((*t.shape, layout.size))
+
+
+def _enveloped(shape, flat_t: np.ndarray, frames: np.ndarray) -> np.ndarray:
+    """``frames`` (one per sample of ``flat_t``) times the shape's intensity envelope, for a
+    shape that has one (a time-keyed path); before the correction, so 0 stays 0."""
+    if shape is None or not shape.has_envelope:
+        return frames
+    scale = shape.intensity(flat_t).reshape((-1,) + (1,) * (frames.ndim - 1))
+    frames *= scale
+    return frames
 
 
 _FLOAT64 = np.dtype(np.float64)
@@ -252,17 +265,19 @@ _POINTWISE = 8
 def _render_valid(shape, m, t: np.ndarray, grid: Grid) -> np.ndarray:
     """:func:`render` on checked arguments (``t`` a float64 array within [0, 1])."""
     n = t.size
-    if n <= _POINTWISE and not m.plugin:
-        frames = _render_points(shape, m, t.reshape(-1).tolist(), grid)
-        if frames is not None:
-            return frames.reshape(t.shape + grid.shape)
     flat_t = t.reshape(-1)
+    if n <= _POINTWISE and not m.plugin:
+        frames = _render_points(shape, m, flat_t.tolist(), grid)
+        if frames is not None:
+            return _enveloped(shape, flat_t, frames.reshape((n, *grid.shape))).reshape(
+                t.shape + grid.shape
+            )
     if m.sample_cells is not None:
         xy = shape.xy_rows(flat_t)
     else:
         xy = shape.xy(flat_t)
     frames = _sample_and_scatter(m, shape, xy, flat_t, shape.snap_tol, grid)
-    return frames.reshape(t.shape + grid.shape)
+    return _enveloped(shape, flat_t, frames).reshape(t.shape + grid.shape)
 
 
 def _sample_and_scatter(m, shape, xy, t, tol, grid: Grid) -> np.ndarray:
@@ -374,17 +389,27 @@ def render_point(shape, method, t: float, grid: Grid = _DEFAULT_GRID) -> tuple:
     if not 0.0 <= t <= 1.0:
         raise ValueError(f"t must be finite and within [0, 1], got {_validate.shown(t)}")
     if isinstance(grid, Layout):
-        x, y = shape.point(float(t))
-        entries = layout_sampler(m, grid).entries1(x, y, shape.snap_tol)
-        return tuple((i, v) for i, v in entries if v > 0.0)
+        return layout_entries(shape, layout_sampler(m, grid).entries1, float(t))
     return point_entries(shape, m.sample1, float(t), grid.cols, grid.rows)
 
 
 def point_entries(shape, sample1, t: float, ncols: int, nrows: int) -> tuple:
     """Unchecked core of :func:`render_point` for callers that validated once up front."""
     x, y = shape.point(t)
-    return tuple(
+    lit = tuple(
         (r * ncols + c, v)
         for c, r, v in sample1(shape, x, y, t, shape.snap_tol)
         if v > 0.0 and 0 <= c < ncols and 0 <= r < nrows
     )
+    if shape.has_envelope:
+        k = shape.intensity1(t)
+        return tuple((i, v * k) for i, v in lit if v * k > 0.0)
+    return lit
+
+
+def layout_entries(shape, entries1, t: float) -> tuple:
+    """:func:`point_entries` on a layout that is not a grid, for a sampler's ``entries1``:
+    ``((actuator, raw intensity), ...)`` of the lit actuators, the envelope applied."""
+    x, y = shape.point(t)
+    k = shape.intensity1(t) if shape.has_envelope else 1.0
+    return tuple((i, v * k) for i, v in entries1(x, y, shape.snap_tol) if v * k > 0.0)

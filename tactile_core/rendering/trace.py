@@ -36,7 +36,7 @@ from .geometry import Grid
 from .layout import Layout
 from .methods import get_method
 from .methods._layout import layout_sampler
-from .rasterize import check_shape, check_target, frame_shape, point_entries, render
+from .rasterize import check_shape, check_target, frame_shape, layout_entries, point_entries, render
 from .shapes import Shape
 
 DIRECTIONS = ("forward", "reverse")
@@ -481,10 +481,8 @@ class LiveFrames:
             t = trace.parameter1(start + offset)
             if t is None:
                 continue
-            x, y = shape.point(t)
-            for i, v in entries1(x, y, shape.snap_tol):
-                if v > 0.0:
-                    acc[i] = acc.get(i, 0.0) + correct1(v, self.mu, self.gamma, self.gain)
+            for i, v in layout_entries(shape, entries1, t):
+                acc[i] = acc.get(i, 0.0) + correct1(v, self.mu, self.gamma, self.gain)
         scale = self._scale
         return tuple((i, v * scale) for i, v in acc.items())
 

@@ -10,6 +10,9 @@ The contract fixes the parameterisations:
                        proportional to arc length
 ``Polyline(points)``   through the points in order, ``t`` proportional to arc length;
                        ``closed=True`` returns to the first point
+``TimedPath(points,    through the points at their times (``CONST_TDM``) or at one speed
+times_s, ...)``        (``CONST_SPEED``), ``t`` the fraction of the duration; beyond the
+                       contract, with an intensity envelope (bHaptics' path mode)
 =====================  ===============================================================
 
 Besides ``f(t)``, every shape describes itself as *strokes* for the midpoint methods (MM, IM):
@@ -21,7 +24,7 @@ including the 45-degree points) and the left and right arcs y-major.
 
 Inside: ``_shape`` holds the base class, :class:`Line` and :class:`Circle`; ``_polyline``
 :class:`Polyline` and :class:`Square`; ``_strokes`` the stroke machinery; ``_parse`` the text
-and JSON forms (:func:`parse_shape`, :func:`shape_from_dict`).
+and JSON forms (:func:`parse_shape`, :func:`shape_from_dict`); ``_timed`` :class:`TimedPath`.
 """
 
 # ``_name as _name``: helpers of the module this package was, still importable from here.
@@ -33,9 +36,12 @@ from ._shape import Circle, Line, Shape
 from ._shape import _fmt as _fmt
 from ._strokes import TWO_PI, ArcStrokes, LineStrokes, Run, Strokes
 from ._strokes import _reciprocal as _reciprocal
+from ._timed import FADES, PATTERNS, TimedPath, path_from_samples
 
 __all__ = [
+    "FADES",
     "MAX_POINTS",
+    "PATTERNS",
     "SHAPE_KINDS",
     "TWO_PI",
     "ArcStrokes",
@@ -47,6 +53,8 @@ __all__ = [
     "Shape",
     "Square",
     "Strokes",
+    "TimedPath",
     "parse_shape",
+    "path_from_samples",
     "shape_from_dict",
 ]

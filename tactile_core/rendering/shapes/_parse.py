@@ -5,8 +5,9 @@ from __future__ import annotations
 from ..._shared import validate as _validate
 from ._polyline import MAX_POINTS, Polyline, Square
 from ._shape import Circle, Line, Shape
+from ._timed import SPEC_OPTIONS, TimedPath
 
-SHAPE_KINDS = ("line", "circle", "square", "polyline", "polygon")
+SHAPE_KINDS = ("line", "circle", "square", "polyline", "polygon", "timed")
 _NUMBER = _validate.DECIMAL
 """A decimal number as a user types it (ASCII digits: no nan, inf, hex, underscores or
 full-width digits)."""
@@ -19,7 +20,10 @@ def parse_shape(text: str) -> Shape:
     ----------
     text : str
         ``line:X0,Y0,X1,Y1``, ``circle:CX,CY,R``, ``square:CX,CY,EDGE``, or (beyond the
-        contract) ``polyline:X0,Y0,X1,Y1,...`` and ``polygon:...`` (closed).
+        contract) ``polyline:X0,Y0,X1,Y1,...``, ``polygon:...`` (closed) and
+        ``timed:X0,Y0,T0,I0,X1,Y1,T1,I1,...`` (a :class:`TimedPath`: points, times in seconds
+        and intensities, ``CONST_TDM``), optionally followed by ``;speed`` (``CONST_SPEED``) and
+        ``;fade-in``, ``;fade-out`` or ``;fade-in-out``.
 
     Returns
     -------
@@ -46,6 +50,8 @@ def parse_shape(text: str) -> Shape:
         raise ValueError(
             f"shape kind must be one of {', '.join(SHAPE_KINDS)}, got {_validate.shown(kind)}"
         )
+    if kind == "timed":
+        return _parse_timed(args)
     parts = [a.strip() for a in args.split(",")] if args.strip() else []
     if len(parts) > 2 * MAX_POINTS:
         raise ValueError(f"shape {kind}: at most {2 * MAX_POINTS} numbers, got {len(parts)}")
@@ -73,6 +79,38 @@ def parse_shape(text: str) -> Shape:
         raise ValueError(f"shape {kind}: {exc}") from None
 
 
+def _parse_timed(args: str) -> TimedPath:
+    """The ``timed:`` form: quadruples ``x, y, time_s, intensity``, then ``;options``."""
+    numbers, *words = [a.strip() for a in args.split(";")]
+    options = {}
+    for word in words:
+        if word.lower() not in SPEC_OPTIONS:
+            raise ValueError(
+                f"shape timed: options are {', '.join(SPEC_OPTIONS)}, got {_validate.shown(word)}"
+            )
+        key, value = SPEC_OPTIONS[word.lower()]
+        options[key] = value
+    parts = [a.strip() for a in numbers.split(",")] if numbers else []
+    if len(parts) > 4 * MAX_POINTS:
+        raise ValueError(f"shape timed: at most {4 * MAX_POINTS} numbers, got {len(parts)}")
+    bad = next((a for a in parts if not _NUMBER.fullmatch(a)), None)
+    if bad is not None:
+        raise ValueError(
+            f"shape timed: numbers must be decimal numbers separated by commas, "
+            f"got {_validate.shown(bad)}"
+        )
+    if len(parts) < 8 or len(parts) % 4:
+        raise ValueError(
+            "shape timed: needs x, y, time_s, intensity for each of at least 2 points "
+            f"(a multiple of 4 numbers, >= 8), got {len(parts)}"
+        )
+    v = [float(a) for a in parts]
+    try:
+        return TimedPath(list(zip(v[0::4], v[1::4])), v[2::4], v[3::4], **options)
+    except ValueError as exc:
+        raise ValueError(f"shape timed: {exc}") from None
+
+
 def shape_from_dict(data) -> Shape:
     """Build a shape from :meth:`Shape.to_dict` output; ``ValueError`` names a bad field."""
     if not isinstance(data, dict):
@@ -83,6 +121,7 @@ def shape_from_dict(data) -> Shape:
         "circle": ("center", "radius"),
         "square": ("center", "edge"),
         "polyline": ("points",),
+        "timed_path": ("points", "times_s"),
     }
     if not isinstance(kind, str) or kind not in fields:
         raise ValueError(
@@ -98,6 +137,9 @@ def shape_from_dict(data) -> Shape:
             return Circle(data["center"], data["radius"])
         if kind == "square":
             return Square(data["center"], data["edge"])
+        if kind == "timed_path":
+            options = {k: data[k] for k in ("intensities", "pattern", "fade") if k in data}
+            return TimedPath(data["points"], data["times_s"], **options)
         return Polyline(data["points"], closed=data.get("closed", False))
     except ValueError as exc:
         raise ValueError(f"shape.{exc}") from None

@@ -17,6 +17,18 @@ class Shape:
     """Base class of the traced shapes: a parametric curve ``f(t)``, ``t`` in [0, 1]."""
 
     closed: bool = False
+    has_envelope: bool = False
+    """True for a shape whose :meth:`intensity` is not 1 everywhere (a time-keyed path): the
+    renderer then multiplies the raw intensities by it."""
+
+    def intensity(self, t) -> np.ndarray:
+        """The intensity envelope at ``t`` (float or array in [0, 1]): 1 for the shapes of
+        the contract; a time-keyed path interpolates its points' intensities."""
+        return np.ones(np.shape(t))
+
+    def intensity1(self, t: float) -> float:
+        """Scalar :meth:`intensity` with plain floats, for the live path."""
+        return 1.0
 
     def f(self, t) -> np.ndarray:
         """Points of the trace.

@@ -1,0 +1,155 @@
+"""bHaptics ``.tact`` files on the command line: ``--shape tact:FILE`` for ``render`` and
+``stream`` (the file as a pattern on the profile's array), and ``tactile export-tact``."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from .._shared import validate as _validate
+from .._shared.outfile import atomic_file, check_output
+from ..files.tact import POSITIONS, TactError, load_pattern, path_of_scene, write_tact
+from ._common import UsageError, number, whole
+
+PREFIX = "tact:"
+
+
+def is_tact(shape_text) -> bool:
+    """True for ``--shape tact:FILE``."""
+    return isinstance(shape_text, str) and shape_text.startswith(PREFIX)
+
+
+def add_tact_option(p: argparse.ArgumentParser) -> None:
+    """``--tact-position`` of ``render`` and ``stream``."""
+    p.add_argument("--tact-position", default=None, metavar="NAME",
+                   help="with --shape tact:FILE, the device position to play (VestFront, ...; "
+                   "default: the first with content)")  # fmt: skip
+
+
+def load_tact_arg(args):
+    """The pattern of ``--shape tact:FILE`` (None for another shape); a bad file is a usage
+    error naming the field."""
+    if not is_tact(args.shape):
+        return None
+    path = args.shape[len(PREFIX) :]
+    if not path:
+        raise UsageError("--shape tact: needs a file, as in tact:pattern.tact")
+    if getattr(args, "direction", "forward") != "forward":
+        raise UsageError("--direction reverse does not apply to a .tact file (it plays as written)")
+    try:
+        pattern = load_pattern(path, getattr(args, "tact_position", None))
+    except TactError as exc:
+        raise UsageError(str(exc)) from None
+    if not pattern.position:
+        raise UsageError(f"{path}: no paths or dots to play (no enabled track holds any)")
+    return pattern
+
+
+def render_tact(args, pattern, method, mu, gamma, target, names, max_frames: int) -> int:
+    """``tactile render --shape tact:FILE``: the pattern's frames as streamed (frame ``k``
+    samples the middle of ``[k / rate, (k + 1) / rate)``), until its last effect ends; at most
+    ``max_frames`` of them."""
+    _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
+    out = check_output(args.out, (".csv", ".npz"), "--out")
+    n = int(np.ceil(pattern.duration_s * args.rate - 1e-9))
+    if n > max_frames:
+        raise ValueError(f"duration x rate must give at most {max_frames} frames, got {n}")
+    time_s, frames = pattern.frames(method, target, rate_hz=args.rate, mu=mu, gamma=gamma)
+    try:
+        if out.suffix.lower() == ".npz":
+            with atomic_file(out, binary=True) as f:
+                np.savez(f, time=time_s, frames=frames)
+        else:
+            table = np.column_stack([time_s, frames.reshape(len(time_s), target.size)])
+            with atomic_file(out) as f:
+                np.savetxt(f, table, delimiter=",", header=",".join(["time", *names]),
+                           comments="", fmt="%.10g")  # fmt: skip
+    except OSError as exc:
+        raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
+    skipped = f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""
+    print(f"wrote {len(time_s)} frames of {pattern.position} of {args.shape[len(PREFIX) :]} "
+          f"({method}, mu={mu:g}, gamma={gamma:g}) to {out}{skipped}")  # fmt: skip
+    return 0
+
+
+def add_export_parser(sub) -> None:
+    """The ``export-tact`` sub-command."""
+    p = sub.add_parser("export-tact", help="write a shape's trace or a preset's as a bHaptics "
+                       ".tact file")  # fmt: skip
+    source = p.add_mutually_exclusive_group(required=True)
+    source.add_argument("--shape", metavar="SHAPE", help="line:..., circle:..., timed:...")
+    source.add_argument("--preset", metavar="FILE", help="a preset (its shape and timing)")
+    p.add_argument(
+        "--duration",
+        type=number,
+        default=None,
+        help="seconds per trace (default 2; a preset's; a timed path's own)",
+    )
+    p.add_argument("--direction", choices=("forward", "reverse"), default=None)
+    p.add_argument("--profile", default=None,
+                   help="the array the shape is drawn on (default: the preset's, else the palm "
+                   "array); its actuators span 0..1 in the file")  # fmt: skip
+    p.add_argument("--cols", type=whole, default=None, help="a grid instead of a profile")
+    p.add_argument("--rows", type=whole, default=None)
+    p.add_argument("--position", choices=tuple(POSITIONS), default="VestFront",
+                   help="the bHaptics device position (default VestFront)")  # fmt: skip
+    p.add_argument("--name", default=None, help="the project's name (default: the file's stem)")
+    p.add_argument("--out", required=True, help="output file, .tact")
+    p.set_defaults(func=cmd_export_tact)
+
+
+def cmd_export_tact(args) -> int:
+    """Write a scene's trace as a ``.tact`` file with one ``PATH_MODE`` effect."""
+    from ..device.profile import ProfileError, find_profile, load_profile
+    from ..files.presets import PresetError, load_preset
+    from ..rendering.geometry import Grid
+    from ..rendering.scene import Scene
+    from ..rendering.shapes import TimedPath, parse_shape
+
+    out = check_output(args.out, (".tact",), "--out")
+    profile_name = args.profile
+    if args.preset is not None:
+        try:
+            preset = load_preset(args.preset)
+        except PresetError as exc:
+            raise UsageError(str(exc)) from None
+        scene = preset.scene
+        if profile_name is None and args.cols is None:
+            try:
+                target = find_profile(preset.device_profile).target
+            except ProfileError as exc:
+                raise UsageError(f"{exc} (name the array with --profile)") from None
+    else:
+        shape = parse_shape(args.shape)
+        duration = shape.duration_s if isinstance(shape, TimedPath) else 2.0
+        scene = Scene(shape, duration_s=duration)
+    changes = {}
+    if args.duration is not None:
+        changes["duration_s"] = _validate.duration("duration", args.duration)
+        if isinstance(scene.shape, TimedPath):
+            raise UsageError("--duration does not apply to a timed path (it keeps its times)")
+    if args.direction is not None:
+        changes["direction"] = args.direction
+    scene = scene.replace(**changes)
+    if args.cols is not None or args.rows is not None:
+        if profile_name is not None:
+            raise UsageError("--profile and --cols/--rows name the array twice: give one")
+        cols = 5 if args.cols is None else args.cols
+        rows = 6 if args.rows is None else args.rows
+        for name, value in (("cols", cols), ("rows", rows)):
+            _validate.integer(name, value, 1, 64)
+        target = Grid(cols, rows)
+    elif profile_name is not None or args.preset is None:
+        try:
+            target = load_profile(profile_name).target
+        except ProfileError as exc:
+            raise UsageError(str(exc)) from None
+    path = path_of_scene(scene)
+    name = args.name if args.name is not None else out.stem
+    try:
+        write_tact(out, path, target, name=name, position=args.position)
+    except OSError as exc:
+        raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
+    print(f"wrote {len(path.points)} points over {path.duration_s:g} s ({path.pattern}) to {out}")
+    return 0

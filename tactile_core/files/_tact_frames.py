@@ -1,0 +1,356 @@
+"""An imported ``.tact`` file as a *pattern*: frames on this array, by the scene's method.
+
+A :class:`TactPattern` is one device position of a file, kept in bHaptics' 0..1 coordinates;
+it is mapped onto an array only when it is played (:meth:`TactPattern.live`, the frame source
+a :class:`~tactile_core.rendering.scene.Scene` takes) or rendered (:meth:`TactPattern.frames`).
+
+**The coordinate mapping.** bHaptics' ``(x, y)`` in 0..1, y downward, goes onto the extent of
+the array's actuator centres ``[x0, x1] x [y0, y1]`` (:func:`layout_box`):
+``X = x0 + x (x1 - x0)``, ``Y = y1 - y (y1 - y0)``. Corner motors land on corner actuators, so a
+4 x 5 vest file plays motor for motor on a 4 x 5 vest profile; on the 5 x 6 palm array the
+path stretches over the tactors' centres (0.5..4.5 x 0.5..5.5). An axis along which all
+actuators line up (a belt's y) maps every coordinate to that line.
+
+**A frame.** At each sample time every path active then is rendered by the method on this
+array (its intensity envelope included), every dot active then lights the actuator nearest to
+its motor's place (mapped as above) at its intensity, and the raw intensities are combined by
+taking the **maximum per actuator**; then the correction (mu, gamma, gain) applies and, with the
+box filter, the frame averages its sub-samples. Frame ``k`` covers ``[k / rate, (k + 1) / rate)``
+seconds of the file; after the last effect's end (:attr:`TactPattern.duration_s`) frames are
+empty.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+import threading
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from .._shared import validate as _validate
+from ..rendering.correction import check_correction, correct, correct1
+from ..rendering.layout import Layout, as_layout
+from ..rendering.methods import get_method
+from ..rendering.methods._layout import layout_sampler
+from ..rendering.rasterize import (
+    check_renders,
+    check_target,
+    frame_shape,
+    layout_entries,
+    point_entries,  # fmt: skip
+    render,
+)
+from ..rendering.shapes import TimedPath
+from ..rendering.trace import MAX_SAMPLES, Sampling
+from ._tact_read import TactError, TactFile
+
+MAX_TABLE_FRAMES = 200_000
+"""Most frames :meth:`PatternFrames.precompute` tabulates (11 minutes at 300 Hz); longer
+patterns are computed frame by frame as they play."""
+
+
+def layout_box(target) -> tuple[float, float, float, float]:
+    """``(x0, x1, y0, y1)``: the extent of the actuator centres of a Grid or Layout, in layout
+    units (a grid's ``(0.5, cols - 0.5, 0.5, rows - 0.5)``)."""
+    xy = as_layout(check_target(target)).xy
+    return (float(xy[:, 0].min()), float(xy[:, 0].max()), float(xy[:, 1].min()),
+            float(xy[:, 1].max()))  # fmt: skip
+
+
+def unit_to_layout(x: float, y: float, box) -> tuple[float, float]:
+    """bHaptics' ``(x, y)`` (0..1, y downward) to layout units in ``box`` (:func:`layout_box`)."""
+    x0, x1, y0, y1 = box
+    return (x0 + x * (x1 - x0), y1 - y * (y1 - y0))
+
+
+def layout_to_unit(x: float, y: float, box) -> tuple[float, float]:
+    """Layout units back to bHaptics' 0..1 (y downward), clipped to [0, 1]; an axis of zero
+    extent gives 0.5."""
+    x0, x1, y0, y1 = box
+    u = (x - x0) / (x1 - x0) if x1 > x0 else 0.5
+    v = (y1 - y) / (y1 - y0) if y1 > y0 else 0.5
+    return (min(max(u, 0.0), 1.0), min(max(v, 0.0), 1.0))
+
+
+def fade1(fade: str, u: float) -> float:
+    """A playback type's factor at ``u`` in [0, 1] of its span (linear ramps)."""
+    if fade == "FADE_IN":
+        return u
+    if fade == "FADE_OUT":
+        return 1.0 - u
+    if fade == "FADE_IN_OUT":
+        return 1.0 - abs(2.0 * u - 1.0)
+    return 1.0
+
+
+@dataclass(frozen=True, eq=False)
+class TactPattern:
+    """One device position of a ``.tact`` file, to play on any array.
+
+    Parameters
+    ----------
+    file : TactFile
+        The checked file (:func:`~tactile_core.files.tact.read_tact`).
+    position : str, optional
+        The device position to play (``"VestFront"``...); by default the first that holds
+        paths or dots. The others are listed in :attr:`skipped`.
+    """
+
+    file: TactFile
+    position: str | None = None
+
+    def __post_init__(self):
+        positions = self.file.positions
+        if self.position is None:
+            object.__setattr__(self, "position", positions[0] if positions else "")
+        elif self.position not in positions:
+            held = ", ".join(positions) or "none"
+            raise TactError(
+                f"position {_validate.shown(self.position)} holds no paths or dots in this file "
+                f"(positions with content: {held})"
+            )
+
+    @property
+    def name(self) -> str:
+        """The project's name."""
+        return self.file.name
+
+    @property
+    def key(self) -> tuple:
+        """What makes two patterns the same content (the file's and the position): a copy of
+        the scene in the stream's process goes on playing, not from its start."""
+        return (self.file, self.position)
+
+    @property
+    def duration_s(self) -> float:
+        """When the file's last played effect ends, in seconds (frames after it are empty)."""
+        return self.file.duration_s
+
+    @property
+    def skipped(self) -> tuple:
+        """The file's other positions with content, which this pattern does not play."""
+        return tuple(p for p in self.file.positions if p != self.position)
+
+    def paths(self, target) -> tuple:
+        """The position's paths on ``target`` (a Grid or Layout): :class:`TimedPath` shapes in
+        layout units, their times in seconds from the file's start."""
+        return _paths(self, check_target(target))
+
+    def dots(self, target) -> tuple:
+        """The position's dots on ``target``: ``(start_s, end_s, actuator, intensity, fade)``,
+        each motor on the actuator nearest to its place."""
+        return _dots(self, check_target(target))
+
+    def live(self, method, target, sampling, mu, gamma, gain=1.0) -> PatternFrames:
+        """The frame source a :class:`~tactile_core.rendering.scene.Scene` plays (see
+        :class:`PatternFrames`)."""
+        return PatternFrames(self, method, target, sampling, mu, gamma, gain)
+
+    def frames(self, method, target, *, rate_hz: float = 300.0, sampling: Sampling | None = None,
+               mu: float = 0.0, gamma: float = 1.0, gain: float = 1.0,
+               corrected: bool = True) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+        """All frames of the pattern, as they are streamed.
+
+        Parameters
+        ----------
+        method : str
+            The rendering method (on a layout that is not a grid, one that works there).
+        target : Grid or Layout
+            The array.
+        rate_hz : float, keyword-only
+            Frames per second (used when ``sampling`` is None, with point sampling).
+        sampling : Sampling, optional
+            Rate and temporal filter, as the stream's.
+        mu, gamma, gain : float, keyword-only
+            The correction; the defaults leave intensities as rendered.
+        corrected : bool
+            False: the combined raw intensities (filtered, uncorrected).
+
+        Returns
+        -------
+        time_s : ndarray of float64, shape (n,)
+            Start of each frame, ``n = ceil(duration_s * rate)``.
+        frames : ndarray of float64, shape ``(n, rows, cols)`` (``(n, size)`` on a layout)
+            Intensities in [0, 1].
+        """
+        sampling = Sampling(rate_hz, "point") if sampling is None else sampling
+        live = self.live(method, target, sampling, mu, gamma, gain)
+        return live.render(0, live.n_frames, corrected=corrected)
+
+
+@lru_cache(maxsize=16)
+def _paths(pattern: TactPattern, target) -> tuple:
+    box = layout_box(target)
+    out = []
+    for path in pattern.file.paths:
+        if path.position == pattern.position:
+            points = [unit_to_layout(x, y, box) for x, y in path.points]
+            out.append(TimedPath(points, path.times_s, path.intensities, path.pattern, path.fade))
+    return tuple(out)
+
+
+@lru_cache(maxsize=16)
+def _dots(pattern: TactPattern, target) -> tuple:
+    box = layout_box(target)
+    layout = as_layout(target)
+    motors = pattern.file.layouts.get(pattern.position, {})
+    out = []
+    for dot in pattern.file.dots:
+        if dot.position == pattern.position:
+            x, y = unit_to_layout(*motors[dot.index], box)
+            out.append((dot.start_s, dot.end_s, layout.nearest(x, y), dot.intensity, dot.fade))
+    return tuple(out)
+
+
+class PatternFrames:
+    """A pattern's frames on one array, served one at a time (the ``Scene.source`` protocol).
+
+    :meth:`entries` serves frame ``k`` from a table when :meth:`precompute` has built it (the
+    vectorised :meth:`render`) and otherwise computes it with scalar arithmetic on the lit
+    actuators; both give the same values (tested).
+
+    Parameters
+    ----------
+    pattern : TactPattern
+    method : str or Method
+    target : Grid or Layout
+    sampling : Sampling
+    mu, gamma, gain : float
+        The correction.
+    """
+
+    def __init__(self, pattern, method, target, sampling, mu, gamma, gain=1.0):
+        if not isinstance(sampling, Sampling):
+            raise ValueError(f"sampling must be a Sampling, got {_validate.shown(sampling)}")
+        self.pattern = pattern
+        self.method = get_method(method)
+        self.grid = check_target(target)
+        check_renders(self.method, self.grid)
+        self.sampling = sampling
+        self.mu, self.gamma = check_correction(mu, gamma)
+        self.gain = _validate.in_range("gain", gain, 0.0, 1.0)
+        self.n_frames = max(0, math.ceil(pattern.duration_s * sampling.rate_hz - 1e-9))
+        paths = sorted(pattern.paths(self.grid), key=lambda p: p.times_s[0])
+        self._paths = [(p.times_s[0], p.times_s[-1], p) for p in paths]
+        self._starts = [s for s, _, _ in self._paths]
+        self._longest = max((e - s for s, e, _ in self._paths), default=0.0)
+        self._dots = pattern.dots(self.grid)
+        if isinstance(self.grid, Layout):
+            entries1 = layout_sampler(self.method, self.grid).entries1
+            self._entries = lambda shape, t: layout_entries(shape, entries1, t)
+        else:
+            sample1, cols, rows = self.method.sample1, self.grid.cols, self.grid.rows
+            self._entries = lambda shape, t: point_entries(shape, sample1, t, cols, rows)
+        self._offsets = sampling.offsets_s().tolist()
+        self._table: list | None = None
+
+    @property
+    def precomputed(self) -> bool:
+        """True once the table is in use."""
+        return self._table is not None
+
+    def precompute(self, background: bool = False) -> None:
+        """Tabulate every frame (no-op beyond :data:`MAX_TABLE_FRAMES`); with
+        ``background=True`` in a daemon thread, frames coming from the scalar path meanwhile."""
+        if self._table is not None or self.n_frames > MAX_TABLE_FRAMES:
+            return
+        if background:
+            threading.Thread(target=self._build, args=(64,), name="tactile-tact-precompute",
+                             daemon=True).start()  # fmt: skip
+            return
+        self._build(self.n_frames)
+
+    def _build(self, chunk: int) -> None:
+        table = []
+        for first in range(0, self.n_frames, max(chunk, 1)):
+            count = min(chunk, self.n_frames - first)
+            _, frames = self.render(first, count)
+            flat = frames.reshape(count, self.grid.size)
+            rows, cols = np.nonzero(flat)
+            values = flat[rows, cols].tolist()
+            bounds = np.searchsorted(rows, np.arange(count + 1)).tolist()
+            cols = cols.tolist()
+            table.extend(
+                tuple(zip(cols[bounds[k] : bounds[k + 1]], values[bounds[k] : bounds[k + 1]]))
+                for k in range(count)
+            )
+            if chunk < self.n_frames:
+                time.sleep(0)  # let a concurrent output thread run between chunks
+        self._table = table
+
+    def entries(self, k: int) -> tuple:
+        """Lit actuators of frame ``k`` (from the scene's start): ``((index, corrected value),
+        ...)``; empty after the pattern's end."""
+        if not 0 <= k < self.n_frames:
+            return ()
+        table = self._table
+        return table[k] if table is not None else self.compute(k)
+
+    def compute(self, k: int) -> tuple:
+        """Frame ``k`` by the scalar path, whether or not a table exists."""
+        start = k / self.sampling.rate_hz
+        mu, gamma, gain = self.mu, self.gamma, self.gain
+        acc: dict[int, float] = {}
+        for offset in self._offsets:
+            for i, v in self._raw(start + offset).items():
+                acc[i] = acc.get(i, 0.0) + correct1(v, mu, gamma, gain)
+        scale = 1.0 / len(self._offsets)
+        return tuple((i, v * scale) for i, v in acc.items())
+
+    def _raw(self, when: float) -> dict:
+        """Combined raw intensities at ``when`` seconds: the maximum per actuator."""
+        lit: dict[int, float] = {}
+        first = bisect.bisect_left(self._starts, when - self._longest)
+        last = bisect.bisect_right(self._starts, when)
+        for s, e, shape in self._paths[first:last]:
+            if s <= when < e:
+                for i, v in self._entries(shape, min(max((when - s) / (e - s), 0.0), 1.0)):
+                    if v > lit.get(i, 0.0):
+                        lit[i] = v
+        for s, e, i, level, fade in self._dots:
+            if s <= when < e:
+                v = level * fade1(fade, (when - s) / (e - s))
+                if v > lit.get(i, 0.0):
+                    lit[i] = v
+        return lit
+
+    def frame(self, k: int) -> np.ndarray:
+        """Frame ``k`` as a dense array: ``(rows, cols)`` on a grid, ``(size,)`` on a layout."""
+        out = np.zeros(self.grid.size)
+        for i, v in self.entries(k):
+            out[i] = v
+        return out.reshape(frame_shape(self.grid))
+
+    def render(self, first: int, count: int, *, corrected: bool = True):
+        """Frames ``first .. first + count - 1`` at once: ``(time_s, frames)`` as
+        :meth:`TactPattern.frames` returns them."""
+        count = _validate.integer("count", count, 0)
+        first = _validate.integer("first", first, 0)
+        s = len(self._offsets)
+        if count * s > MAX_SAMPLES:
+            raise ValueError(f"count x subsamples must be at most {MAX_SAMPLES:.0e}, got "
+                             f"{count} x {s}: render in chunks")  # fmt: skip
+        rate, size = self.sampling.rate_hz, self.grid.size
+        start = (np.arange(count) + first) / rate
+        when = (start[:, None] + self.sampling.offsets_s()[None, :]).reshape(-1)
+        raw = np.zeros((when.size, size))
+        for s0, e0, shape in self._paths:
+            on = (when >= s0) & (when < e0)
+            if on.any():
+                t = np.clip((when[on] - s0) / (e0 - s0), 0.0, 1.0)
+                lit = render(shape, self.method, t, grid=self.grid).reshape(-1, size)
+                raw[on] = np.maximum(raw[on], lit)
+        for s0, e0, i, level, fade in self._dots:
+            on = np.flatnonzero((when >= s0) & (when < e0))
+            if on.size:
+                u = (when[on] - s0) / (e0 - s0)
+                values = level * np.array([fade1(fade, x) for x in u.tolist()])
+                raw[on, i] = np.maximum(raw[on, i], values)
+        if corrected:
+            raw = correct(raw, self.mu, self.gamma, gain=self.gain)
+        frames = raw.reshape(count, s, size).mean(axis=1)
+        return start, frames.reshape((count, *frame_shape(self.grid)))

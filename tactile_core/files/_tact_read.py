@@ -1,0 +1,354 @@
+"""Reading bHaptics ``.tact`` files: the JSON checked field by field into plain records.
+
+The structure follows bHaptics' own parsers (``ProjectModel.cpp`` of bhaptics/haptic-library,
+``HapticFeedbackFile``/``BhapticsProject`` of their C# SDK)::
+
+    {"project": {"layout": {"type": ..., "layouts": {POSITION: [{"index", "x", "y"}, ...]}},
+                 "tracks": [{"enable": true, "effects": [
+                     {"startTime": MS, "offsetTime": MS, "modes": {POSITION: {
+                         "mode": "PATH_MODE" | "DOT_MODE",
+                         "pathMode": {"feedback": [{"movingPattern", "playbackType",
+                                                    "pointList": [{"x", "y", "intensity",
+                                                                   "time"}]}]},
+                         "dotMode": {"dotConnected", "feedback": [{"startTime", "endTime",
+                                     "playbackType", "pointList": [{"index", "intensity"}]}]}
+                     }}}]}]},
+     "durationMillis": ..., "intervalMillis": ..., "size": ...}
+
+An effect starts ``startTime`` ms into the file and lasts ``offsetTime`` ms; its points' and
+dots' times count from its start. Coordinates are in 0..1 of the device position, y downward.
+Every problem raises :class:`TactError` naming the field, e.g.
+``tracks[0].effects[2].modes.VestFront.pathMode.feedback[3].pointList[1].x``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .._shared import validate as _validate
+from .._shared.jsonfile import parse_json, read_bytes
+from ..rendering.shapes import FADES, MAX_POINTS, PATTERNS
+
+MAX_TACT_BYTES = 4 << 20
+"""Largest ``.tact`` file read (4 MiB; bHaptics' sample files are under 100 KB)."""
+MAX_EFFECTS = 5_000
+"""Most effects in a file (over all tracks)."""
+MAX_TOTAL_POINTS = 200_000
+"""Most path points and dots in a file, all together."""
+MAX_LAYOUT = 1024
+"""Most motors in one position's layout."""
+MAX_TIME_MS = 3_600_000.0
+"""Latest moment anything may end, in ms from the file's start (an hour)."""
+MODES = ("PATH_MODE", "DOT_MODE")
+
+
+class TactError(ValueError):
+    """A ``.tact`` file that cannot be used; the message names the file and the field."""
+
+
+@dataclass(frozen=True)
+class TactPath:
+    """One path (one ``pathMode.feedback`` entry), times in seconds from the file's start.
+
+    ``points`` are in bHaptics' 0..1 (y downward). A single point is held from its time to
+    the end of its effect: it is stored as two points at the same place.
+    """
+
+    position: str
+    points: tuple
+    times_s: tuple
+    intensities: tuple
+    pattern: str
+    fade: str
+    field: str
+
+
+@dataclass(frozen=True)
+class TactDot:
+    """One motor of one ``dotMode.feedback`` entry, on from ``start_s`` to ``end_s``."""
+
+    position: str
+    index: int
+    intensity: float
+    start_s: float
+    end_s: float
+    fade: str
+    field: str
+
+
+@dataclass(frozen=True)
+class TactFile:
+    """What a ``.tact`` file holds, checked.
+
+    Attributes
+    ----------
+    name : str
+        The project's name ('' when it has none).
+    layouts : dict of str to dict of int to (float, float)
+        Per device position, each motor's ``(x, y)`` in 0..1 by its index.
+    paths, dots : tuple
+        :class:`TactPath` and :class:`TactDot` records of the enabled tracks.
+    duration_s : float
+        When the last effect of an enabled track ends, in seconds.
+    positions : tuple of str
+        The positions that hold paths or dots, in the order they first appear.
+    """
+
+    name: str
+    layouts: dict
+    paths: tuple
+    dots: tuple
+    duration_s: float
+    positions: tuple
+
+
+def read_tact(path) -> TactFile:
+    """Read and check a ``.tact`` file.
+
+    Parameters
+    ----------
+    path : path
+        The file (JSON, UTF-8, a byte-order mark allowed), at most :data:`MAX_TACT_BYTES`.
+
+    Returns
+    -------
+    TactFile
+
+    Raises
+    ------
+    TactError
+        Naming the file and the field when anything is missing, of the wrong type, out of range
+        (coordinates or intensities outside 0..1, negative durations, times out of order or
+        after their effect's end) or too large.
+    """
+    data = read_bytes(path, TactError, max_bytes=MAX_TACT_BYTES)
+    return parse_tact(parse_json(data.removeprefix(b"\xef\xbb\xbf"), path, TactError), str(path))
+
+
+def parse_tact(data, source: str = "tact") -> TactFile:
+    """Check a parsed ``.tact`` document (see :func:`read_tact`)."""
+    reader = _Reader(source)
+    return reader.file(data)
+
+
+class _Reader:
+    """Walks the document once, counting what it reads against the bounds."""
+
+    def __init__(self, source: str):
+        self.source = source
+        self.points = 0
+        self.effects = 0
+
+    def fail(self, field: str, problem: str):
+        raise TactError(f"{self.source}: {field} {problem}")
+
+    def get(self, obj: dict, key: str, field: str):
+        if key not in obj:
+            self.fail(f"{field}.{key}" if field else key, "is missing")
+        return obj[key]
+
+    def object(self, value, field: str) -> dict:
+        if not isinstance(value, dict):
+            self.fail(field, f"must be an object, got {_kind(value)}")
+        return value
+
+    def array(self, value, field: str, longest: int) -> list:
+        if not isinstance(value, list):
+            self.fail(field, f"must be a list, got {_kind(value)}")
+        if len(value) > longest:
+            self.fail(field, f"holds {len(value)} entries, more than the {longest} allowed")
+        return value
+
+    def number(self, value, field: str, lo: float, hi: float) -> float:
+        """A number within ``[lo, hi]``; numeric text (as bHaptics' Designer writes) too."""
+        if isinstance(value, str):
+            try:
+                value = _validate.decimal_text(field, value.strip())
+            except ValueError:
+                self.fail(field, f"must be a number, got {_validate.shown(value)}")
+        if not _validate.is_number(value):
+            self.fail(field, f"must be a number, got {_kind(value)} {_validate.shown(value)}")
+        value = float(value)
+        if not lo <= value <= hi:
+            self.fail(field, f"must be within [{lo:g}, {hi:g}], got {value:g}")
+        return value
+
+    def whole(self, value, field: str, lo: int, hi: int) -> int:
+        number = self.number(value, field, lo, hi)
+        if not number.is_integer():
+            self.fail(field, f"must be a whole number, got {number:g}")
+        return int(number)
+
+    def choice(self, value, field: str, options) -> str:
+        if not isinstance(value, str) or value not in options:
+            self.fail(field, f"must be one of {', '.join(options)}, got {_validate.shown(value)}")
+        return value
+
+    def file(self, data) -> TactFile:
+        data = self.object(data, "the file")
+        project = self.object(data["project"], "project") if "project" in data else data
+        layout = self.object(self.get(project, "layout", ""), "layout")
+        layouts = self.layouts(self.object(self.get(layout, "layouts", "layout"), "layout.layouts"))
+        name = project.get("name", "")
+        paths, dots, end_ms, positions = [], [], 0.0, []
+        tracks = self.array(self.get(project, "tracks", ""), "tracks", MAX_EFFECTS)
+        for i, track in enumerate(tracks):
+            field = f"tracks[{i}]"
+            track = self.object(track, field)
+            enable = track.get("enable", True)
+            if not isinstance(enable, bool):
+                self.fail(f"{field}.enable", f"must be true or false, got {_kind(enable)}")
+            effects = self.array(track.get("effects", []), f"{field}.effects", MAX_EFFECTS)
+            for j, effect in enumerate(effects):
+                found = len(paths) + len(dots)
+                end = self.effect(effect, f"{field}.effects[{j}]", layouts, paths, dots, enable)
+                if enable:
+                    end_ms = max(end_ms, end)
+                for item in (*paths, *dots)[found:]:  # in the file's order
+                    if item.position not in positions:
+                        positions.append(item.position)
+        return TactFile(
+            name=name if isinstance(name, str) else "",
+            layouts=layouts,
+            paths=tuple(paths),
+            dots=tuple(dots),
+            duration_s=end_ms / 1e3,
+            positions=tuple(positions),
+        )
+
+    def layouts(self, layouts: dict) -> dict:
+        out = {}
+        for position, motors in layouts.items():
+            field = f"layout.layouts.{position}"
+            motors = self.array(motors, field, MAX_LAYOUT)
+            table = {}
+            for k, motor in enumerate(motors):
+                where = f"{field}[{k}]"
+                motor = self.object(motor, where)
+                index = self.whole(self.get(motor, "index", where), f"{where}.index", 0, MAX_LAYOUT)
+                if index in table:
+                    self.fail(f"{where}.index", f"repeats motor {index}")
+                x = self.number(self.get(motor, "x", where), f"{where}.x", 0.0, 1.0)
+                y = self.number(self.get(motor, "y", where), f"{where}.y", 0.0, 1.0)
+                table[index] = (x, y)
+            out[position] = table
+        return out
+
+    def effect(self, effect, field, layouts, paths, dots, enabled) -> float:
+        """Check one effect, add its paths and dots (when ``enabled``); return its end (ms)."""
+        self.effects += 1
+        if self.effects > MAX_EFFECTS:
+            self.fail(field, f"is one effect too many: at most {MAX_EFFECTS} in a file")
+        effect = self.object(effect, field)
+        start = self.number(self.get(effect, "startTime", field), f"{field}.startTime", 0.0,
+                            MAX_TIME_MS)  # fmt: skip
+        length = self.number(self.get(effect, "offsetTime", field), f"{field}.offsetTime", 0.0,
+                             MAX_TIME_MS)  # fmt: skip
+        if start + length > MAX_TIME_MS:
+            self.fail(f"{field}.offsetTime", f"ends the effect after {MAX_TIME_MS / 3.6e6:g} h")
+        modes = self.object(self.get(effect, "modes", field), f"{field}.modes")
+        for position, mode in modes.items():
+            where = f"{field}.modes.{position}"
+            mode = self.object(mode, where)
+            kind = self.choice(self.get(mode, "mode", where), f"{where}.mode", MODES)
+            if kind == "PATH_MODE":
+                found = self.path_mode(mode, where, position, start, length)
+                paths.extend(found if enabled else ())
+            else:
+                found = self.dot_mode(mode, where, position, start, length, layouts)
+                dots.extend(found if enabled else ())
+        return start + length
+
+    def path_mode(self, mode, field, position, start, length) -> list:
+        field = f"{field}.pathMode"
+        body = self.object(self.get(mode, "pathMode", field.rpartition(".")[0]), field)
+        feedback = self.array(self.get(body, "feedback", field), f"{field}.feedback", MAX_POINTS)
+        out = []
+        for k, entry in enumerate(feedback):
+            where = f"{field}.feedback[{k}]"
+            entry = self.object(entry, where)
+            pattern = self.choice(self.get(entry, "movingPattern", where),
+                                  f"{where}.movingPattern", PATTERNS)  # fmt: skip
+            fade = self.choice(entry.get("playbackType", "NONE"), f"{where}.playbackType", FADES)
+            points = self.array(self.get(entry, "pointList", where), f"{where}.pointList",
+                                MAX_POINTS)  # fmt: skip
+            self.count(len(points), f"{where}.pointList")
+            xy, times, levels = [], [], []
+            for n, point in enumerate(points):
+                at = f"{where}.pointList[{n}]"
+                point = self.object(point, at)
+                x = self.number(self.get(point, "x", at), f"{at}.x", 0.0, 1.0)
+                y = self.number(self.get(point, "y", at), f"{at}.y", 0.0, 1.0)
+                level = self.number(self.get(point, "intensity", at), f"{at}.intensity", 0.0, 1.0)
+                time = self.number(self.get(point, "time", at), f"{at}.time", 0.0, MAX_TIME_MS)
+                if time > length:
+                    self.fail(f"{at}.time", f"is {time:g} ms, after its effect's end "
+                              f"(offsetTime {length:g} ms)")  # fmt: skip
+                if times and time <= times[-1]:
+                    self.fail(f"{at}.time", f"is {time:g} ms, not after the point before it "
+                              f"({times[-1]:g} ms): times must increase")  # fmt: skip
+                xy.append((x, y))
+                times.append(time)
+                levels.append(level)
+            if not xy:
+                continue
+            if len(xy) == 1:  # a point held to the end of its effect
+                if times[0] >= length:
+                    continue
+                xy, times, levels = xy * 2, [times[0], length], levels * 2
+            out.append(TactPath(position, tuple(xy), tuple((start + s) / 1e3 for s in times),
+                                tuple(levels), pattern, fade, where))  # fmt: skip
+        return out
+
+    def dot_mode(self, mode, field, position, start, length, layouts) -> list:
+        field = f"{field}.dotMode"
+        body = self.object(self.get(mode, "dotMode", field.rpartition(".")[0]), field)
+        feedback = self.array(self.get(body, "feedback", field), f"{field}.feedback", MAX_POINTS)
+        out = []
+        for k, entry in enumerate(feedback):
+            where = f"{field}.feedback[{k}]"
+            entry = self.object(entry, where)
+            begin = self.number(self.get(entry, "startTime", where), f"{where}.startTime", 0.0,
+                                length)  # fmt: skip
+            end = self.number(self.get(entry, "endTime", where), f"{where}.endTime", 0.0, length)
+            if end < begin:
+                self.fail(f"{where}.endTime", f"is {end:g} ms, before its startTime "
+                          f"({begin:g} ms): a negative duration")  # fmt: skip
+            fade = self.choice(entry.get("playbackType", "NONE"), f"{where}.playbackType", FADES)
+            dots = self.array(self.get(entry, "pointList", where), f"{where}.pointList",
+                              MAX_LAYOUT)  # fmt: skip
+            self.count(len(dots), f"{where}.pointList")
+            for n, dot in enumerate(dots):
+                at = f"{where}.pointList[{n}]"
+                dot = self.object(dot, at)
+                index = self.whole(self.get(dot, "index", at), f"{at}.index", 0, MAX_LAYOUT)
+                level = self.number(self.get(dot, "intensity", at), f"{at}.intensity", 0.0, 1.0)
+                if index not in layouts.get(position, {}):
+                    self.fail(f"{at}.index", f"is motor {index}, which layout.layouts."
+                              f"{position} does not list")  # fmt: skip
+                if end > begin:
+                    out.append(TactDot(position, index, level, (start + begin) / 1e3,
+                                       (start + end) / 1e3, fade, at))  # fmt: skip
+        return out
+
+    def count(self, n: int, field: str) -> None:
+        self.points += n
+        if self.points > MAX_TOTAL_POINTS:
+            self.fail(field, f"brings the file past {MAX_TOTAL_POINTS} path points and dots")
+
+
+def _kind(value) -> str:
+    """The JSON name of a value's type, for messages."""
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, (int, float)):
+        return "a number"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, list):
+        return "a list"
+    if isinstance(value, dict):
+        return "an object"
+    return type(value).__name__

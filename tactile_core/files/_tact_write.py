@@ -1,0 +1,179 @@
+"""Writing ``.tact`` files: a scene's trace or a time-keyed path as one ``PATH_MODE`` effect.
+
+The document has the keys, types and nesting of the files bHaptics' Designer writes and their
+parsers read (``ProjectFile``/``Project``/``Track``/``HapticEffect``/``HapticEffectMode`` in
+``ProjectModel.cpp`` of bhaptics/haptic-library require ``intervalMillis``, ``size``,
+``durationMillis``, ``project.tracks``, ``project.layout`` (``type``, ``layouts``), per effect
+``startTime``, ``offsetTime``, ``modes``, per mode ``mode``, ``dotMode`` (``dotConnected``,
+``feedback``) and ``pathMode`` (``feedback`` of ``playbackType``, ``movingPattern``,
+``pointList`` of ``x``, ``y``, ``intensity``, ``time``)). ``tests/data/testfeedback.tact`` is
+a Designer file the tests compare the structure against.
+
+Coordinates go out in 0..1 of the array's actuator extent, y downward (the inverse of the
+import's mapping, clipped to [0, 1]); x, y and intensity rounded to 4 decimals, times to whole
+milliseconds (a point less than 1 ms after the one before it is dropped). The layout written is
+this array's own actuators, in the same coordinates.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import uuid
+
+import numpy as np
+
+from .._shared import validate as _validate
+from .._shared.jsonfile import write_json_atomic
+from ..rendering.layout import as_layout
+from ..rendering.rasterize import check_target
+from ..rendering.shapes import MAX_POINTS, Line, Polyline, Shape, Square, TimedPath
+from ..rendering.trace import Trace
+from ._tact_frames import layout_box, layout_to_unit
+
+POSITIONS = {"VestFront": "Tactot", "VestBack": "Tactot", "Head": "Tactal",
+             "ForearmL": "Tactosy2", "ForearmR": "Tactosy2", "Left": "Tactosy",
+             "Right": "Tactosy"}  # fmt: skip
+"""Device positions an export may name, with the layout type bHaptics' files give them."""
+SAMPLE_MS = 20
+"""Step of a sampled trace (a circle, corner emphasis): bHaptics' 20 ms frame interval."""
+DECIMALS = 4
+
+
+def path_of_scene(scene) -> TimedPath:
+    """A scene's trace (its shape over ``duration_s``, direction and corner emphasis) as a
+    time-keyed path starting at 0.
+
+    Lines, polylines and squares without corner emphasis go out as their vertices at constant
+    speed (exact); a time-keyed path as it is (its times shifted to start at 0); anything else
+    (circles, emphasis) is sampled every :data:`SAMPLE_MS` ms as ``CONST_TDM``. The pause and
+    the repeats are not part of it: a ``.tact`` effect plays once.
+    """
+    shape = scene.shape
+    if not isinstance(shape, Shape):
+        raise ValueError("the scene has no shape to export (an idle scene, or a frame source)")
+    reverse = scene.direction == "reverse"
+    if isinstance(shape, TimedPath):
+        t0, end = shape.times_s[0], shape.times_s[-1]
+        points, levels = list(shape.points), list(shape.intensities)
+        times = [s - t0 for s in shape.times_s]
+        if reverse:
+            points, levels = points[::-1], levels[::-1]
+            times = [end - t0 - s for s in times[::-1]]
+        fade = {"FADE_IN": "FADE_OUT", "FADE_OUT": "FADE_IN"}.get(shape.fade, shape.fade)
+        return TimedPath(points, times, levels, shape.pattern, fade if reverse else shape.fade)
+    duration = scene.duration_s
+    if isinstance(shape, (Line, Polyline, Square)) and scene.emphasis == 0.0:
+        points = [tuple(p) for p in shape.outline().tolist()]
+        if reverse:
+            points = points[::-1]
+        points = [p for k, p in enumerate(points) if k == 0 or p != points[k - 1]]
+        if len(points) == 1:
+            return TimedPath(points * 2, [0.0, duration], pattern="CONST_SPEED")
+        steps = np.cumsum([math.dist(a, b) for a, b in itertools.pairwise(points)])
+        times = [0.0, *(duration * float(c) / float(steps[-1]) for c in steps)]
+        times[-1] = duration
+        return TimedPath(points, times, pattern="CONST_SPEED")
+    n = min(max(2, math.ceil(duration * 1000 / SAMPLE_MS) + 1), MAX_POINTS)
+    times = np.linspace(0.0, duration, n)
+    trace = Trace(shape, duration, 0.0, scene.direction, False, scene.emphasis)
+    t, _ = trace.parameter(np.minimum(times, np.nextafter(duration, 0.0)))
+    t[-1] = 0.0 if reverse else 1.0
+    points = shape.f(t).tolist()
+    return TimedPath(points, times.tolist(), pattern="CONST_TDM")
+
+
+def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
+                  position: str = "VestFront", created_ms: int | None = None) -> dict:  # fmt: skip
+    """The ``.tact`` document of one time-keyed path on an array.
+
+    Parameters
+    ----------
+    path : TimedPath
+        In layout units of ``target``; its times are shifted to start at 0.
+    target : Grid or Layout
+        The array the path is drawn on: its actuator extent is 0..1 in the file.
+    name : str, keyword-only
+        The project's name.
+    position : str, keyword-only
+        The bHaptics device position the effect is for (one of :data:`POSITIONS`).
+    created_ms : int, optional
+        ``createdAt``/``updatedAt`` in ms since the epoch (default: now).
+
+    Returns
+    -------
+    dict
+        JSON-ready; :func:`write_tact` writes it.
+    """
+    if not isinstance(path, TimedPath):
+        raise ValueError(f"path must be a TimedPath, got {_validate.shown(path)}")
+    if position not in POSITIONS:
+        raise ValueError(
+            f"position must be one of {', '.join(POSITIONS)}, got {_validate.shown(position)}"
+        )
+    if not isinstance(name, str) or len(name) > 200:
+        raise ValueError(f"name must be a string of at most 200 characters, got {name!r}")
+    if path.duration_s < 1e-3:
+        raise ValueError(f"path lasts {path.duration_s * 1e3:g} ms: a .tact path needs >= 1 ms")
+    target = check_target(target)
+    box = layout_box(target)
+    t0 = path.times_s[0]
+    points, last = [], None
+    for (x, y), s, level in zip(path.points, path.times_s, path.intensities):
+        ms = round((s - t0) * 1000.0)
+        if last is not None and ms <= last:
+            continue  # less than 1 ms after the point before it
+        u, v = layout_to_unit(x, y, box)
+        points.append({"x": _r(u), "y": _r(v), "intensity": _r(level), "time": ms})
+        last = ms
+    end = round(path.duration_s * 1000.0)
+    if points[-1]["time"] != end:  # the last point always goes out, at the path's end
+        x, y = path.points[-1]
+        u, v = layout_to_unit(x, y, box)
+        points[-1] = {"x": _r(u), "y": _r(v), "intensity": _r(path.intensities[-1]), "time": end}
+    motors = [{"index": i, "x": _r(u), "y": _r(v)}
+              for i, (u, v) in enumerate(layout_to_unit(x, y, box)
+                                         for x, y in as_layout(target).positions)]  # fmt: skip
+    mode = {
+        "mode": "PATH_MODE",
+        "dotMode": {"dotConnected": False, "feedback": [
+            {"startTime": 0, "endTime": end, "playbackType": "NONE", "pointList": []}]},
+        "pathMode": {"feedback": [
+            {"playbackType": path.fade, "movingPattern": path.pattern, "visible": True,
+             "pointList": points}]},
+    }  # fmt: skip
+    effect = {"name": "Effect 1", "startTime": 0, "offsetTime": end, "modes": {position: mode}}
+    now = created_ms if created_ms is not None else _now_ms()
+    kind = POSITIONS[position]
+    return {
+        "project": {
+            "name": name,
+            "description": "exported by tactile-tuner",
+            "id": uuid.uuid4().hex[:20],
+            "mediaFileDuration": math.ceil(end / 1000.0),
+            "createdAt": now,
+            "updatedAt": now,
+            "layout": {"name": kind, "type": kind, "layouts": {position: motors}},
+            "tracks": [{"enable": True, "effects": [effect]}],
+        },
+        "durationMillis": 0,
+        "intervalMillis": SAMPLE_MS,
+        "size": len(motors),
+    }
+
+
+def write_tact(out, path: TimedPath, target, **options):
+    """Write :func:`tact_document` to ``out`` atomically; returns the path written."""
+    return write_json_atomic(out, tact_document(path, target, **options))
+
+
+def _r(value: float) -> float:
+    """Rounded to :data:`DECIMALS`; whole values as ints, as the Designer writes 0 and 1."""
+    value = round(float(value), DECIMALS)
+    return int(value) if value.is_integer() else value
+
+
+def _now_ms() -> int:
+    import time
+
+    return int(time.time() * 1000)

@@ -1,0 +1,192 @@
+"""Importing bHaptics .tact files: paths and dots on this array, combined, streamed, with values
+worked out by hand (the mapping: docs/tact.md)."""
+
+import numpy as np
+import pytest
+
+import tactile_core as tc
+from tactile_core.device.link import SimulatedArray
+from tactile_core.device.profile import find_profile
+from tactile_core.files.tact import (
+    TactError,
+    TactPattern,
+    layout_box,
+    load_pattern,
+    parse_tact,
+    read_tact,
+    unit_to_layout,
+)
+from tactile_core.rendering.scene import Scene
+
+from . import tact_support as ts
+from .helpers import lit
+from .test_streamer import Taps, virtual
+
+PALM = tc.Grid(5, 6)
+VEST = find_profile("vest-4x5")
+
+
+def pattern_of(data, position=None):
+    return TactPattern(parse_tact(data), position)
+
+
+def test_coordinates_map_onto_the_actuator_extent_y_downward():
+    assert layout_box(PALM) == (0.5, 4.5, 0.5, 5.5)
+    assert unit_to_layout(0.0, 0.0, layout_box(PALM)) == (0.5, 5.5)  # top left
+    assert unit_to_layout(1.0, 1.0, layout_box(PALM)) == (4.5, 0.5)  # bottom right
+    assert layout_box(VEST.target) == pytest.approx((0.0, 3.0, 0.0, 4.0))
+    belt = find_profile("belt-8").target
+    _, _, y0, y1 = layout_box(belt)
+    assert y0 == y1 and unit_to_layout(0.5, 0.3, layout_box(belt))[1] == y0
+
+
+def test_a_path_on_the_palm_rendered_by_as_at_its_midpoint_time():
+    # bHaptics (0, 1) -> (1, 0) is bottom left -> top right: (0.5, 0.5) -> (4.5, 5.5) on the palm
+    # array, from 0.5 s to 1.5 s into the file (startTime 500 ms), intensities 0.5 -> 1.0 (as
+    # strings, as the Designer writes them). At 1.0 s the point is at (2.5, 3.0), on the edge
+    # between tactors (2, 2) and (2, 3): AS gives each half, times the envelope 0.75.
+    points = [ts.point("0.000", "1.000", "0.500", 0), ts.point(1, 0, "1.0", 1000)]
+    data = ts.document(ts.effect({"VestFront": ts.path_mode(points)}, start_ms=500))
+    pattern = pattern_of(data)
+    (path,) = pattern.paths(PALM)
+    assert path.points == ((0.5, 0.5), (4.5, 5.5)) and path.times_s == (0.5, 1.5)
+    assert lit(tc.render(path, "AS", 0.5, grid=PALM)) == pytest.approx(
+        {(2, 2): 0.375, (2, 3): 0.375}
+    )
+    # frames at 2.5 Hz sample the middle of each frame: frame 2 at 1.0 s
+    time_s, frames = pattern.frames("AS", PALM, rate_hz=2.5, mu=0.33, gamma=0.7)
+    assert time_s == pytest.approx([0.0, 0.4, 0.8, 1.2])  # the file ends at 1.5 s
+    corrected = 0.67 * 0.375**0.7 + 0.33
+    assert lit(frames[2]) == pytest.approx({(2, 2): corrected, (2, 3): corrected})
+    assert not frames[0].any()  # 0.2 s: before the effect
+
+
+def test_a_const_tdm_path_keeps_its_uneven_times():
+    # (0, 0.9) -> (1, 0.9) in 200 ms, then up to (1, 0.1) in 800 ms, on the palm: at 600 ms the
+    # point is half way up the right edge, (4.5, 3.0)
+    points = [ts.point(0, 0.9, 1, 0), ts.point(1, 0.9, 1, 200), ts.point(1, 0.1, 1, 1000)]
+    data = ts.document(ts.effect({"VestFront": ts.path_mode(points, "CONST_TDM")}))
+    (path,) = pattern_of(data).paths(PALM)
+    assert path.point(0.6) == pytest.approx((4.5, 3.0))
+    _, frames = pattern_of(data).frames("CT", PALM, rate_hz=1 / 1.2)  # one frame, at 0.6 s
+    assert lit(frames[0]) == {(4, 3): 1.0}  # y = 3.0 is an edge: the tie goes up
+
+
+def test_a_dot_on_the_vest_lights_the_nearest_actuator_over_its_span():
+    # Motor 6 of bHaptics' vest is at (0.667, 0.25): (2.001, 3.0) on the vest profile (x right,
+    # y up over 0..3 x 0..4), nearest to actuator r3c2, index 14. The dot is on from 100 to
+    # 300 ms of an effect starting at 200 ms: 0.3 to 0.5 s of the file.
+    data = ts.document(
+        ts.effect({"VestFront": ts.dot_mode([(6, 0.8)], 100, 300)}, start_ms=200, length_ms=400)
+    )
+    pattern = pattern_of(data)
+    assert pattern.dots(VEST.target) == ((0.3, 0.5, 14, 0.8, "NONE"),)
+    time_s, frames = pattern.frames("EN", VEST.target, rate_hz=100.0)
+    on = np.flatnonzero(frames.any(axis=1))
+    assert on.tolist() == list(range(30, 50))  # frame k's middle (k + 0.5) / 100 s in [0.3, 0.5)
+    assert (frames[30:50, 14] == 0.8).all() and frames[30:50].sum() == pytest.approx(20 * 0.8)
+    assert len(time_s) == 60  # the file ends with the effect, at 0.6 s
+    # the palm array: (0.5 + 0.667 * 4, 5.5 - 0.25 * 5) = (3.168, 4.25), nearest tactor (3, 4)
+    assert pattern.dots(PALM)[0][2] == 4 * 5 + 3
+
+
+def test_paths_and_dots_combine_by_the_maximum_per_actuator():
+    # a point resting on the vest's actuator 5 (bHaptics (0.333, 0.75)) at 0.5, and a dot on
+    # the same motor (index 13) at 0.3, then 0.9
+    rest = [ts.point(0.333, 0.75, 0.5, 0), ts.point(0.333, 0.75, 0.5, 1000)]
+    for level, expected in ((0.3, 0.5), (0.9, 0.9)):
+        data = ts.document(
+            ts.effect({"VestFront": ts.path_mode(rest)}),
+            ts.effect({"VestFront": ts.dot_mode([(13, level)], 0, 1000)}),
+        )
+        _, frames = pattern_of(data).frames("VRCH:r=0.5", VEST.target, rate_hz=10.0)
+        assert frames[:, 5] == pytest.approx(np.full(10, expected))
+        assert np.count_nonzero(frames) == 10
+
+
+def test_fades_ramp_dots_and_paths_linearly_over_their_span():
+    data = ts.document(ts.effect({"VestFront": ts.dot_mode([(0, 1.0)], 0, 1000, "FADE_IN")}))
+    _, frames = pattern_of(data).frames("EN", VEST.target, rate_hz=10.0)
+    assert frames[:, 16] == pytest.approx(np.arange(10) / 10 + 0.05)  # motor 0: top left
+    rest = [ts.point(0, 0, 1.0, 0), ts.point(0, 0, 1.0, 1000)]
+    data = ts.document(ts.effect({"VestFront": ts.path_mode(rest, fade="FADE_OUT")}))
+    _, frames = pattern_of(data).frames("EN", VEST.target, rate_hz=10.0)
+    assert frames[:, 16] == pytest.approx(1.0 - (np.arange(10) / 10 + 0.05))
+
+
+def test_a_single_point_is_held_to_the_end_of_its_effect():
+    data = ts.document(
+        ts.effect({"VestFront": ts.path_mode([ts.point(1, 1, 0.7, 250)])}, length_ms=500)
+    )
+    _, frames = pattern_of(data).frames("EN", VEST.target, rate_hz=20.0)
+    on = np.flatnonzero(frames[:, 3])  # bHaptics (1, 1): bottom right, actuator r0c3
+    assert on.tolist() == [5, 6, 7, 8, 9] and frames[5, 3] == pytest.approx(0.7)
+
+
+def test_positions_disabled_tracks_and_the_end():
+    data = ts.simple()
+    data["project"]["tracks"].append(
+        {
+            "enable": False,
+            "effects": [ts.effect({"VestBack": ts.dot_mode([(0, 1.0)], 0, 5000)}, length_ms=5000)],
+        }
+    )
+    pattern = pattern_of(data)
+    assert pattern.position == "VestFront" and pattern.skipped == ()
+    assert pattern.duration_s == pytest.approx(1.0)  # a disabled track is not played
+    data["project"]["tracks"][1]["enable"] = True
+    assert pattern_of(data).skipped == ("VestBack",)
+    data["project"]["tracks"].reverse()  # positions in the order the file plays them
+    assert pattern_of(data).position == "VestBack"
+    data["project"]["tracks"].reverse()
+    assert pattern_of(data, "VestBack").dots(VEST.target)[0][2] == 16
+    with pytest.raises(TactError, match="position 'Head' holds no paths or dots"):
+        pattern_of(data, "Head")
+    live = pattern_of(data).live("EN", VEST.target, tc.Sampling(100.0), 0.0, 1.0)
+    assert live.n_frames == 500 and live.entries(500) == () and live.entries(-1) == ()
+
+
+def test_layout_only_methods_are_refused_on_a_layout():
+    with pytest.raises(ValueError, match="AS"):
+        pattern_of(ts.simple()).live("AS", VEST.target, tc.Sampling(100.0), 0.0, 1.0)
+
+
+@pytest.mark.parametrize(
+    ("method", "target"), [("IM", PALM), ("AS", PALM), ("GS", VEST.target), ("BA", VEST.target)]
+)
+def test_table_and_scalar_frames_agree(method, target):
+    pattern = pattern_of(ts.simple())
+    live = pattern.live(method, target, tc.Sampling(300.0, "box", 3), 0.3, 0.6, 0.9)
+    scalar = np.array([live.frame(k) for k in range(live.n_frames)])
+    live.precompute()
+    assert live.precomputed
+    table = np.array([live.frame(k) for k in range(live.n_frames)])
+    assert scalar == pytest.approx(table, abs=1e-12) and table.any()
+
+
+def test_the_designer_sample_imports():
+    data = read_tact("tests/data/testfeedback.tact")
+    assert data.positions == ("VestFront",) and data.duration_s == 1.0
+    (path,) = data.paths
+    assert len(path.points) == 20 and path.pattern == "CONST_SPEED"
+    assert path.points[3] == (1.0, 0.0) and path.times_s[3] == 0.17
+    pattern = load_pattern("tests/data/testfeedback.tact")
+    _, frames = pattern.frames("BA", VEST.target, rate_hz=100.0)
+    assert frames.shape == (100, 20) and (frames.sum(axis=1) > 0).all()
+
+
+def test_a_pattern_streamed_into_the_simulated_array_matches_the_batch_frames():
+    pattern = pattern_of(ts.simple())
+    scene = Scene(None, "EN", mu=0.2, gamma=0.8, rate_hz=100.0, source=pattern)
+    n = 100  # the file ends at 1.0 s
+    _, frames = pattern.frames("EN", VEST.target, sampling=scene.sampling(), mu=0.2, gamma=0.8)
+    expected = tc.quantize(frames, VEST.levels)[:, VEST.array.channel_index]
+    taps = Taps()
+    sim = SimulatedArray(VEST)
+    with virtual(sim, VEST, scene=scene, taps=[taps]):
+        taps.wait_for(n + 20)
+        last = sim.levels()
+    # on a virtual clock no deadline is missed: frame k of the stream is frame k of the file
+    sent = np.array([f[2] for f in taps.frames])
+    assert np.array_equal(sent[:n], expected) and expected.any()
+    assert not sent[n:].any() and not last.any()  # then off, until stopped
