@@ -156,8 +156,13 @@ def unrolled(points, layout: Layout) -> tuple[np.ndarray, np.ndarray]:
     pieces, piece = [], [pts[0]]
     for p, q in itertools.pairwise(pts):
         a, b = p[k], q[k]
-        seams = np.arange(math.floor(min(a, b) / c) + 1, math.ceil(max(a, b) / c)) * c
-        for at in seams if b > a else seams[::-1]:
+        # the seams crossed: going up, in (a, b]; going down, in [b, a) (a point on a seam ends
+        # the turn it comes from)
+        if b > a:
+            seams = np.arange(math.floor(a / c) + 1, math.floor(b / c) + 1) * c
+        else:
+            seams = np.arange(math.ceil(b / c), math.ceil(a / c))[::-1] * c
+        for at in seams:
             cut = p + (q - p) * ((at - a) / (b - a))
             cut[k] = at  # exactly on the seam
             pieces.append([*piece, cut])
@@ -167,6 +172,8 @@ def unrolled(points, layout: Layout) -> tuple[np.ndarray, np.ndarray]:
     xs, ys = [], []
     for piece in pieces:
         arr = np.array(piece)
+        if len(pieces) > 1 and np.ptp(arr, axis=0).max() == 0.0:
+            continue  # the end of a path that stops on the seam: nothing to draw past it
         middle = (arr[:, k].min() + arr[:, k].max()) / 2
         arr[:, k] -= c * math.floor(middle / c)  # the turn this piece lies on
         if xs:

@@ -195,5 +195,10 @@ def test_shapes_for_a_layout_fit_it_and_paths_unroll_at_the_seam():
     np.testing.assert_allclose(y, [0.0, 0.5, np.nan, 0.5, 1.0])
     x, _ = unrolled([(1.0, 0.0), (-17.0, 0.0)], belt)  # twice round the other way
     np.testing.assert_allclose(x, [1, 0, np.nan, 8, 0, np.nan, 8, 0, np.nan, 8, 7])
+    # a drawn path with a point exactly on the seam, and paths that stop on it
+    x, _ = unrolled([(7.5, 0.0), (8.0, 0.0), (8.5, 0.0)], belt)
+    np.testing.assert_allclose(x, [7.5, 8, np.nan, 0, 0, 0.5])
+    np.testing.assert_allclose(unrolled([(0.0, 0.0), (8.0, 0.0)], belt)[0], [0, 8])
+    np.testing.assert_allclose(unrolled([(0.0, 0.0), (-8.0, 0.0)], belt)[0], [8, 0])
     x, _ = unrolled([(0.5, 0.5), (2.5, 1.5)], vest)
     np.testing.assert_allclose(x, [0.5, 2.5])
