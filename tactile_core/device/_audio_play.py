@@ -20,51 +20,68 @@ from ._audio_synth import CarrierSynth
 from .wire import WATCHDOG_S, Frame
 
 RESYNC_S = 0.01
-"""A block whose measured time is this far from the expected one unlocks the clock map (a
-dropout)."""
-LOOP_GAIN = 0.02
-"""How much of each block's timing error the locked clock map takes in (first-order loop)."""
+"""A block measured this far from the clock map is off the map (a stall, or a dropout)."""
+RESYNC_BLOCKS = 8
+"""Blocks in a row off the map before it lets go and finds the stream again: a stall of the
+callback and the burst that catches up are fewer."""
 SETTLE_BLOCKS = 4
 """Blocks in a row on time before the clock map locks."""
+STEP_S = 2e-6
+"""The most the locked map moves per block (after its first blocks): it follows the median of
+the measurements, so a late callback or a burst moves it by this much at most."""
 
 
 class BlockClock:
     """The host time of each block's first sample, from PortAudio's timing.
 
-    Until the stream runs steadily (:data:`SETTLE_BLOCKS` blocks in a row whose measured times
-    advance by a block's length: PortAudio's first blocks fill the buffers at once) each block
-    is taken at its measured time. Then the map locks: the expected time (the last block's plus
-    its length) nudged towards the measured one by :data:`LOOP_GAIN`, so that the callback's
-    jitter never moves a frame; a jump of more than :data:`RESYNC_S`, or a dropout PortAudio
-    reports, unlocks it.
+    A block measured to start at ``measured`` that is the stream's sample ``s`` says the stream
+    started at ``measured - s / samplerate``. Until the stream runs steadily
+    (:data:`SETTLE_BLOCKS` blocks in a row that agree: PortAudio's first blocks fill the buffers
+    at once) each block is taken at its measured time. Then the map locks on that start and
+    follows the median of the measurements, moving at most :data:`STEP_S` a block (more during
+    its first blocks), so that neither the callback's jitter, nor a stall of it and the burst
+    that catches up, moves a frame; the crystal's drift against the host's clock (tens of ppm:
+    well under a microsecond a block) it follows. Measurements off by more than
+    :data:`RESYNC_S` for :data:`RESYNC_BLOCKS` blocks in a row (a dropout that shifted the
+    stream) unlock it.
     """
 
     def __init__(self, samplerate: float):
         self.samplerate = samplerate
         self.locked = False
         self.resyncs = 0
+        self._sample = 0  # the stream's samples so far
+        self._start = 0.0  # the stream's start on the host's clock, as locked
+        self._last: float | None = None
         self._steady = 0
-        self._next: float | None = None
+        self._since = 0  # blocks since the lock
+        self._far = 0  # blocks in a row off the map
 
-    def block(self, measured: float, frames: int, jump: bool = False) -> float:
-        """The host time of a block of ``frames`` samples measured to start at ``measured``."""
-        period = frames / self.samplerate
-        expected = self._next
+    def block(self, measured: float, frames: int) -> float:
+        """The host time of the next block of ``frames`` samples, measured at ``measured``."""
+        first = self._sample
+        self._sample += frames
+        start = measured - first / self.samplerate
         if self.locked:
-            if jump or abs(measured - expected) > RESYNC_S:
-                self.locked = False
-                self._steady = 0
-                self.resyncs += 1
-                start = measured
-            else:
-                start = expected + LOOP_GAIN * (measured - expected)
-        else:
-            start = measured
-            steady = expected is not None and abs(measured - expected) < 0.25 * period
-            self._steady = self._steady + 1 if steady else 0
-            self.locked = self._steady >= SETTLE_BLOCKS
-        self._next = start + period
-        return start
+            error = start - self._start
+            self._far = self._far + 1 if abs(error) > RESYNC_S else 0
+            if self._far < RESYNC_BLOCKS:
+                step = max(STEP_S, 1e-4 / (1 + self._since))
+                self._since += 1
+                self._start += min(max(error, -step), step)
+                return self._start + first / self.samplerate
+            self.locked = False
+            self.resyncs += 1
+            self._steady = 0
+        steady = (
+            self._last is not None and abs(start - self._last) < 0.25 * frames / self.samplerate
+        )
+        self._last = start
+        self._steady = self._steady + 1 if steady else 0
+        if self._steady >= SETTLE_BLOCKS:
+            self.locked = True
+            self._start, self._since, self._far = start, 0, 0
+        return measured
 
 
 class Player:
@@ -134,10 +151,10 @@ class Player:
 
     # --- the callback's side ----------------------------------------------------------------
 
-    def play(self, out, frames: int, measured: float, jump: bool = False) -> None:
+    def play(self, out, frames: int, measured: float) -> None:
         """Fill ``out`` (``(frames, outputs)`` float32) with the block measured to start at host
         time ``measured``."""
-        start_s = self.clock.block(measured, frames, jump)
+        start_s = self.clock.block(measured, frames)
         synth = self.synth
         rate = self.samplerate
         events = self.events  # first the events, then the time of the last feed

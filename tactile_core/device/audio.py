@@ -243,10 +243,9 @@ class AudioLink:
             ahead = time_info.outputBufferDacTime - time_info.currentTime
             if not (time_info.currentTime and 0.0 <= ahead < 1.0):
                 ahead = self.latency_s  # a host API without timing: the nominal latency
-            underflow = bool(status.output_underflow)
-            if underflow:
+            if status.output_underflow:
                 self.underflows += 1
-            self.player.play(outdata, frames, now + ahead, underflow)
+            self.player.play(outdata, frames, now + ahead)
         except Exception as exc:  # never a traceback on the audio thread: a status, silence
             outdata.fill(0.0)
             self._failure = f"{type(exc).__name__}: {exc}"
