@@ -111,7 +111,7 @@ class Player:
         self.done = 0  # the last event applied (callback)
         self.fed_at: float | None = None  # the last valid frame's arrival (writer)
         self.late = 0  # timed frames the callback met after their time (callback)
-        self.silent_blocks = 0  # blocks in a row that ended silent (callback)
+        self.silent_blocks = 0  # whole blocks of silence in a row (callback)
         self.blocks = 0
 
     # --- the writer's side ------------------------------------------------------------------
@@ -156,6 +156,7 @@ class Player:
         time ``measured``."""
         start_s = self.clock.block(measured, frames)
         synth = self.synth
+        quiet = synth.silent  # silent all through, if still silent at the end
         rate = self.samplerate
         events = self.events  # first the events, then the time of the last feed
         fed = self.fed_at
@@ -188,5 +189,5 @@ class Player:
             if events:
                 self.done = max(self.done, events[-1][0])  # and what waits is dropped
         synth.render(out, done, frames)
-        self.silent_blocks = self.silent_blocks + 1 if synth.silent else 0
+        self.silent_blocks = self.silent_blocks + 1 if quiet and synth.silent else 0
         self.blocks += 1

@@ -78,14 +78,23 @@ class CarrierSynth:
         self.carrier_hz = carriers
         self.ramp = round(ramp_s * self.samplerate)
         self._table = ramp_table(self.ramp)
-        self._step = carriers * (TWO_PI / self.samplerate)  # radians per sample
-        self._index = np.arange(MAX_BLOCK, dtype=np.float64).reshape(-1, 1)
+        # Every block is two small matrix products and two element-wise passes, so that no
+        # operand is broadcast: numpy buffers (allocates) for a broadcast operand.
+        #   phase = [s, 1] @ [step; start]          (the sample within the segment, the phase)
+        #   envelope = [w - 1, 1] @ [delta; to]     (w: the ramp at each sample; 1 once over)
+        self._times = np.ones((MAX_BLOCK, 2))
+        self._times[:, 0] = np.arange(MAX_BLOCK)
+        self._carrier = np.zeros((2, n))
+        self._carrier[0] = carriers * (TWO_PI / self.samplerate)  # radians per sample
+        self._weights = np.ones((self.ramp + MAX_BLOCK, 2))
+        self._weights[:, 0] = 0.0
+        self._weights[: self.ramp, 0] = self._table - 1.0
+        self._levels = np.zeros((2, n))
+        self._delta = self._levels[0]  # the step of the ramp under way: to - from
+        self._to = self._levels[1]  # the amplitudes the channels are at or heading to
         self._phase = np.zeros((MAX_BLOCK, n))
         self._envelope = np.zeros((MAX_BLOCK, n))
-        self._start = np.zeros(n)  # the phase of the segment's first sample
         self._from = np.zeros(n)  # scratch: the amplitudes a new ramp starts from
-        self._to = np.zeros(n)
-        self._delta = np.zeros(n)
         self._pos = self.ramp  # samples since the last change: >= ramp once settled
         self.sample = 0
 
@@ -141,22 +150,15 @@ class CarrierSynth:
         if self.silent:
             dest.fill(0.0)
         else:
-            phase = self._phase[:n]
-            np.multiply(self._step, float(self.sample), out=self._start)
-            np.remainder(self._start, TWO_PI, out=self._start)
-            np.multiply(self._index[:n], self._step, out=phase)
-            np.add(phase, self._start, out=phase)
+            start_phase = self._carrier[1]
+            np.multiply(self._carrier[0], float(self.sample), out=start_phase)
+            np.remainder(start_phase, TWO_PI, out=start_phase)
+            phase = np.matmul(self._times[:n], self._carrier, out=self._phase[:n])
             np.sin(phase, out=phase)
-            ramping = min(max(self.ramp - self._pos, 0), n)
-            if ramping:  # from + delta * w over the ramp's samples, then the target
-                env = self._envelope[:ramping]
-                w = self._table[self._pos : self._pos + ramping].reshape(-1, 1)
-                np.multiply(w, self._delta, out=env)
-                np.subtract(env, self._delta, out=env)
-                np.add(env, self._to, out=env)
-                np.multiply(phase[:ramping], env, out=dest[:ramping])
-            if ramping < n:
-                np.multiply(phase[ramping:], self._to, out=dest[ramping:])
+            envelope = np.matmul(self._weights[self._pos : self._pos + n], self._levels,
+                                 out=self._envelope[:n])  # fmt: skip
+            np.multiply(phase, envelope, out=phase)
+            np.copyto(dest, phase)
         self._pos = min(self._pos + n, self.ramp)
         self.sample += n
 
