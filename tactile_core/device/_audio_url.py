@@ -198,20 +198,3 @@ def check_device(sd, device: dict, channels: int, samplerate: int, *, asked: str
             f"audio device {device['name']!r} cannot play {channels} channels at "
             f"{samplerate} Hz ({exc}); it supports {describe_device(device).split(': ', 1)[1]}"
         ) from None
-
-
-def audio_outputs() -> list[tuple[str, str]]:
-    """``(url, label)`` of every audio output device, for a device box; empty without
-    PortAudio."""
-    try:
-        sd = load_sounddevice()
-        devices = output_devices(sd)
-    except Exception:  # no PortAudio, no audio subsystem: nothing to list
-        return []
-    return [
-        (
-            audio_url(d["name"]),
-            f"{d['name']} ({d['max_output_channels']} channels, {d['default_samplerate']:g} Hz)",
-        )
-        for d in devices
-    ]

@@ -33,9 +33,11 @@ from ._audio_play import Player
 from ._audio_synth import DEFAULT_CARRIER_HZ
 from ._audio_url import (
     SAMPLERATE_RANGE,
+    audio_url,
     check_device,
     find_device,
     load_sounddevice,
+    output_devices,
     parse_audio_url,
 )
 from ._link_error import LinkError
@@ -60,6 +62,32 @@ def _close_all() -> None:
     """Interpreter exit: fade every open audio link to silence (before PortAudio ends)."""
     for link in list(_OPEN):
         link.close()
+
+
+def audio_outputs(rescan: bool = False) -> list[tuple[str, str]]:
+    """``(url, label)`` of every audio output device (``("audio:USB 8ch", "USB 8ch (ALSA, 8
+    channels, 48000 Hz)")``), for a device box; empty without PortAudio.
+
+    PortAudio lists the devices it found when it started; ``rescan`` starts it again to find
+    devices plugged in since, unless an audio link is open in this process (its stream would
+    end).
+    """
+    try:
+        sd = load_sounddevice()
+        if rescan and not _OPEN and hasattr(sd, "_terminate"):
+            sd._terminate()
+            sd._initialize()
+        devices = output_devices(sd)
+    except Exception:  # no PortAudio, no audio system: nothing to list
+        return []
+    return [
+        (
+            audio_url(d["name"]),
+            f"{d['name']} ({d['hostapi']}, {d['max_output_channels']} channels, "
+            f"{d['default_samplerate']:g} Hz)",
+        )
+        for d in devices
+    ]
 
 
 def carriers_for(profile: DeviceProfile, carrier_hz: float | None = None) -> np.ndarray:
