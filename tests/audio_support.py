@@ -242,12 +242,13 @@ def read_back(x, time_s, levels, *, carriers, samplerate, ramp_n, top, reach):
     reach : int
         How far from where the recording puts it an onset is looked for (samples): the onsets
         of frames closer together than a ramp and twice this are not fitted, and their levels
-        not read.
+        not read; nor are those of frames found at the bound (``missed``: further off).
 
     Returns
     -------
     dict
-        ``carrier_hz`` (each playing channel's measured carrier), ``frames`` (onsets fitted),
+        ``carrier_hz`` (each playing channel's measured carrier), ``frames`` (onsets fitted
+        within the reach), ``missed`` (found at its bound),
         ``onset_error`` (samples: each fitted onset minus where the recording puts it, less
         their median, the sink's constant latency), ``level_error`` (levels: the largest
         difference between a read-back plateau and the level sent), ``levels_read``,
@@ -273,14 +274,21 @@ def read_back(x, time_s, levels, *, carriers, samplerate, ramp_n, top, reach):
     fitted, shift = fit_onsets(x, car, starts, a, ramp_n, reach)
     keep = fitted < len(t) - 1  # not the final frame
     fitted, shift = fitted[keep], shift[keep]
+    inside = np.abs(shift) < reach  # at the bound: further off than the search (a stall)
+    missed = int((~inside).sum())
+    fitted, shift = fitted[inside], shift[inside]
     onsets = starts.copy()
     onsets[fitted] += shift
     plateau = plateau_levels(x, car, onsets, ramp_n)
-    plateau[np.setdiff1d(np.arange(len(t) - 1), fitted)] = np.nan  # onset not known
+    known = np.zeros(len(t), dtype=bool)
+    known[fitted] = True
+    known[-1] = True  # the final frame starts at its time or later: the one before holds until
+    plateau[~(known[:-1] & known[1:])] = np.nan  # a plateau between two known onsets only
     nonzero = np.flatnonzero(np.abs(x).max(axis=1) > 0)
     return {
         "carrier_hz": measured,
         "frames": len(shift),
+        "missed": missed,
         "onset_error": shift - np.median(shift),
         "level_error": float(np.nanmax(np.abs(plateau - a[:-1])) * top),
         "levels_read": int(np.isfinite(plateau).sum()),

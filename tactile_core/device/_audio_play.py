@@ -21,9 +21,10 @@ from .wire import WATCHDOG_S, Frame
 
 RESYNC_S = 0.01
 """A block measured this far from the clock map is off the map (a stall, or a dropout)."""
-RESYNC_BLOCKS = 8
-"""Blocks in a row off the map before it lets go and finds the stream again: a stall of the
-callback and the burst that catches up are fewer."""
+RESYNC_AFTER_S = 0.15
+"""How long the blocks must stay off the map before it lets go and finds the stream again: a
+stall of the callback and the burst that catches up are over sooner (a stall of 50 ms puts
+eight blocks more than 10 ms off)."""
 SETTLE_BLOCKS = 4
 """Blocks in a row on time before the clock map locks."""
 STEP_S = 2e-6
@@ -42,8 +43,7 @@ class BlockClock:
     its first blocks), so that neither the callback's jitter, nor a stall of it and the burst
     that catches up, moves a frame; the crystal's drift against the host's clock (tens of ppm:
     well under a microsecond a block) it follows. Measurements off by more than
-    :data:`RESYNC_S` for :data:`RESYNC_BLOCKS` blocks in a row (a dropout that shifted the
-    stream) unlock it.
+    :data:`RESYNC_S` for :data:`RESYNC_AFTER_S` (a dropout that shifted the stream) unlock it.
     """
 
     def __init__(self, samplerate: float):
@@ -55,7 +55,7 @@ class BlockClock:
         self._last: float | None = None
         self._steady = 0
         self._since = 0  # blocks since the lock
-        self._far = 0  # blocks in a row off the map
+        self._far = 0  # samples in a row off the map
 
     def block(self, measured: float, frames: int) -> float:
         """The host time of the next block of ``frames`` samples, measured at ``measured``."""
@@ -64,8 +64,8 @@ class BlockClock:
         start = measured - first / self.samplerate
         if self.locked:
             error = start - self._start
-            self._far = self._far + 1 if abs(error) > RESYNC_S else 0
-            if self._far < RESYNC_BLOCKS:
+            self._far = self._far + frames if abs(error) > RESYNC_S else 0
+            if self._far < RESYNC_AFTER_S * self.samplerate:
                 step = max(STEP_S, 1e-4 / (1 + self._since))
                 self._since += 1
                 self._start += min(max(error, -step), step)
