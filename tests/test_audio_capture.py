@@ -116,3 +116,15 @@ def test_audio_stream_plays_the_frames_sent_and_ends_in_silence(tmp_path, how, r
     assert figures["max_step"] <= bound
     # and the stream ends in silence: faded out, then whole blocks of zeros
     assert figures["silence_ms"] >= 2 * BLOCK / SAMPLERATE * 1e3
+
+
+def test_without_portaudio_the_capture_tests_fail_in_ci_and_skip_elsewhere(monkeypatch):
+    import ctypes.util
+
+    monkeypatch.setattr(ctypes.util, "find_library", lambda name: None)
+    monkeypatch.setenv("TACTILE_REQUIRE_AUDIO", "1")
+    with pytest.raises(pytest.fail.Exception, match="apt-get install libportaudio2"):
+        require_audio()
+    monkeypatch.delenv("TACTILE_REQUIRE_AUDIO")
+    with pytest.raises(pytest.skip.Exception, match="portaudio, asound"):
+        require_audio()
