@@ -353,3 +353,29 @@ def test_profile_carriers_one_for_all_or_one_per_channel_refused_naming_the_fiel
         with pytest.raises(ProfileError) as caught:
             profile(4, carrier_hz=bad)
         assert words in str(caught.value)
+
+
+def test_the_block_clock_ignores_a_stall_and_follows_a_real_shift():
+    from tactile_core.device._audio_play import BlockClock
+
+    period = BLOCK / RATE
+    clock = BlockClock(RATE)
+    # the first blocks arrive at once (PortAudio fills its buffers), then one a period
+    starts = [clock.block(10.0 + max(k - 3, 0) * period, BLOCK) for k in range(3)]
+    starts += [clock.block(10.0 + k * period, BLOCK) for k in range(3, 60)]
+    assert clock.locked and starts[-1] == pytest.approx(10.0 + 59 * period, abs=1e-9)
+    k = 60
+    # a 50 ms stall: blocks measured late, then a burst that catches up
+    late = [0.05 - j * period for j in range(10)]
+    for extra in late:
+        assert clock.block(10.0 + k * period + max(extra, 0.0), BLOCK) == pytest.approx(
+            10.0 + k * period, abs=21e-6
+        )  # 2 us a block at most
+        k += 1
+    assert clock.locked and clock.resyncs == 0
+    # the stream really moved by 20 ms (a dropout): followed within 150 ms and a few blocks
+    for _ in range(60):
+        start = clock.block(10.02 + k * period, BLOCK)
+        k += 1
+    assert clock.resyncs == 1 and clock.locked
+    assert start == pytest.approx(10.02 + (k - 1) * period, abs=30e-6)

@@ -28,8 +28,10 @@ eight blocks more than 10 ms off)."""
 SETTLE_BLOCKS = 4
 """Blocks in a row on time before the clock map locks."""
 STEP_S = 2e-6
-"""The most the locked map moves per block (after its first blocks): it follows the median of
-the measurements, so a late callback or a burst moves it by this much at most."""
+"""The most the locked map moves per block: it follows the median of the measurements, so a
+late callback or a burst moves it by this much at most (ten times as much during its first
+:data:`QUICK_BLOCKS`, to leave the error of the one block it locked on quickly)."""
+QUICK_BLOCKS = 32
 
 
 class BlockClock:
@@ -66,7 +68,7 @@ class BlockClock:
             error = start - self._start
             self._far = self._far + frames if abs(error) > RESYNC_S else 0
             if self._far < RESYNC_AFTER_S * self.samplerate:
-                step = max(STEP_S, 1e-4 / (1 + self._since))
+                step = STEP_S * (10 if self._since < QUICK_BLOCKS else 1)
                 self._since += 1
                 self._start += min(max(error, -step), step)
                 return self._start + first / self.samplerate
