@@ -1,10 +1,12 @@
-"""The device panel: ports, connect/disconnect, the device profile, the stream's status line."""
+"""The device panel: ports and audio devices, connect/disconnect, the device profile, the
+stream's status line."""
 
 from __future__ import annotations
 
 from PySide6 import QtCore, QtWidgets
 from serial.tools import list_ports
 
+from tactile_core.device.audio import audio_outputs
 from tactile_core.device.link import SIMULATED_URLS
 from tactile_core.device.profile import profile_names
 
@@ -30,7 +32,7 @@ class DevicePanel(QtWidgets.QWidget):
         self.port_combo.setEditable(True)
         self.port_combo.setMinimumWidth(260)
         self.port_combo.lineEdit().setPlaceholderText(
-            "port or URL: /dev/ttyUSB0, COM3, socket://host:port"
+            "port or URL: /dev/ttyUSB0, COM3, socket://host:port, audio:NAME"
         )
         self.refresh_button = QtWidgets.QPushButton("Refresh")
         self.connect_button = QtWidgets.QPushButton("Connect")
@@ -74,7 +76,9 @@ class DevicePanel(QtWidgets.QWidget):
         layout.setColumnStretch(1, 1)
         self.port_combo.setToolTip(tip(
             "A serial port or any pyserial URL (/dev/ttyUSB0, COM3, socket://host:port, "
-            "rfc2217://..., spy://...); sim for the built-in simulated array. Enter connects."
+            "rfc2217://..., spy://...); an audio interface, one channel per actuator "
+            "(audio:NAME, audio:NAME?carrier_hz=170); sim for the built-in simulated array. "
+            "Enter connects."
         ))  # fmt: skip
         self.connect_button.setToolTip(tip("Stream to the device; it is asked who it is first"))
         self.profile_button.setToolTip(tip("Load a device profile from a file (grid or actuator "
@@ -94,7 +98,7 @@ class DevicePanel(QtWidgets.QWidget):
         self.lead_spin.valueChanged.connect(self._on_lead_changed)
         self.port_combo.lineEdit().returnPressed.connect(self._on_connect_clicked)
         self.port_combo.currentTextChanged.connect(lambda _: self._update_connect())
-        self.refresh_button.clicked.connect(self.refresh_ports)
+        self.refresh_button.clicked.connect(lambda: self.refresh_ports())
         self.connect_button.clicked.connect(self._on_connect_clicked)
         self.disconnect_button.clicked.connect(device.disconnect_device)
         self.profile_button.clicked.connect(self.profile_requested.emit)
@@ -104,17 +108,22 @@ class DevicePanel(QtWidgets.QWidget):
         self._timer = QtCore.QTimer(self)
         self._timer.timeout.connect(lambda: self.show_stats(device.stats))
         self._timer.start(500)
-        self.refresh_ports()
+        self.refresh_ports(rescan=False)  # PortAudio has just looked
         self._on_device_connection_changed(device.description)
 
-    def refresh_ports(self) -> None:
-        """List serial ports (``serial.tools.list_ports``) and the simulated array."""
+    def refresh_ports(self, rescan: bool = True) -> None:
+        """List the simulated array, serial ports (``serial.tools.list_ports``) and audio
+        output devices (``audio:NAME``, what they offer as the item's tip)."""
         current = self.port_combo.currentText()
         self.port_combo.clear()
         self.port_combo.addItem("sim")
         for port in sorted(list_ports.comports(), key=lambda p: p.device):
             label = f"{port.device}"
             self.port_combo.addItem(label)
+        for url, label in audio_outputs(rescan=rescan):
+            self.port_combo.addItem(url)
+            index = self.port_combo.count() - 1
+            self.port_combo.setItemData(index, label, QtCore.Qt.ItemDataRole.ToolTipRole)
         if current:
             self.port_combo.setCurrentText(current)
 

@@ -5,8 +5,9 @@ Timings are the minimum over repeated runs (the least disturbed by other process
 
 Inside, one module per part: ``_common`` (scenes, timer, :class:`Table`), ``_batch`` and
 ``_live`` (the rendering cost), ``_accuracy`` (speed against accuracy), ``_device`` (the link
-into the emulator), ``_methods``, ``_staircase``, ``_tuning`` and ``_validation`` (the tuning
-against other observers, QUEST+); :func:`run` picks the parts.
+into the emulator), ``_audio`` (the audio callback's cost per block), ``_methods``,
+``_staircase``, ``_tuning`` and ``_validation`` (the tuning against other observers, QUEST+);
+:func:`run` picks the parts.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from importlib.metadata import entry_points
 from ._accuracy import _frame_metrics as _frame_metrics
 from ._accuracy import _reference as _reference
 from ._accuracy import accuracy_table
+from ._audio import audio_table
 from ._batch import batch_table, dense_area_sampling, naive_area_sampling
 from ._common import FILTERS, GAMMA, MU, RATES_HZ, SCENES, Table, best_time
 from ._common import _cycling as _cycling
@@ -41,6 +43,7 @@ __all__ = [
     "TUNING_PLANS",
     "Table",
     "accuracy_table",
+    "audio_table",
     "batch_table",
     "best_time",
     "dense_area_sampling",
@@ -86,6 +89,7 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
     if part in ("device", "all"):
         for table in device_tables(seconds=3.0 if quick else 10.0):
             show(table)
+        show(audio_table(blocks=1000 if quick else 4000))
     if part in ("link", "all"):
         show(link_table(seconds=2.0 if quick else 5.0))
     if part in ("experiments", "all"):

@@ -22,13 +22,24 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
 
-    p = sub.add_parser("render", help="write the frames of one trace to .csv or .npz")
+    p = sub.add_parser(
+        "render", help="write the frames of one trace to .csv or .npz, or its carriers to .wav"
+    )
     _add_scene_arguments(p, duration=2.0)
-    p.add_argument("--profile", default=None,
-                   help="render onto this device profile's actuators (a grid or a layout) "
-                        "instead of --cols x --rows")  # fmt: skip
+    p.set_defaults(cols=None, rows=None)  # None: 5 x 6, or the profile's grid
     p.add_argument("--rate", type=number, default=100.0, help="frames per second (default 100)")
-    p.add_argument("--out", required=True, help="output file, .csv or .npz")
+    p.add_argument("--out", required=True, help="output file, .csv, .npz or .wav")
+    p.add_argument("--profile", default=None,
+                   help="device profile (a name or JSON file): its grid or layout, and for .wav "
+                   "its channels, levels, calibration and carriers (default: the palm array)")  # fmt: skip
+    p.add_argument("--samplerate", type=whole, default=None,
+                   help=".wav: samples per second, 8000-384000 (default 48000)")  # fmt: skip
+    p.add_argument("--carrier-hz", type=number, default=None,
+                   help=".wav: one carrier for every channel, 1-1000 Hz (default: the profile's, "
+                   "else 250)")  # fmt: skip
+    p.add_argument("--ramp-ms", type=number, default=None,
+                   help=".wav: the raised-cosine ramp between levels, 0-20 ms "
+                   "(default 1.5)")  # fmt: skip
     add_tact_option(p)
     p.set_defaults(func=cmd_render)
 

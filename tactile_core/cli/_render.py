@@ -21,16 +21,13 @@ MAX_RENDER_FRAMES = 1_000_000
 
 
 def cmd_render(args) -> int:
-    """Write the frames of one trace to CSV or NPZ."""
+    """Write the frames of one trace to CSV or NPZ, or its carrier signal to WAV."""
+    out = check_output(args.out, (".csv", ".npz", ".wav"), "--out")
+    wav = out.suffix.lower() == ".wav"
+    profile = _render_profile(args, wav)
     shape, method, mu, gamma, grid = _scene(args)
     names = [grid.cell_name(i) for i in range(grid.size)]
-    if getattr(args, "profile", None) is not None:
-        from ..device.profile import ProfileError, load_profile
-
-        try:
-            profile = load_profile(args.profile)
-        except ProfileError as exc:
-            raise UsageError(str(exc)) from None
+    if profile is not None:  # its grid or layout, and its actuators' names
         grid = profile.target
         check_renders(method, grid)
         names = list(profile.layout.names)
@@ -38,7 +35,6 @@ def cmd_render(args) -> int:
     if pattern is not None:
         return render_tact(args, pattern, method, mu, gamma, grid, names, MAX_RENDER_FRAMES)
     _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
-    out = check_output(args.out, (".csv", ".npz"), "--out")
     n = int(np.floor(args.duration * args.rate + 1e-9))
     if n + 1 > MAX_RENDER_FRAMES:
         raise ValueError(
@@ -49,6 +45,9 @@ def cmd_render(args) -> int:
     u = np.minimum(time_s / args.duration, 1.0)
     t = 1.0 - u if args.direction == "reverse" else u
     frames = correct(render(shape, method, t, grid=grid), mu, gamma)
+    if wav:
+        return _write_wav(args, out, profile, frames, f"{shape.spec} ({method}, mu={mu:g}, "
+                          f"gamma={gamma:g})")  # fmt: skip
     try:
         if out.suffix.lower() == ".npz":
             with atomic_file(out, binary=True) as f:
@@ -67,6 +66,61 @@ def cmd_render(args) -> int:
     except OSError as exc:
         raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
     print(f"wrote {len(t)} frames of {shape.spec} ({method}, mu={mu:g}, gamma={gamma:g}) to {out}")
+    return 0
+
+
+def _render_profile(args, wav: bool):
+    """``tactile render``'s device profile (None for frames without one), and the grid it
+    sets in ``args``: the profile's, which ``--cols``/``--rows`` may only repeat."""
+    from ..device.profile import ProfileError, default_profile, load_profile
+
+    audio_options = ("samplerate", "carrier_hz", "ramp_ms")
+    if not wav:
+        for name in audio_options:
+            if getattr(args, name) is not None:
+                option = "--" + name.replace("_", "-")
+                raise UsageError(f"{option} applies to .wav output only")
+    profile = None
+    if wav or args.profile is not None:
+        try:
+            profile = load_profile(args.profile) if args.profile is not None else default_profile()
+        except ProfileError as exc:
+            raise UsageError(str(exc)) from None
+        grid = profile.grid
+        for name, value in (("cols", grid.cols), ("rows", grid.rows)):
+            given = getattr(args, name)
+            if given is not None and given != value:
+                raise UsageError(f"--{name} {given} disagrees with the profile {profile.name}'s "
+                                 f"{grid.cols} x {grid.rows} grid")  # fmt: skip
+            setattr(args, name, value)
+    args.cols = 5 if args.cols is None else args.cols
+    args.rows = 6 if args.rows is None else args.rows
+    return profile
+
+
+def _write_wav(args, out, profile, frames, what: str) -> int:
+    """``tactile render --out FILE.wav``: the corrected frames calibrated and quantised as the
+    streamer does, in channel order, as the carriers an audio interface would play."""
+    from ..device._audio_synth import DEFAULT_RAMP_MS
+    from ..device._audio_url import CARRIER_RANGE_HZ, RAMP_RANGE_MS, SAMPLERATE_RANGE
+    from ..device.audio_file import write_wav
+    from ..rendering.correction import quantize
+
+    samplerate = 48000 if args.samplerate is None else args.samplerate
+    ramp_ms = DEFAULT_RAMP_MS if args.ramp_ms is None else args.ramp_ms
+    _validate.integer("samplerate", samplerate, *SAMPLERATE_RANGE)
+    _validate.in_range("ramp-ms", ramp_ms, *RAMP_RANGE_MS)
+    if args.carrier_hz is not None:
+        _validate.in_range("carrier-hz", args.carrier_hz, *CARRIER_RANGE_HZ)
+    flat = profile.calibrate(frames.reshape(len(frames), -1))  # cell order
+    levels = quantize(flat, profile.levels)[:, profile.array.channel_index]
+    try:
+        written = write_wav(out, levels, args.rate, profile, samplerate=samplerate,
+                            carrier_hz=args.carrier_hz, ramp_ms=ramp_ms)  # fmt: skip
+    except OSError as exc:
+        raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
+    print(f"wrote {len(frames)} frames of {what} to {out}: {profile.channels} channels of "
+          f"{written / samplerate:.3f} s at {samplerate} Hz (profile {profile.name})")  # fmt: skip
     return 0
 
 

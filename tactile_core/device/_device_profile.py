@@ -44,6 +44,9 @@ class DeviceProfile:
         Where the profile was loaded from.
     file_sha256 : str or None
         SHA-256 of the bytes of that file (None for a profile built or changed in memory).
+    carrier_hz : tuple of float or None
+        An audio array's carrier frequencies: one for every channel, or one per channel in
+        channel order (:mod:`tactile_core.device.audio`; 250 Hz when None).
     """
 
     name: str
@@ -57,6 +60,7 @@ class DeviceProfile:
     description: str = ""
     path: str | None = field(default=None, compare=False)
     file_sha256: str | None = field(default=None, compare=False)
+    carrier_hz: tuple | None = None
 
     @property
     def grid(self) -> Grid:
@@ -192,6 +196,9 @@ class DeviceProfile:
             data["calibration"] = {"offset": list(self.offset), "gain": list(self.gain)}
             if self.threshold is not None:
                 data["calibration"]["threshold"] = list(self.threshold)
+        if self.carrier_hz is not None:
+            hz = self.carrier_hz
+            data["carrier_hz"] = hz[0] if len(hz) == 1 else list(hz)
         return data
 
     @property

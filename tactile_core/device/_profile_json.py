@@ -87,8 +87,8 @@ def profile_fields(data, source: str = "profile") -> dict:
     -------
     dict
         ``name``, ``array`` (:class:`ArraySpec`), ``baud``, ``response``, ``motor``, ``offset``,
-        ``gain``, ``threshold``, ``description`` and ``path`` (None), checked and as the class
-        holds them.
+        ``gain``, ``threshold``, ``description``, ``path`` (None) and ``carrier_hz``, checked and
+        as the class holds them.
 
     Raises
     ------
@@ -244,6 +244,7 @@ def profile_fields(data, source: str = "profile") -> dict:
         threshold=threshold,
         description=description,
         path=None,
+        carrier_hz=_carrier_hz(data.get("carrier_hz"), source, size),
     )
 
 
@@ -270,3 +271,26 @@ def _motor(field, source, size, table):
     if not isinstance(note, str) or len(note) > 2000:
         raise ProfileError(f"{source}: field 'motor.note' must be a string of <= 2000 chars")
     return MotorResponse(taus[0], taus[1], note)
+
+
+CARRIER_RANGE_HZ = (1.0, 1000.0)
+"""Carriers a profile may give an audio array's actuators (vibrotactile: up to ~1 kHz)."""
+
+
+def _carrier_hz(field, source, channels):
+    """The ``carrier_hz`` field (audio arrays): one frequency for every channel, or a list of
+    one per channel in channel order, each within :data:`CARRIER_RANGE_HZ`; None if absent."""
+    if field is None:
+        return None
+    if isinstance(field, list):
+        hz = _numbers(field, "carrier_hz", source, channels)
+    else:
+        hz = np.array([_number(field, "carrier_hz", source)])
+    lo, hi = CARRIER_RANGE_HZ
+    bad = np.flatnonzero((hz < lo) | (hz > hi))
+    if bad.size:
+        key = f"carrier_hz[{bad[0]}]" if isinstance(field, list) else "carrier_hz"
+        raise ProfileError(
+            f"{source}: field '{key}' must be within [{lo:g}, {hi:g}] Hz, got {hz[bad[0]]:g}"
+        )
+    return tuple(hz.tolist())

@@ -101,10 +101,12 @@ class _Plan:
         if not self.scene.playing:
             return "paused", f"paused: all off, keep-alive at {self.rate:g} Hz"
         if self.capped:
+            why = getattr(link, "rate_limit", None) or (
+                f"{profile.baud} baud, {profile.baud / 10 / self.max_rate:.0f} bytes per frame"
+            )
             return "streaming", (
                 f"streaming {self.scene.method} at {self.rate:.0f} Hz: {self.requested:g} Hz "
-                f"requested, the link carries {self.max_rate:.0f} frames/s "
-                f"({profile.baud} baud, {profile.baud / 10 / self.max_rate:.0f} bytes per frame)"
+                f"requested, the link carries {self.max_rate:.0f} frames/s ({why})"
             )
         note = f" ({priority_note})" if priority_note else ""
         return "streaming", (

@@ -64,7 +64,8 @@ class ArrayTalk:
         self._update = update
         self.info: Info | None = None
         self.status: Status | None = None
-        self.clock = ArrayClock(byte_s=10.0 / profile.baud)
+        # A link may say how long a byte takes on it (an in-process one: none); else 8N1.
+        self.clock = ArrayClock(byte_s=getattr(link, "byte_s", 10.0 / profile.baud))
         self.scheduled = False
         """True while frames go out timed (the array announced the extension and answers the
         clock)."""
@@ -133,7 +134,11 @@ class ArrayTalk:
 
     @property
     def max_rate_hz(self) -> float:
-        """Frames a second the link carries, timed or not."""
+        """Frames a second the link carries, timed or not (a link with a limit of its own, such
+        as an audio interface, says so in its ``max_rate_hz``)."""
+        own = getattr(self.link, "max_rate_hz", None)
+        if own is not None:
+            return own
         bits = level_bits(self.profile.levels)
         wire_bytes = frame_length(self.profile.channels, timed=self.scheduled, bits=bits)
         return self.profile.baud / 10.0 / wire_bytes

@@ -64,16 +64,19 @@ class ArrayModel:
     scheduled : bool
         Speak the scheduled-frame extension (announced in the info); False is a plain format 2
         array, which drops timed frames and clock requests as an unknown type.
+    queue_channels : int
+        The most channels a queued frame holds; an array with more does not announce the
+        extension (the firmware's :data:`QUEUE_CHANNELS`; an audio interface has no such limit).
     """
 
     def __init__(self, profile: DeviceProfile | None = None, *, pwm_hz: int = PWM_HZ,
                  watchdog_s: float = WATCHDOG_S, epoch: float = 0.0,
-                 scheduled: bool = True):  # fmt: skip
+                 scheduled: bool = True, queue_channels: int = QUEUE_CHANNELS):  # fmt: skip
         self.profile = profile or default_profile()
         self.channels = self.profile.channels
         self.watchdog_s = watchdog_s
         self.epoch = epoch
-        self.scheduled = scheduled and self.channels <= QUEUE_CHANNELS
+        self.scheduled = scheduled and self.channels <= queue_channels
         accept = (Frame, Hello, Query) + ((Timed, Clock) if self.scheduled else ())
         self.reader = MessageReader(
             channels=self.channels, levels=self.profile.levels, accept=accept

@@ -1,4 +1,5 @@
-"""Links to an array: a serial port (or any pyserial URL) and the simulated array.
+"""Links to an array: a serial port (or any pyserial URL), the simulated array, and (in
+:mod:`.audio`) a multichannel audio interface.
 
 A link is anything with ``write(data)``, ``read()`` (the bytes the array has sent, without
 waiting), ``close()``, ``reopen()`` and a ``description``. ``write`` and ``read`` raise
@@ -15,14 +16,10 @@ import time
 import numpy as np
 import serial
 
+from ._link_error import LinkError
 from .array import ArrayModel
 from .profile import DeviceProfile, default_profile
 from .wire import HELLO_TIMEOUT_S, Info, MessageReader, encode_hello
-
-
-class LinkError(Exception):
-    """The link failed; the message says what happened in words a user can act on."""
-
 
 SIMULATED_URLS = ("sim", "sim://", "simulated")
 
@@ -287,8 +284,15 @@ def identify(link, profile: DeviceProfile, seq: int = 0, timeout_s: float = HELL
 
 
 def open_link(url: str | None, profile: DeviceProfile | None = None, **kwargs):
-    """Open a link: the simulated array for None or ``"sim"``, else a :class:`SerialLink`."""
+    """Open a link: the simulated array for None or ``"sim"``, an audio interface for
+    ``audio:...`` (:class:`~.audio.AudioLink`), else a :class:`SerialLink`."""
+    from ._audio_url import is_audio_url
+
     profile = profile or default_profile()
     if url is None or url in SIMULATED_URLS:
         return SimulatedArray(profile)
+    if is_audio_url(url):
+        from .audio import AudioLink
+
+        return AudioLink(url, profile)
     return SerialLink(url, baud=profile.baud, **kwargs)

@@ -1,0 +1,319 @@
+"""A multichannel audio interface as an array: one actuator per channel, through PortAudio.
+
+:class:`AudioLink` is a link like the serial one (``write``, ``read``, ``close``, ``reopen``,
+``description``; only :class:`~.link.LinkError` escapes). Behind it the bytes the streamer writes
+are received by :class:`~.array.ArrayModel`, exactly as the reference firmware receives them:
+frames, hello (its info names the profile's array and announces scheduled frames), query, the
+clock exchange and timed frames, the 250 ms watchdog. What the model applies becomes *events*
+for the audio callback: a frame for now starts at the next block, a timed frame at the sample
+whose time is its time. The callback turns them into carriers (:mod:`._audio_synth`), sample
+for sample, with a raised-cosine ramp between levels.
+
+The array's clock is the host's (``time.perf_counter``, microseconds from the link's start):
+clock exchanges cost nothing in-process (:attr:`AudioLink.byte_s` is 0), and the callback maps
+each block onto that clock from PortAudio's timing (the time its first sample reaches the
+converter), smoothed by a first-order loop and re-anchored after a dropout
+(:class:`~._audio_play.BlockClock`). A timed frame that the callback meets only after its time
+has passed plays at once and counts as late.
+
+Threads: the streamer's thread writes; PortAudio's thread runs the callback. They share the
+:class:`~._audio_play.Player`: one immutable tuple of events that the writer replaces (the
+callback reads it once per block) and a few numbers each of them alone writes.
+"""
+
+from __future__ import annotations
+
+import atexit
+import threading
+import weakref
+
+import numpy as np
+
+from ._audio_play import Player
+from ._audio_synth import DEFAULT_CARRIER_HZ
+from ._audio_url import (
+    SAMPLERATE_RANGE,
+    audio_url,
+    check_device,
+    find_device,
+    load_sounddevice,
+    output_devices,
+    parse_audio_url,
+)
+from ._link_error import LinkError
+from .array import ArrayModel
+from .host_clock import HostClock
+from .profile import DeviceProfile, default_profile
+
+BLOCK = 256
+"""Samples per callback: 5.3 ms at 48 kHz."""
+STALL_S = 0.5
+"""A stream whose callback has not run for this long is taken for a device that vanished."""
+OPEN_TIMEOUT_S = 0.5
+"""Opening waits at most this long for the stream to run steadily (its clock map locked)."""
+FADE_TIMEOUT_S = 0.5
+"""Closing waits at most this long for the callback to fade out and play silence."""
+
+_OPEN: weakref.WeakSet = weakref.WeakSet()
+_EXIT_HOOK: list = []
+
+
+def _close_all() -> None:
+    """Interpreter exit: fade every open audio link to silence (before PortAudio ends)."""
+    for link in list(_OPEN):
+        link.close()
+
+
+def audio_outputs(rescan: bool = False) -> list[tuple[str, str]]:
+    """``(url, label)`` of every audio output device (``("audio:USB 8ch", "USB 8ch (ALSA, 8
+    channels, 48000 Hz)")``), for a device box; empty without PortAudio.
+
+    PortAudio lists the devices it found when it started; ``rescan`` starts it again to find
+    devices plugged in since, unless an audio link is open in this process (its stream would
+    end).
+    """
+    try:
+        sd = load_sounddevice()
+        if rescan and not _OPEN and hasattr(sd, "_terminate"):
+            sd._terminate()
+            sd._initialize()
+        devices = output_devices(sd)
+    except Exception:  # no PortAudio, no audio system: nothing to list
+        return []
+    return [
+        (
+            audio_url(d["name"]),
+            f"{d['name']} ({d['hostapi']}, {d['max_output_channels']} channels, "
+            f"{d['default_samplerate']:g} Hz)",
+        )
+        for d in devices
+    ]
+
+
+def carriers_for(profile: DeviceProfile, carrier_hz: float | None = None) -> np.ndarray:
+    """One carrier per channel: ``carrier_hz`` (a URL's) for all, else the profile's (one for
+    all or one per channel), else :data:`~._audio_synth.DEFAULT_CARRIER_HZ`."""
+    n = profile.channels
+    if carrier_hz is not None:
+        return np.full(n, float(carrier_hz))
+    given = getattr(profile, "carrier_hz", None)
+    if given is None:
+        return np.full(n, DEFAULT_CARRIER_HZ)
+    return np.broadcast_to(np.asarray(given, dtype=np.float64), (n,)).copy()
+
+
+class AudioLink:
+    """An ``audio:`` device: the profile's channels on an output stream.
+
+    Parameters
+    ----------
+    url : str
+        ``audio:`` or ``audio:NAME?channels=N&carrier_hz=F&samplerate=SR&ramp_ms=R``.
+    profile : DeviceProfile, optional
+        The array (its channels, levels, carriers); the palm array by default.
+    clock : HostClock, optional
+        The host's clock (``time.perf_counter``); the tests drive a fake stream on a
+        :class:`~.host_clock.VirtualClock`.
+
+    Raises
+    ------
+    LinkError
+        A bad URL (naming the key), no PortAudio, no such device, or a device that cannot play
+        the channels at the samplerate (listing what it supports).
+    """
+
+    byte_s = 0.0
+    """Seconds a byte takes on this link: none, it is received in-process."""
+
+    def __init__(self, url: str, profile: DeviceProfile | None = None, *, clock=None):
+        self.url = url
+        self.profile = profile or default_profile()
+        self.settings = parse_audio_url(url)
+        n = self.profile.channels
+        self.channels = self.settings.channels or n
+        if self.channels < n:
+            raise LinkError(
+                f"invalid device URL {url!r}: channels={self.channels} is fewer than the "
+                f"{n} actuators of the profile {self.profile.name} (one channel each)"
+            )
+        self.carrier_hz = carriers_for(self.profile, self.settings.carrier_hz)
+        self.ramp_s = self.settings.ramp_ms / 1e3
+        self._clock = clock or HostClock()
+        self.model = ArrayModel(self.profile, pwm_hz=round(float(self.carrier_hz[0])),
+                                epoch=self._clock.now(), queue_channels=255)  # fmt: skip
+        self._lock = threading.Lock()
+        self._replies = bytearray()
+        self._stream = None
+        self._sd = None
+        self.player: Player | None = None
+        self.device: dict | None = None
+        self.samplerate = 0
+        self.latency_s = 0.0
+        self.description = url
+        self.reopen()
+
+    # --- the stream ----------------------------------------------------------------------------
+
+    def reopen(self) -> None:
+        """(Re)open the output stream; :class:`LinkError` with the reason if it cannot."""
+        self.close()
+        sd = self._sd = load_sounddevice()
+        device = find_device(sd, self.settings.device)
+        rate = self.settings.samplerate or round(device["default_samplerate"])
+        if not SAMPLERATE_RANGE[0] <= rate <= SAMPLERATE_RANGE[1]:
+            raise LinkError(
+                f"audio device {device['name']!r}: its default samplerate {rate} Hz is outside "
+                f"{SAMPLERATE_RANGE[0]}-{SAMPLERATE_RANGE[1]} Hz; give samplerate= in the URL"
+            )
+        profile = self.profile
+        asked = (
+            "the URL's"
+            if self.settings.channels
+            else (f"the {profile.channels} actuators of the profile {profile.name}")
+        )
+        check_device(sd, device, self.channels, rate, asked=asked)
+        self.device, self.samplerate = device, rate
+        self.player = Player(self.carrier_hz, rate, ramp_s=self.ramp_s, outputs=self.channels,
+                             top=self.profile.levels - 1)  # fmt: skip
+        self._last_callback = self._clock.now()
+        self._failure = ""
+        self._finished = False
+        self.underflows = 0
+        self._late_taken = 0
+        try:
+            stream = sd.OutputStream(
+                device=device["index"],
+                channels=self.channels,
+                samplerate=rate,
+                blocksize=BLOCK,
+                dtype="float32",
+                latency="low",
+                callback=self._callback,
+                finished_callback=self._on_finished,
+            )
+            self.latency_s = float(stream.latency)
+            stream.start()
+        except Exception as exc:  # sounddevice.PortAudioError
+            raise LinkError(
+                f"cannot open audio device {device['name']!r} ({self.channels} channels at "
+                f"{rate} Hz): {exc}"
+            ) from None
+        self._stream = stream
+        deadline = self._clock.now() + OPEN_TIMEOUT_S  # frames wait for a steady stream
+        while not self.player.clock.locked and self._clock.now() < deadline and stream.active:
+            self._clock.sleep(0.002)
+        self.description = (
+            f"{self.url} ({device['name']}, {self.channels} channels at {rate} Hz, latency "
+            f"{self.latency_s * 1e3:.1f} ms)"
+        )
+        _OPEN.add(self)
+        if not _EXIT_HOOK:  # after sounddevice's own hook, so that it runs before it
+            _EXIT_HOOK.append(atexit.register(_close_all))
+
+    @property
+    def max_rate_hz(self) -> float:
+        """Frames a second this link plays: each must last at least its ramp (1000 at most)."""
+        return min(1000.0, 1.0 / self.ramp_s) if self.ramp_s > 0 else 1000.0
+
+    @property
+    def rate_limit(self) -> str:
+        """Why :attr:`max_rate_hz` is the limit, for the streamer's status line."""
+        return f"a frame must outlast its {self.ramp_s * 1e3:g} ms ramp"
+
+    def _alive(self) -> None:
+        """:class:`LinkError` if the stream is gone: closed, failed, stopped or stalled."""
+        stream = self._stream
+        if stream is None:
+            raise LinkError(f"not connected: {self.url}")
+        name = self.device["name"]
+        if self._failure:
+            raise LinkError(f"audio stopped on {name!r}: the callback failed ({self._failure})")
+        if self._finished or not stream.active:
+            raise LinkError(
+                f"audio device stopped: {name!r} (unplugged, or taken by another program?)"
+            )
+        silent_for = self._clock.now() - self._last_callback
+        if silent_for > STALL_S:
+            raise LinkError(
+                f"audio device stalled: {name!r} has asked for no samples in {silent_for:.1f} s"
+            )
+
+    # --- the writer's side (the streamer's thread) ---------------------------------------------
+
+    def write(self, data: bytes) -> None:
+        """Receive bytes as the array would; what it applies or queues goes to the callback."""
+        self._alive()
+        now = self._clock.now()
+        with self._lock:
+            model, player = self.model, self.player
+            late = player.late  # the callback's count, into the model's (its clock replies)
+            model.late += late - self._late_taken
+            self._late_taken = late
+            model.watchdog(now)
+            replies, frames = model.receive(data, now)
+            model.onsets.clear()  # nobody reads them here; they would pile up
+            self._replies += replies
+            player.schedule(model, frames, now)
+
+    def read(self) -> bytes:
+        """What the array answered since the last read."""
+        self._alive()
+        with self._lock:
+            data, self._replies = bytes(self._replies), bytearray()
+        return data
+
+    # --- the callback's side (PortAudio's thread) ----------------------------------------------
+
+    def _callback(self, outdata, frames, time_info, status) -> None:
+        try:
+            now = self._clock.now()
+            self._last_callback = now
+            ahead = time_info.outputBufferDacTime - time_info.currentTime
+            if not (time_info.currentTime and 0.0 <= ahead < 1.0):
+                ahead = self.latency_s  # a host API without timing: the nominal latency
+            if status.output_underflow:
+                self.underflows += 1
+            self.player.play(outdata, frames, now + ahead)
+        except Exception as exc:  # never a traceback on the audio thread: a status, silence
+            outdata.fill(0.0)
+            self._failure = f"{type(exc).__name__}: {exc}"
+            raise self._sd.CallbackAbort from None
+
+    def _on_finished(self) -> None:
+        self._finished = True
+
+    # --- closing -------------------------------------------------------------------------------
+
+    def close(self) -> None:
+        """Fade every channel to zero, play silence, then stop and close the stream
+        (idempotent; never raises)."""
+        stream = self._stream
+        if stream is None:
+            return
+        _OPEN.discard(self)
+        try:
+            if not (self._failure or self._finished) and stream.active:
+                with self._lock:
+                    self.player.fade_out(self._clock.now())
+                deadline = self._clock.now() + FADE_TIMEOUT_S
+                while self.player.silent_blocks < 2 and self._clock.now() < deadline:
+                    self._clock.sleep(0.002)
+                if self.player.silent_blocks >= 2:
+                    stream.stop()  # plays out what is buffered: silence
+                else:
+                    stream.abort()  # the callback is not running: nothing more will play
+            else:
+                stream.abort()
+        except Exception:  # a device that vanished while closing
+            pass
+        finally:
+            self._stream = None
+            try:
+                stream.close(ignore_errors=True)
+            except Exception:
+                pass
+
+    @property
+    def amplitudes(self) -> np.ndarray:
+        """The amplitudes the carriers are at or heading to, in channel order (a copy)."""
+        return self.player.synth.target.copy()

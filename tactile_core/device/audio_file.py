@@ -1,0 +1,99 @@
+"""A trace as the carrier signal an audio interface would play: a multichannel WAV file.
+
+``tactile render ... --out trace.wav`` writes, for labs that play stimuli from their own
+software, exactly what :class:`~.audio.AudioLink` would play for the same frames: the same
+synthesiser (:func:`~._audio_synth.synthesize`), one channel per actuator in channel order,
+frame ``k`` starting at sample ``round(k * samplerate / rate)``.
+"""
+
+from __future__ import annotations
+
+import wave
+
+import numpy as np
+
+from .._shared.outfile import atomic_file
+from ._audio_synth import DEFAULT_RAMP_MS, synthesize
+from .audio import carriers_for
+from .profile import DeviceProfile
+
+TAIL_S = 0.01
+"""Silence after the final fade: the file ends as the stream does, in zeros."""
+MAX_WAV_BYTES = 2**32 - 2**20
+"""A WAV file's sizes are 32-bit: a little under 4 GiB of samples."""
+
+
+def wav_layout(frames: int, rate_hz: float, samplerate: int, ramp_s: float) -> tuple:
+    """Where a trace's frames start in its signal and how long it is: ``(onsets, length)``.
+
+    The ``frames`` frames start at ``round(k * samplerate / rate_hz)``; the last one holds for a
+    frame's time, then every channel fades out (an all-off frame: the stream's end) and the
+    file ends :data:`TAIL_S` after the fade, so it ends in silence.
+    """
+    onsets = np.round(np.arange(frames + 1) * samplerate / rate_hz).astype(np.int64)
+    length = int(onsets[-1] + round(ramp_s * samplerate) + round(TAIL_S * samplerate))
+    return onsets, length
+
+
+def write_wav(path, levels, rate_hz: float, profile: DeviceProfile, *, samplerate: int = 48000,
+              carrier_hz: float | None = None, ramp_ms: float = DEFAULT_RAMP_MS):  # fmt: skip
+    """Write the carrier signal of a sequence of frames as a 16-bit PCM WAV file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.wav`` file (written atomically).
+    levels : array_like of int, ``(frames, channels)``
+        Device levels in channel order (``profile.channels`` of them), 0 .. levels - 1.
+    rate_hz : float
+        Frames a second.
+    profile : DeviceProfile
+        The array: its levels and its carriers (``carrier_hz``; 250 Hz if it has none).
+    samplerate : int
+        Samples a second.
+    carrier_hz : float, optional
+        One carrier for every channel instead of the profile's.
+    ramp_ms : float
+        The raised-cosine ramp between levels.
+
+    Returns
+    -------
+    int
+        Samples per channel written. Full scale (32767) is level ``levels - 1`` at the crest of
+        its carrier.
+
+    Raises
+    ------
+    ValueError
+        Levels of the wrong shape, or a signal too long for a WAV file (naming the duration).
+    """
+    levels = np.asarray(levels)
+    n = profile.channels
+    if levels.ndim != 2 or levels.shape[1] != n:
+        raise ValueError(f"levels must be (frames, {n}) in channel order, got {levels.shape}")
+    ramp_s = ramp_ms / 1e3
+    frames = np.vstack([levels, np.zeros((1, n), dtype=levels.dtype)])  # then all off
+    onsets, length = wav_layout(len(levels), rate_hz, samplerate, ramp_s)
+    size = length * n * 2
+    if size > MAX_WAV_BYTES:
+        raise ValueError(
+            f"a WAV file holds at most 4 GiB: {length / samplerate:.0f} s at {samplerate} Hz "
+            f"on {n} channels is {size / 2**30:.1f} GiB (shorten the duration or lower the "
+            "samplerate)"
+        )
+    blocks = synthesize(frames, onsets, top=profile.levels - 1,
+                        carrier_hz=carriers_for(profile, carrier_hz), samplerate=samplerate,
+                        ramp_s=ramp_s, length=length)  # fmt: skip
+    pcm = np.empty((4096, n), dtype="<i2")
+    with atomic_file(path, binary=True) as f, wave.open(f, "wb") as out:
+        out.setnchannels(n)
+        out.setsampwidth(2)
+        out.setframerate(samplerate)
+        out.setnframes(length)
+        for block in blocks:
+            m = len(block)
+            np.multiply(block, 32767.0, out=block)
+            np.rint(block, out=block)
+            pcm[:m] = block
+            out.writeframes(pcm[:m].tobytes())
+    return length
