@@ -31,7 +31,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output file, .csv, .npz or .wav")
     p.add_argument("--profile", default=None,
                    help="device profile (a name or JSON file): its grid or layout, and for .wav "
-                   "its channels, levels, calibration and carriers (default: the palm array)")  # fmt: skip
+                   "its channels, levels, calibration and carriers (default: the palm "
+                   "array)")  # fmt: skip
     p.add_argument("--samplerate", type=whole, default=None,
                    help=".wav: samples per second, 8000-384000 (default 48000)")  # fmt: skip
     p.add_argument("--carrier-hz", type=number, default=None,
