@@ -184,3 +184,15 @@ def test_the_tuner_sets_the_lead_and_a_preset_carries_it(qtbot, tmp_path):
     assert window.files.load_preset_file(tmp_path / "p.json")
     assert window.device.lead_ms == 35.0 and panel.lead_spin.value() == 35.0
     window.close()
+
+
+def test_a_simulated_array_keeps_a_bounded_record_of_onsets():
+    # the tuner's default (the simulated array, timed frames) played 300 onsets a second into a
+    # list nobody read: bounded now, the latest kept
+    from tactile_core.device.array import ONSETS_KEPT, ArrayModel
+    from tactile_core.device.wire import encode_timed
+
+    model = ArrayModel()
+    for k in range(ONSETS_KEPT + 500):
+        model.receive(encode_timed(k & 0xFF, 0, bytes(30), bits=5), now=k * 1e-3)
+    assert len(model.onsets) == ONSETS_KEPT

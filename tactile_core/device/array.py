@@ -40,6 +40,8 @@ from .wire import (
 PWM_HZ = 303
 """The reference firmware's PWM frequency: a 6,666.7 Hz timer interrupt (16 MHz / 8 / 300)
 steps through 22 slots per period for 23 levels: 303 Hz."""
+ONSETS_KEPT = 4096
+"""Onsets of timed frames an :class:`ArrayModel` keeps for its reader (13.7 s at 300 Hz)."""
 QUEUE = 24
 """Timed frames the reference firmware holds (``TP_QUEUE``)."""
 QUEUE_CHANNELS = 30
@@ -91,8 +93,9 @@ class ArrayModel:
         self.queue: deque[Timed] = deque()
         self.last_valid: float | None = None
         self.last_seq: int | None = None
-        self.onsets: list[tuple[float, Timed, bool]] = []
-        """Timed frames played: ``(host time, frame, late)``, for emulators that log them."""
+        self.onsets: deque[tuple[float, Timed, bool]] = deque(maxlen=ONSETS_KEPT)
+        """Timed frames played: ``(host time, frame, late)``, for emulators that log them (the
+        latest :data:`ONSETS_KEPT`: a simulated array nobody reads must not grow)."""
         grid = self.profile.grid
         name = self.profile.name.encode("ascii", "replace")[:64].decode("ascii")
         self.info = Info(0, PROTOCOL_VERSION, grid.cols, grid.rows, self.profile.levels,
