@@ -1,0 +1,444 @@
+"""The OSC server: points and commands from another program, fed to a stream's live path.
+
+Two threads of its own, neither of them the stream's output thread:
+
+- the *receiver* reads UDP datagrams, parses them (:mod:`._osc_wire`), checks every value and
+  writes the :class:`~tactile_core.rendering.points.LivePoints` table or swaps in a new scene;
+- the *keeper* releases points that were not refreshed within the timeout, ends a shape when
+  its time is up, and measures the message rate.
+
+The output thread reads the points table (an immutable snapshot swapped by reference) and the
+scene (likewise) and never waits on either thread. A message that cannot be honoured is
+counted (:class:`ServeStats`) and dropped; the server goes on. Above ``max_rate_hz`` messages a
+second, datagrams are dropped unread (a token bucket holding 50 ms of messages), except
+``/tactile/off`` and ``/tactile/release``, which are always read: a flood costs the receiver a
+``recvmsg`` and a count per datagram, not a parse.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import math
+import socket
+import struct
+import sys
+import threading
+import time
+from collections import deque
+
+from .._shared import validate as _validate
+from ..device.profile import DeviceProfile, default_profile
+from ..rendering.correction import check_correction
+from ..rendering.points import DEFAULT_TIMEOUT_S, LivePoints, free_method
+from ..rendering.rasterize import check_renders
+from ..rendering.scene import Scene
+from ..rendering.shapes import parse_shape
+from ._osc_wire import Malformed, read_packet
+from ._serve_stats import ServeStats
+
+DEFAULT_PORT = 9100
+"""The UDP port ``tactile serve`` listens on unless told otherwise."""
+MAX_MESSAGES = 256
+"""Most messages read from one datagram (a bundle); the rest are counted as dropped."""
+MAX_SHAPE_S = 3600.0
+_ALWAYS_READ = (b"/tactile/off", b"/tactile/release")
+_SO_RXQ_OVFL = getattr(socket, "SO_RXQ_OVFL", 40 if sys.platform.startswith("linux") else None)
+
+
+def _number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+class OscServer:
+    """Points and commands over OSC (UDP), fed to a stream: ``tactile serve`` and the tuner.
+
+    Parameters
+    ----------
+    stream : Streamer, LocalStream or anything with ``set_scene(scene)``
+        Where scenes go. Live points are read by the stream's output thread in this process,
+        so not a stream process (its scenes are pickled). If it has an ``on_onset`` list (a
+        :class:`~tactile_core.device.Streamer`), the server adds itself to it: a shape then
+        ends ``DURATION_S`` after its first frame went out.
+    profile : DeviceProfile, optional
+        The array the points are rendered onto (the palm array by default).
+    scene : Scene, optional
+        Method, correction, rate and the rest for the points (AS, μ 0.33, γ 0.7 at 300 Hz by
+        default); its shape is ignored. The method must render free points.
+    host, port : str, int
+        Where to listen: 127.0.0.1 (this machine only) by default. Another address is used only
+        when asked, with a warning (``on_warning``). Port 0 takes a free port (see ``address``).
+    timeout_s : float
+        A point not refreshed within this long is released (0.1 s).
+    interpolate : bool
+        Interpolate points between their last two updates instead of showing the newest.
+    max_rate_hz : float
+        Messages read per second at most (20,000); more are dropped unread, and counted.
+    on_scene : callable, optional
+        Called as ``on_scene(scene)`` from the server's threads after it swaps in a scene
+        (``/tactile/method``, ``mu``, ``gamma``, ``shape``, ``off``; a shape's end).
+    on_warning : callable, optional
+        Called with a sentence when listening beyond this machine (default: standard error).
+    clock : callable
+        The stream's clock (``time.perf_counter``).
+    """
+
+    def __init__(self, stream, profile: DeviceProfile | None = None, *, scene: Scene | None = None,
+                 host: str = "127.0.0.1", port: int = DEFAULT_PORT,
+                 timeout_s: float = DEFAULT_TIMEOUT_S, interpolate: bool = False,
+                 max_rate_hz: float = 20_000.0, on_scene=None, on_warning=None,
+                 clock=time.perf_counter):  # fmt: skip
+        self.stream = stream
+        self.profile = profile or default_profile()
+        self.host = host
+        self.port = _validate.integer("port", port, 0, 65535)
+        self.max_rate_hz = _validate.in_range("max_rate_hz", max_rate_hz, 1.0, 1e7)
+        self.on_scene = on_scene
+        self.on_warning = on_warning or (lambda text: print(text, file=sys.stderr, flush=True))
+        self.clock = clock
+        self.points = LivePoints(timeout_s=timeout_s, interpolate=interpolate, clock=clock)
+        self._lock = threading.RLock()  # scene swaps: receiver, keeper, owner; never output
+        self._base = self._points_scene(scene or Scene(method="AS"))
+        self._current = self._base
+        self._epoch = self._base.epoch
+        self._shape = None  # the shape scene playing, or None
+        self._shape_until = math.inf
+        self._n = dict.fromkeys(
+            ("datagrams", "messages", "points", "releases", "controls", "shapes", "malformed",
+             "unknown", "wrong_type", "non_finite", "out_of_range", "refused", "flood_dropped",
+             "kernel_dropped", "errors"), 0)  # fmt: skip
+        self._timed_out = 0
+        self._rate_hz = 0.0
+        self._sender = ""
+        self._last_address = ""
+        self._problem = ""
+        self._sock = None
+        self._ovfl = False
+        self.address = ("", 0)
+        """``(host, port)`` the server is bound to, once started."""
+        self._started = None
+        self._stopping = threading.Event()
+        self._wake = threading.Event()
+        self._threads: list[threading.Thread] = []
+        hooks = getattr(stream, "on_onset", None)
+        self._hooks = hooks if isinstance(hooks, list) else None
+
+    # --- owner ---------------------------------------------------------------------------------
+
+    def start(self) -> OscServer:
+        """Bind the socket, start the threads and hand the points scene to the stream.
+
+        Raises ``OSError`` (the address in use, not an address of this machine) with the
+        address in the message."""
+        self._sock = self._bind()
+        self._started = self.clock()
+        if self._hooks is not None:
+            self._hooks.append(self.on_onset)
+        with self._lock:
+            self.stream.set_scene(self._current)
+        for name, target in (("tactile-osc", self._receive), ("tactile-osc-keeper", self._keep)):
+            thread = threading.Thread(target=target, name=name, daemon=True)
+            thread.start()
+            self._threads.append(thread)
+        return self
+
+    def stop(self, timeout: float = 2.0) -> ServeStats:
+        """Stop listening, release every point and leave the stream idle (all off) if it still
+        plays the server's scene; the final counters."""
+        self._stopping.set()
+        self._wake.set()
+        for thread in self._threads:
+            thread.join(timeout)
+        self._threads = []
+        if self._sock is not None:
+            self._sock.close()
+        self.points.release()
+        if self._hooks is not None and self.on_onset in self._hooks:
+            self._hooks.remove(self.on_onset)
+        with self._lock:
+            if getattr(self.stream, "scene", None) is self._current:
+                self.stream.set_scene(None)
+        return self.stats
+
+    def __enter__(self) -> OscServer:
+        return self.start()
+
+    def __exit__(self, *exc) -> None:
+        self.stop()
+
+    @property
+    def running(self) -> bool:
+        """True while the receiver thread is alive."""
+        return bool(self._threads) and self._threads[0].is_alive()
+
+    @property
+    def scene(self) -> Scene:
+        """The scene the server last handed to the stream."""
+        return self._current
+
+    def set_scene(self, scene: Scene) -> None:
+        """Take method, correction, rate and the rest from ``scene`` for the points (a tuner's
+        controls); ``ValueError`` if its method cannot render free points here."""
+        base = self._points_scene(scene)
+        with self._lock:
+            self._base = base
+            if self._shape is None:
+                self._swap(base)
+
+    def off(self) -> None:
+        """Release every point and end a shape: all off at the next frame."""
+        self.points.release()
+        with self._lock:
+            self._shape = None
+            self._swap(self._base)
+
+    @property
+    def stats(self) -> ServeStats:
+        """The counters now."""
+        shape = self._shape
+        return ServeStats(
+            address=f"{self.address[0]}:{self.address[1]}",
+            **self._n,
+            timed_out=self._timed_out,
+            active_points=len(self.points.points),
+            rate_hz=self._rate_hz,
+            last_sender=self._sender,
+            last_address=self._last_address,
+            last_problem=self._problem,
+            playing="points" if shape is None else shape.shape.spec,
+            elapsed_s=0.0 if self._started is None else self.clock() - self._started,
+        )
+
+    def on_onset(self, onset) -> None:
+        """A presentation's first frame went out (the stream's hook): time a shape from it."""
+        shape = self._shape
+        if (
+            shape is not None
+            and onset.scene.marker == "osc-shape"
+            and (onset.scene.epoch == shape.epoch)
+        ):
+            self._shape_until = onset.time_s + shape.duration_s
+            self._wake.set()
+
+    # --- scenes (under self._lock) -------------------------------------------------------------
+
+    def _points_scene(self, scene: Scene) -> Scene:
+        if not isinstance(scene, Scene):
+            raise ValueError(f"scene must be a Scene, got {_validate.shown(scene)}")
+        method = free_method(scene.method)
+        check_renders(method.spec, self.profile.target)
+        return scene.replace(shape=None, source=self.points, marker="osc-points", hold_s=None)
+
+    def _swap(self, scene: Scene) -> None:
+        self._current = scene
+        self.stream.set_scene(scene)
+        if self.on_scene is not None:
+            try:
+                self.on_scene(scene)
+            except Exception:
+                pass
+
+    def _change(self, **changes) -> None:
+        """New method or correction for the points, and for a shape playing."""
+        with self._lock:
+            self._base = self._base.replace(**changes)
+            if self._shape is not None:
+                self._shape = self._shape.replace(**changes)
+                self._swap(self._shape)
+            else:
+                self._swap(self._base)
+
+    def _play(self, spec: str, duration_s: float, now: float) -> None:
+        shape = parse_shape(spec)
+        with self._lock:
+            self._epoch += 1
+            self._shape = self._base.replace(
+                shape=shape, source=None, duration_s=duration_s, pause_s=0.0, repeat=False,
+                marker="osc-shape", epoch=self._epoch,
+            )  # fmt: skip
+            self._shape_until = now + duration_s + 0.1  # until its first frame says when
+            self._swap(self._shape)
+        self._wake.set()
+
+    # --- the receiver --------------------------------------------------------------------------
+
+    def _bind(self) -> socket.socket:
+        where = f"{self.host}:{self.port}"
+        try:
+            family, _, _, _, addr = socket.getaddrinfo(self.host, self.port,
+                                                       type=socket.SOCK_DGRAM)[0]  # fmt: skip
+        except (socket.gaierror, UnicodeError) as exc:
+            raise OSError(f"cannot listen on {where}: {exc}") from None
+        sock = socket.socket(family, socket.SOCK_DGRAM)
+        try:
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4 << 20)
+            self._ovfl = _SO_RXQ_OVFL is not None
+            if self._ovfl:
+                try:
+                    sock.setsockopt(socket.SOL_SOCKET, _SO_RXQ_OVFL, 1)
+                except OSError:
+                    self._ovfl = False
+            sock.bind(addr)
+        except OSError as exc:
+            sock.close()
+            raise OSError(f"cannot listen on {where}: {exc.strerror or exc}") from None
+        sock.settimeout(0.1)
+        self.address = sock.getsockname()[:2]
+        if not ipaddress.ip_address(self.address[0].split("%")[0]).is_loopback:
+            self.on_warning(
+                f"warning: listening on {self.address[0]}:{self.address[1]}, beyond this "
+                "machine: anyone who can send it UDP drives the array"
+            )
+        return sock
+
+    def _problem_of(self, kind: str, text: str) -> None:
+        self._n[kind] += 1
+        self._problem = text
+
+    def _receive(self) -> None:
+        sock, n, clock = self._sock, self._n, self.clock
+        space = socket.CMSG_SPACE(4) if self._ovfl else 0
+        capacity = max(1.0, self.max_rate_hz * 0.05)
+        tokens, last = capacity, clock()
+        while not self._stopping.is_set():
+            try:
+                if space:
+                    data, ancillary, _, sender = sock.recvmsg(65536, space)
+                else:
+                    (data, sender), ancillary = sock.recvfrom(65536), ()
+            except TimeoutError:
+                continue
+            except OSError as exc:
+                if self._stopping.is_set():
+                    break
+                self._problem_of("errors", f"receive: {exc}")
+                time.sleep(0.01)
+                continue
+            now = clock()
+            n["datagrams"] += 1
+            for level, kind, payload in ancillary:
+                if level == socket.SOL_SOCKET and kind == _SO_RXQ_OVFL and len(payload) >= 4:
+                    n["kernel_dropped"] = struct.unpack("=I", payload[:4])[0]
+            self._sender = f"{sender[0]}:{sender[1]}"
+            tokens = min(capacity, tokens + (now - last) * self.max_rate_hz)
+            last = now
+            if tokens < 1.0 and not data.startswith(_ALWAYS_READ):
+                n["flood_dropped"] += 1
+                continue
+            try:
+                messages, skipped = read_packet(data, MAX_MESSAGES)
+            except Malformed as exc:
+                self._problem_of("malformed", f"malformed datagram from {self._sender}: {exc}")
+                tokens -= 1.0
+                continue
+            n["flood_dropped"] += skipped
+            tokens -= max(1, len(messages))
+            for address, args in messages:
+                n["messages"] += 1
+                self._last_address = address
+                try:
+                    self._handle(address, args, now)
+                except Exception as exc:  # a bug: counted, and the server goes on
+                    self._problem_of("errors", f"{address}: {type(exc).__name__}: {exc}")
+
+    def _handle(self, address: str, args: list, now: float) -> None:
+        if address == "/tactile/point" or address.startswith("/tactile/point/"):
+            self._point(address, address[len("/tactile/point/") :], args, now)
+        elif address == "/tactile/release":
+            if (
+                len(args) > 1
+                or (args and not isinstance(args[0], (str, int)))
+                or (args and isinstance(args[0], bool))
+            ):
+                return self._problem_of("wrong_type", f"{address} takes an optional id")
+            self.points.release(str(args[0]) if args else None)
+            self._n["releases"] += 1
+        elif address == "/tactile/off":  # whatever its arguments: off is never refused
+            self.off()
+            self._n["controls"] += 1
+        elif address == "/tactile/method":
+            if len(args) != 1 or not isinstance(args[0], str):
+                return self._problem_of("wrong_type", f"{address} takes one string")
+            try:
+                scene = self._points_scene(self._base.replace(method=args[0]))
+            except ValueError as exc:
+                return self._problem_of("refused", f"{address} {args[0][:40]}: {exc}")
+            self._change(method=scene.method)
+            self._n["controls"] += 1
+        elif address in ("/tactile/mu", "/tactile/gamma"):
+            self._correction(address, address[len("/tactile/") :], args)
+        elif address == "/tactile/shape":
+            self._shape_message(address, args, now)
+        else:
+            self._problem_of("unknown", f"unknown address {address[:60]}")
+
+    def _numbers(self, address: str, args: list, counts: tuple, what: str) -> list | None:
+        if len(args) not in counts or not all(_number(a) for a in args):
+            self._problem_of("wrong_type", f"{address} takes {what}, got {_validate.shown(args)}")
+            return None
+        values = [float(a) for a in args]
+        if not all(math.isfinite(v) for v in values):
+            self._problem_of("non_finite", f"{address}: {_validate.shown(args)}")
+            return None
+        return values
+
+    def _point(self, address: str, point_id: str, args: list, now: float) -> None:
+        if address != "/tactile/point" and not point_id:
+            return self._problem_of("unknown", "/tactile/point/ needs an id after the slash")
+        values = self._numbers(address, args, (2, 3), "x y [intensity]")
+        if values is None:
+            return
+        intensity = values[2] if len(values) == 3 else 1.0
+        try:
+            self.points.set(point_id, values[0], values[1], intensity, time_s=now)
+        except ValueError as exc:
+            return self._problem_of("out_of_range", f"{address}: {exc}")
+        self._n["points"] += 1
+
+    def _correction(self, address: str, name: str, args: list) -> None:
+        values = self._numbers(address, args, (1,), "one number")
+        if values is None:
+            return
+        base = self._base
+        try:
+            check_correction(values[0] if name == "mu" else base.mu,
+                             values[0] if name == "gamma" else base.gamma)  # fmt: skip
+        except ValueError as exc:
+            return self._problem_of("out_of_range", f"{address}: {exc}")
+        self._change(**{name: values[0]})
+        self._n["controls"] += 1
+
+    def _shape_message(self, address: str, args: list, now: float) -> None:
+        if len(args) != 2 or not isinstance(args[0], str) or not _number(args[1]):
+            return self._problem_of("wrong_type", f"{address} takes SHAPE DURATION_S")
+        duration = float(args[1])
+        if not math.isfinite(duration):
+            return self._problem_of("non_finite", f"{address}: duration {args[1]!r}")
+        if not 0.0 < duration <= MAX_SHAPE_S:
+            return self._problem_of("out_of_range", f"{address}: duration must be within "
+                                    f"(0, {MAX_SHAPE_S:g}] s, got {duration:g}")  # fmt: skip
+        try:
+            self._play(args[0], duration, now)
+        except ValueError as exc:
+            return self._problem_of("refused", f"{address} {args[0][:40]}: {exc}")
+        self._n["shapes"] += 1
+
+    # --- the keeper ----------------------------------------------------------------------------
+
+    def _keep(self) -> None:
+        history: deque = deque()
+        while not self._stopping.is_set():
+            now = self.clock()
+            self._timed_out += self.points.expire(now)
+            if self._shape is not None and now >= self._shape_until:
+                with self._lock:
+                    if self._shape is not None and now >= self._shape_until:
+                        self._shape = None
+                        self._swap(self._base)
+            history.append((now, self._n["datagrams"] + self._n["kernel_dropped"]))
+            while len(history) > 2 and now - history[1][0] >= 1.0:
+                history.popleft()
+            (t0, d0), (t1, d1) = history[0], history[-1]
+            self._rate_hz = (d1 - d0) / (t1 - t0) if t1 > t0 else 0.0
+            wait = 0.02 if self._shape is None else min(0.02, max(0.0, self._shape_until - now))
+            self._wake.wait(wait)
+            self._wake.clear()
