@@ -9,6 +9,7 @@ from ..device._stream_talk import DEFAULT_LEAD_MS
 from ._common import _add_scene_arguments, number, whole
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._render import cmd_emulate, cmd_render, cmd_stream
+from ._serve import add_lsl_arguments, add_serve_parser
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -75,7 +76,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="send frames this far ahead, to be played at their time by the array's clock "
         f"(arrays with scheduled frames; 0: played on arrival; default {DEFAULT_LEAD_MS:g})",
     )
+    add_lsl_arguments(p)
     p.set_defaults(func=cmd_stream)
+    add_serve_parser(sub)
 
     p = sub.add_parser("emulate", help="run the device emulator on a pseudo-terminal")
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")

@@ -24,7 +24,7 @@ it is written):
 - *interpolated* (``interpolate=True``): the point moves from its previous update to its newest
   over the time between the two, starting when the newest arrived, so a 30 Hz sender gives
   smooth motion at 300 frames a second at the cost of one update interval of delay; an interval
-  longer than the timeout (a sender that paused) is not interpolated: the point jumps;
+  longer than the timeout or 1 s (a sender that paused) is not interpolated: the point jumps;
 - each point is rendered by the scene's method (one that needs no shape: CT, AS, EN, PK, RO,
   GS, VRCH, BA, or a plug-in; MM and IM are refused as for :func:`~.rasterize.render_xy`) and
   corrected with its intensity as the master intensity: a lit tactor gets
@@ -38,6 +38,7 @@ period just ended (a difference only for interpolated points).
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from typing import NamedTuple
@@ -86,8 +87,9 @@ class LivePoints:
 
     Parameters
     ----------
-    timeout_s : float
+    timeout_s : float or None
         A point not refreshed within this long is released (0.1 s by default; 0.001 to 60).
+        None: a point stays until released (a script's points; never for a network sender).
     interpolate : bool
         Move each point from its previous update to its newest (see the module's notes) instead
         of showing the newest at once.
@@ -97,9 +99,12 @@ class LivePoints:
         Seconds on the streamer's clock (``time.perf_counter`` by default).
     """
 
-    def __init__(self, *, timeout_s: float = DEFAULT_TIMEOUT_S, interpolate: bool = False,
+    def __init__(self, *, timeout_s: float | None = DEFAULT_TIMEOUT_S, interpolate: bool = False,
                  max_points: int = MAX_POINTS, clock=time.perf_counter):  # fmt: skip
-        self.timeout_s = _validate.in_range("timeout_s", timeout_s, 0.001, 60.0)
+        if timeout_s is not None:
+            timeout_s = _validate.in_range("timeout_s", timeout_s, 0.001, 60.0)
+        self.timeout_s = timeout_s
+        self._limit = math.inf if timeout_s is None else timeout_s
         self.interpolate = _validate.boolean("interpolate", interpolate)
         self.max_points = _validate.integer("max_points", max_points, 1, 1024)
         self.clock = clock
@@ -138,7 +143,7 @@ class LivePoints:
                     f"point {_validate.shown(point_id)}: already {self.max_points} points "
                     "(release some first)"
                 )
-            fresh = old is not None and now - old.time_s <= self.timeout_s
+            fresh = old is not None and now - old.time_s <= self._limit
             before = (old.x, old.y, old.intensity, old.time_s) if fresh else None
             new = dict(points)
             new[point_id] = Point(x, y, intensity, now, before)
@@ -164,7 +169,7 @@ class LivePoints:
         now = self.clock() if now_s is None else now_s
         with self._write:
             points = self._points
-            keep = {k: p for k, p in points.items() if now - p.time_s <= self.timeout_s}
+            keep = {k: p for k, p in points.items() if now - p.time_s <= self._limit}
             if len(keep) != len(points):
                 self._points = keep
             return len(points) - len(keep)
@@ -225,7 +230,7 @@ class PointFrames:
 
     def at(self, points: dict, now: float) -> dict:
         """``{index: corrected value}`` of ``points`` at time ``now`` (max over points)."""
-        timeout = self.table.timeout_s
+        timeout = self.table._limit
         interpolate = self.table.interpolate
         mu, gamma, gain = self.mu, self.gamma, self.gain
         out: dict[int, float] = {}
@@ -237,7 +242,7 @@ class PointFrames:
             if interpolate and p.previous is not None and age >= 0.0:
                 px, py, pa, pt = p.previous
                 span = p.time_s - pt
-                if 0.0 < span <= timeout and age < span:
+                if 0.0 < span <= min(timeout, 1.0) and age < span:
                     f = age / span
                     x, y, a = px + (x - px) * f, py + (y - py) * f, pa + (a - pa) * f
             if a <= 0.0:
