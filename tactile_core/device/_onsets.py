@@ -4,8 +4,10 @@ The streamer's output thread tells an :class:`OnsetWatch` when it takes up a new
 it has written a frame; the watch calls each hook once per presentation with an :class:`Onset`.
 A presentation starts with the first frame written of a playing scene that restarts the trace
 (another shape, another frame source, a new ``epoch``) or that follows a scene that was not
-playing (idle, paused). A change that keeps the trace running (μ, γ, method) is the same
-presentation; if it comes before the first frame, the onset names the newest scene.
+playing (idle, paused); and, for a trace that repeats, with the first frame of each further
+cycle (``cycle`` 1, 2, …: ``tactile stream`` marks every trace). A change that keeps the trace
+running (μ, γ, method) is the same presentation; if it comes before the first frame, the onset
+names the newest scene. A held trace (the tuner's scrubbing) and a frame source have no cycles.
 
 The time is the one the streamer's taps get for that frame: when it was written, on the host's
 ``time.perf_counter`` clock, or, for a frame scheduled ahead (``lead_s``), the host time at
@@ -16,6 +18,7 @@ presentations all take their times from here.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 __all__ = ["Onset", "OnsetWatch"]
@@ -36,12 +39,15 @@ class Onset:
         The frame's sequence number on the wire (0 to 255).
     timed : bool
         True for a frame scheduled ahead on the array's clock.
+    cycle : int
+        Which cycle of a repeating trace begins (0: the presentation's first frame).
     """
 
     scene: object
     time_s: float
     seq: int
     timed: bool = False
+    cycle: int = 0
 
 
 class OnsetWatch:
@@ -58,22 +64,33 @@ class OnsetWatch:
     def __init__(self, hooks: list):
         self.hooks = hooks
         self._pending = None
+        self._scene = None
+        self._cycle_frames = None  # frames per cycle of a repeating trace, or None
+        self._cycle = 0
 
     def planned(self, plan, starts: bool) -> None:
         """The output thread took up ``plan``; ``starts``: it restarts the trace or follows a
         plan that was not playing."""
+        self._scene = plan.scene if plan.active else None
+        trace = getattr(plan.live, "trace", None)
+        repeats = trace is not None and trace.repeat and trace.hold_s is None
+        self._cycle_frames = trace.period_s * plan.rate if repeats and plan.active else None
         if not plan.active:
             self._pending = None
         elif starts or self._pending is not None:
             self._pending = plan.scene
 
-    def written(self, time_s: float, seq: int, timed: bool) -> None:
-        """A frame of the current plan was written (``time_s`` as the taps got it)."""
-        scene = self._pending
-        if scene is None:
+    def written(self, time_s: float, seq: int, timed: bool, k: int = 0) -> None:
+        """Frame ``k`` of the current plan was written (``time_s`` as the taps got it)."""
+        cycle = 0 if self._cycle_frames is None else math.floor(k / self._cycle_frames + 1e-9)
+        if self._pending is not None:
+            scene, self._pending = self._pending, None
+        elif self._scene is not None and cycle > self._cycle:
+            scene = self._scene
+        else:
             return
-        self._pending = None
-        onset = Onset(scene, time_s, seq & 0xFF, timed)
+        self._cycle = cycle
+        onset = Onset(scene, time_s, seq & 0xFF, timed, cycle)
         for hook in list(self.hooks):
             try:
                 hook(onset)

@@ -412,7 +412,7 @@ class Streamer:
                         self._talk.before_frame(deadline)
                         at = (self._talk.at_us(deadline + self.lead_s), deadline + self.lead_s)
                     sent = self._write(seq, levels, at)
-                    self._onsets.written(sent if at is None else at[1], seq, at is not None)
+                    self._onsets.written(sent if at is None else at[1], seq, at is not None, k)
                     self.last_frame = (plan.scene, k / plan.rate if plan.active else None)
                     self._talk.after_frame()
                 except LinkError as exc:

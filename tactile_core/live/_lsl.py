@@ -72,6 +72,7 @@ def marker_text(onset) -> str:
         "gamma": scene.gamma,
         "gain": scene.gain,
         "duration_s": scene.duration_s if scene.shape is not None else None,
+        "cycle": onset.cycle,
         "seq": onset.seq,
         "timed": onset.timed,
     }
