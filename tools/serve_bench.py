@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import random
 import signal
 import subprocess
@@ -143,11 +144,25 @@ def intervals(times, start, end, period):
             f"max {errors.max():.3f} ms")  # fmt: skip
 
 
+def cpu_s(pid: int) -> float:
+    """User + system CPU seconds of process ``pid`` (Linux), or NaN."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return float("nan")
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def flood(args) -> None:
     with tempfile.TemporaryDirectory() as folder:
         rig = Rig(Path(folder), ["--rate", "300", "--lead-ms", "0"])
+        idle0, t0 = cpu_s(rig.serve.pid), time.perf_counter()
+        time.sleep(args.seconds)
+        idle = (cpu_s(rig.serve.pid) - idle0) / (time.perf_counter() - t0)
+        busy0 = cpu_s(rig.serve.pid)
         proc = subprocess.run([sys.executable, "-c", FLOOD, str(rig.port), str(args.flood_rate),
                                str(args.seconds)], capture_output=True, text=True)  # fmt: skip
+        busy = (cpu_s(rig.serve.pid) - busy0) / args.seconds
         first, last = proc.stdout.splitlines()
         start = float(first)
         sent, end = int(last.split()[0]), float(last.split()[1])
@@ -158,6 +173,7 @@ def flood(args) -> None:
     print(f"  server: {served['datagrams']} datagrams read, {served['kernel_dropped']} dropped by "
           f"the system (buffer full), {served['flood_dropped']} dropped over the rate limit, "
           f"{served['points']} points applied, {served['errors']} errors")  # fmt: skip
+    print(f"  tactile serve's CPU: {idle:.0%} of a core before, {busy:.0%} during the flood")
     period = 1 / 300
     print(f"  frames at the array before: {intervals(times, start - args.seconds, start, period)}")
     print(f"  frames at the array during: {intervals(times, start, end, period)}")

@@ -91,8 +91,8 @@ def add_serve_parser(sub) -> None:
     p.add_argument(
         "--max-rate",
         type=number,
-        default=20_000.0,
-        help="messages read per second at most; more are dropped and counted (default 20000)",
+        default=10_000.0,
+        help="messages read per second at most; more are dropped and counted (default 10000)",
     )
     p.add_argument(
         "--lead-ms",

@@ -27,9 +27,10 @@ import time
 from collections import deque
 
 from .._shared import validate as _validate
+from .._shared.validate import MAX_COORD
 from ..device.profile import DeviceProfile, default_profile
 from ..rendering.correction import check_correction
-from ..rendering.points import DEFAULT_TIMEOUT_S, LivePoints, free_method
+from ..rendering.points import DEFAULT_TIMEOUT_S, MAX_ID_CHARS, LivePoints, free_method
 from ..rendering.rasterize import check_renders
 from ..rendering.scene import Scene
 from ..rendering.shapes import parse_shape
@@ -72,7 +73,7 @@ class OscServer:
     interpolate : bool
         Interpolate points between their last two updates instead of showing the newest.
     max_rate_hz : float
-        Messages read per second at most (20,000); more are dropped unread, and counted.
+        Messages read per second at most (10,000); more are dropped unread, and counted.
     on_scene : callable, optional
         Called as ``on_scene(scene)`` from the server's threads after it swaps in a scene
         (``/tactile/method``, ``mu``, ``gamma``, ``shape``, ``off``; a shape's end).
@@ -85,7 +86,7 @@ class OscServer:
     def __init__(self, stream, profile: DeviceProfile | None = None, *, scene: Scene | None = None,
                  host: str = "127.0.0.1", port: int = DEFAULT_PORT,
                  timeout_s: float = DEFAULT_TIMEOUT_S, interpolate: bool = False,
-                 max_rate_hz: float = 20_000.0, on_scene=None, on_warning=None,
+                 max_rate_hz: float = 10_000.0, on_scene=None, on_warning=None,
                  clock=time.perf_counter):  # fmt: skip
         self.stream = stream
         self.profile = profile or default_profile()
@@ -372,10 +373,20 @@ class OscServer:
             self._problem_of("unknown", f"unknown address {address[:60]}")
 
     def _numbers(self, address: str, args: list, counts: tuple, what: str) -> list | None:
-        if len(args) not in counts or not all(_number(a) for a in args):
+        """The arguments as floats, or None after counting what is wrong with them."""
+        values = []
+        if len(args) in counts:
+            for a in args:
+                kind = type(a)  # exact types: True is not a number here
+                if kind is float:
+                    values.append(a)
+                elif kind is int:
+                    values.append(float(a))
+                else:
+                    break
+        if len(values) != len(args) or not values:
             self._problem_of("wrong_type", f"{address} takes {what}, got {_validate.shown(args)}")
             return None
-        values = [float(a) for a in args]
         if not all(math.isfinite(v) for v in values):
             self._problem_of("non_finite", f"{address}: {_validate.shown(args)}")
             return None
@@ -387,10 +398,18 @@ class OscServer:
         values = self._numbers(address, args, (2, 3), "x y [intensity]")
         if values is None:
             return
+        x, y = values[0], values[1]
         intensity = values[2] if len(values) == 3 else 1.0
+        if not (abs(x) <= MAX_COORD and abs(y) <= MAX_COORD and 0.0 <= intensity <= 1.0):
+            return self._problem_of("out_of_range", f"{address}: x and y must be within "
+                                    f"±{MAX_COORD:g}, intensity within [0, 1], got "
+                                    f"{_validate.shown(args)}")  # fmt: skip
+        if len(point_id) > MAX_ID_CHARS:
+            return self._problem_of("out_of_range", f"{address[:40]}...: an id has at most "
+                                    f"{MAX_ID_CHARS} characters")  # fmt: skip
         try:
-            self.points.set(point_id, values[0], values[1], intensity, time_s=now)
-        except ValueError as exc:
+            self.points.put(point_id, x, y, intensity, now)
+        except ValueError as exc:  # more points than the table holds
             return self._problem_of("out_of_range", f"{address}: {exc}")
         self._n["points"] += 1
 

@@ -134,7 +134,10 @@ class LivePoints:
         x = _validate.coordinate("x", x)
         y = _validate.coordinate("y", y)
         intensity = _validate.in_range("intensity", intensity, 0.0, 1.0)
-        now = self.clock() if time_s is None else time_s
+        self.put(point_id, x, y, intensity, self.clock() if time_s is None else time_s)
+
+    def put(self, point_id: str, x: float, y: float, intensity: float, now: float) -> None:
+        """:meth:`set` for a caller that checked every value (the OSC server, per message)."""
         with self._write:
             points = self._points
             old = points.get(point_id)
