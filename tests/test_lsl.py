@@ -159,8 +159,6 @@ def test_lsl_repeating_trace_gets_a_marker_per_cycle():
     frames = {t: levels for t, _, levels in taps.frames}
     for onset in onsets[:6]:  # each cycle begins lit on the line's first tactor
         assert frames[onset.time_s][0] == 22
-    gaps = np.diff([o.seq + 256 * (o.cycle * 30 // 256) for o in onsets[:6]]) % 256
-    assert list(gaps) == [30] * 5
     assert outlets.markers_sent >= 6
 
 
@@ -210,3 +208,28 @@ def test_tactile_stream_lsl_marks_each_trace_at_its_first_frame(tmp_path):
 def data_levels_lit(record, index):
     with np.load(record) as data:
         return data["levels"][index].reshape(-1)[0] == 22  # the line's first tactor, at full
+
+
+def test_lsl_markers_from_the_stream_process_name_the_parents_scenes():
+    from tactile_core.device.process import open_stream
+
+    sid = f"test-{uuid.uuid4().hex}"
+    stream = open_stream(None, default_profile(), process=True)
+    outlets = LslOutlets(stream.profile, source_id=sid).attach(stream)  # markers only
+    onsets = []
+    stream.on_onset.append(onsets.append)
+    try:
+        inlet, _ = inlet_for(f"source_id='{sid}-markers'")
+        scene = Scene(tc.Circle((2.5, 3), 2), "AS", marker="ab", repeat=False, duration_s=0.1)
+        offset = own_offset()
+        before = time.perf_counter()
+        stream.set_scene(scene)
+        sample, stamp = inlet.pull_sample(timeout=20)
+        after = time.perf_counter()
+        assert json.loads(sample[0])["kind"] == "ab"
+        assert before + offset <= stamp <= after + offset  # written between the two
+        wait_for(lambda: onsets, what="the onset hook")
+        assert onsets[0].scene is scene and onsets[0].time_s == pytest.approx(stamp - offset)
+    finally:
+        stream.stop()
+        outlets.close()

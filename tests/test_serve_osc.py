@@ -261,3 +261,31 @@ def test_serve_reads_ipv6_loopback_when_asked():
     finally:
         rig.server.stop()
         rig.streamer.stop()
+
+
+def test_serve_on_a_local_stream_and_refused_by_the_stream_process():
+    from pythonosc.udp_client import SimpleUDPClient
+
+    from tactile_core.device.process import open_stream
+
+    from .serve_support import Taps
+
+    stream = open_stream(None, process=False)
+    taps = Taps()
+    stream.taps.append(taps)
+    server = OscServer(stream, scene=Scene(method="AS", mu=0.33, gamma=0.7), port=0).start()
+    client = SimpleUDPClient(*server.address)
+    try:
+        assert server.on_onset in stream.on_onset  # shapes timed from their first frame
+        client.send_message("/tactile/point", [1.2, 2.7])
+        taps.wait_levels(levels_of("AS", [(1.2, 2.7, 1.0)], 0.33, 0.7))
+    finally:
+        client.close()
+        server.stop()
+        stream.stop()
+    child = open_stream(None, process=True)
+    try:
+        with pytest.raises(TypeError, match="process=False"):
+            OscServer(child, scene=Scene(method="AS"), port=0).start()
+    finally:
+        child.stop()

@@ -129,13 +129,19 @@ class OscServer:
         """Bind the socket, start the threads and hand the points scene to the stream.
 
         Raises ``OSError`` (the address in use, not an address of this machine) with the
-        address in the message."""
-        self._sock = self._bind()
+        address in the message, and ``TypeError`` for a stream in another process."""
+        with self._lock:  # first: a stream that cannot take live points refuses them here
+            self.stream.set_scene(self._current)
+        try:
+            self._sock = self._bind()
+        except OSError:
+            with self._lock:
+                if getattr(self.stream, "scene", None) is self._current:
+                    self.stream.set_scene(None)
+            raise
         self._started = self.clock()
         if self._hooks is not None:
             self._hooks.append(self.on_onset)
-        with self._lock:
-            self.stream.set_scene(self._current)
         for name, target in (("tactile-osc", self._receive), ("tactile-osc-keeper", self._keep)):
             thread = threading.Thread(target=target, name=name, daemon=True)
             thread.start()
