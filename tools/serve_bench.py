@@ -1,6 +1,7 @@
 """Measure ``tactile serve``: OSC message -> frame at the array latency, and a flood.
 
     python tools/serve_bench.py latency [--messages 600] [--rate 300] [--lead-ms 0]
+    python tools/serve_bench.py split [--messages 600] [--rate 300]
     python tools/serve_bench.py flood [--flood-rate 50000] [--seconds 2]
 
 Three processes, as in use: the array (the emulator on a pseudo-terminal, in a child process
@@ -11,6 +12,9 @@ is ``CLOCK_MONOTONIC`` on Linux, so the times compare directly).
 latency: points alternate between the corner tactors (CT: one tactor lit each), one every 20-40
 ms at a random phase of the frame clock; the latency of a message is the time from just before
 ``sendto`` to the emulator's receipt of the first frame showing it.
+
+split: the server and the stream in this process, so that a tap gives each frame's write time:
+OSC -> write and OSC -> emulator side by side.
 
 flood: a second process sends ``/tactile/point/flood`` at ``--flood-rate`` for ``--seconds``;
 the server's counters (``--json``) and the frame intervals at the array before, during and
@@ -68,6 +72,78 @@ FLOOD = textwrap.dedent("""
 """)
 
 
+SENDER = textwrap.dedent("""
+    import random, sys, time
+    from pythonosc.udp_client import SimpleUDPClient
+    client = SimpleUDPClient("127.0.0.1", int(sys.argv[1]))
+    rng = random.Random(1)
+    sent = []
+    for j in range(int(sys.argv[2])):
+        time.sleep(rng.uniform(0.02, 0.04))
+        t = time.perf_counter()
+        client.send_message("/tactile/point", [0.5, 0.5] if j % 2 == 0 else [4.5, 5.5])
+        sent.append(t)
+    print(" ".join(map(repr, sent)), flush=True)
+""")
+
+
+def first_showing(times, levels, sent):
+    """Per message: time to the first frame from its send time on that shows its tactor."""
+    lit = (levels[:, 0] > 0, levels[:, 29] > 0)  # channel 0 = tactor (0, 0); 29 = (4, 5)
+    out = []
+    for j, t in enumerate(sent):
+        after = np.flatnonzero((times >= t) & lit[j % 2])
+        if len(after):
+            out.append(times[after[0]] - t)
+    return np.array(out) * 1e3
+
+
+def describe(lat, what):
+    p50, p99 = np.percentile(lat, 50), np.percentile(lat, 99)
+    return (f"{what}: p50 {p50:.2f} ms, p99 {p99:.2f} ms, max {lat.max():.2f} ms, "
+            f"mean {lat.mean():.2f} ms ({len(lat)} messages)")  # fmt: skip
+
+
+def latency_split(args) -> None:
+    """The server and the stream in this process (a tap gives each frame's write time), the
+    emulator and the sender in their own: OSC -> write, and write -> emulator."""
+    from tactile_core.device.link import open_link
+    from tactile_core.device.profile import default_profile
+    from tactile_core.device.streamer import Streamer
+    from tactile_core.live import OscServer
+    from tactile_core.rendering.scene import Scene
+
+    with tempfile.TemporaryDirectory() as folder:
+        record = Path(folder) / "frames.npz"
+        emulator = subprocess.Popen([sys.executable, "-c", EMULATOR, str(record)],
+                                    stdout=subprocess.PIPE, text=True)  # fmt: skip
+        profile = default_profile()
+        link = open_link(emulator.stdout.readline().strip(), profile)
+        written = []
+        streamer = Streamer(link, profile, taps=[lambda t, s, lv: written.append((t, lv))])
+        server = OscServer(streamer, profile, scene=Scene(method="CT", rate_hz=args.rate),
+                           port=0, timeout_s=60.0)  # fmt: skip
+        streamer.start()
+        server.start()
+        time.sleep(1.0)
+        out = subprocess.run([sys.executable, "-c", SENDER, str(server.address[1]),
+                              str(args.messages)], capture_output=True, text=True)  # fmt: skip
+        time.sleep(0.2)
+        server.stop()
+        streamer.stop()
+        link.close()
+        emulator.send_signal(signal.SIGINT)
+        emulator.communicate(timeout=30)
+        with np.load(record) as data:
+            times, levels = data["time"], data["levels"]
+    sent = [float(x) for x in out.stdout.split()]
+    w_times = np.array([t for t, _ in written])
+    w_levels = np.array([np.frombuffer(lv, dtype=np.uint8) for _, lv in written])
+    print(f"OSC message -> frame, {args.rate:g} Hz, frames for now, server in-process:")
+    print("  " + describe(first_showing(w_times, w_levels, sent), "to the write"))
+    print("  " + describe(first_showing(times, levels, sent), "to the emulator"))
+
+
 class Rig:
     """The emulator and ``tactile serve`` as child processes."""
 
@@ -116,20 +192,10 @@ def latency(args) -> None:
             sent.append(t)
         time.sleep(0.2)
         times, levels, served = rig.finish()
-    lit0 = levels[:, 0] > 0  # channel 0 = tactor (0, 0); channel 29 = (4, 5)
-    lit29 = levels[:, 29] > 0
-    out = []
-    for j, t in enumerate(sent):
-        shows = lit0 if j % 2 == 0 else lit29
-        after = np.flatnonzero((times >= t) & shows)
-        if len(after):
-            out.append(times[after[0]] - t)
-    lat = np.array(out) * 1e3
-    print(f"OSC message -> frame received by the emulator, {args.rate:g} Hz, lead "
-          f"{args.lead_ms:g} ms, {len(lat)} of {len(sent)} messages:")  # fmt: skip
-    print(f"  p50 {np.percentile(lat, 50):.2f} ms, p99 {np.percentile(lat, 99):.2f} ms, "
-          f"max {lat.max():.2f} ms, mean {lat.mean():.2f} ms (frame period "
-          f"{1e3 / args.rate:.2f} ms)")  # fmt: skip
+    lat = first_showing(times, levels, sent)
+    print(f"OSC message -> frame at the emulator (its time to play, for a timed frame), "
+          f"tactile serve at {args.rate:g} Hz, lead {args.lead_ms:g} ms:")  # fmt: skip
+    print("  " + describe(lat, f"{len(sent)} sent"))
     print(f"  server: {served['messages']} messages, {served['points']} points, "
           f"{served['problems']} problems")  # fmt: skip
 
@@ -187,11 +253,14 @@ def main(argv=None) -> int:
     lat.add_argument("--messages", type=int, default=600)
     lat.add_argument("--rate", type=float, default=300.0)
     lat.add_argument("--lead-ms", type=float, default=0.0)
+    split = sub.add_parser("split")
+    split.add_argument("--messages", type=int, default=600)
+    split.add_argument("--rate", type=float, default=300.0)
     fl = sub.add_parser("flood")
     fl.add_argument("--flood-rate", type=float, default=50_000.0)
     fl.add_argument("--seconds", type=float, default=2.0)
     args = p.parse_args(argv)
-    (latency if args.what == "latency" else flood)(args)
+    {"latency": latency, "split": latency_split, "flood": flood}[args.what](args)
     return 0
 
 
