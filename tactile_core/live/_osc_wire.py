@@ -98,7 +98,7 @@ def _message(data: bytes) -> tuple[str, list]:
 
 
 def read_packet(data: bytes, max_messages: int) -> tuple[list[tuple[str, list]], int]:
-    """The messages of one datagram, in order, and how many more it held beyond
+    r"""The messages of one datagram, in order, and how many more it held beyond
     ``max_messages`` (those are not read): ``([(address, [arguments...]), ...], skipped)``.
 
     Arguments come out as Python values: ``int`` (i, h, c, r, m, t), ``float`` (f, d, I),
