@@ -289,3 +289,17 @@ def test_serve_on_a_local_stream_and_refused_by_the_stream_process():
             OscServer(child, scene=Scene(method="AS"), port=0).start()
     finally:
         child.stop()
+
+
+def test_serve_restarts_after_stop_like_a_toggle():
+    with ServerRig() as rig:
+        first = rig.server.stop()
+        assert not rig.server.running and rig.server.stats.elapsed_s == first.elapsed_s
+        rig.server.start()
+        rig.client.close()
+        from pythonosc.udp_client import SimpleUDPClient
+
+        rig.client = SimpleUDPClient(*rig.server.address)
+        rig.send("/tactile/point", 1.5, 1.5)
+        rig.taps.wait_levels(levels_of("AS", [(1.5, 1.5, 1.0)], 0.33, 0.7))
+        assert rig.server.running and rig.server.stats.points == 1

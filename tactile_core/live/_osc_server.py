@@ -116,7 +116,7 @@ class OscServer:
         self._ovfl = False
         self.address = ("", 0)
         """``(host, port)`` the server is bound to, once started."""
-        self._started = None
+        self._started = self._stopped = None
         self._stopping = threading.Event()
         self._wake = threading.Event()
         self._threads: list[threading.Thread] = []
@@ -126,7 +126,8 @@ class OscServer:
     # --- owner ---------------------------------------------------------------------------------
 
     def start(self) -> OscServer:
-        """Bind the socket, start the threads and hand the points scene to the stream.
+        """Bind the socket, start the threads and hand the points scene to the stream (again
+        after :meth:`stop`: a tuner's toggle; the counters go on).
 
         Raises ``OSError`` (the address in use, not an address of this machine) with the
         address in the message, and ``TypeError`` for a stream in another process."""
@@ -139,7 +140,8 @@ class OscServer:
                 if getattr(self.stream, "scene", None) is self._current:
                     self.stream.set_scene(None)
             raise
-        self._started = self.clock()
+        self._stopping.clear()
+        self._started, self._stopped = self.clock(), None
         if self._hooks is not None:
             self._hooks.append(self.on_onset)
         for name, target in (("tactile-osc", self._receive), ("tactile-osc-keeper", self._keep)):
@@ -153,11 +155,14 @@ class OscServer:
         plays the server's scene; the final counters."""
         self._stopping.set()
         self._wake.set()
+        if self._started is not None and self._stopped is None:
+            self._stopped = self.clock()
         for thread in self._threads:
             thread.join(timeout)
         self._threads = []
         if self._sock is not None:
             self._sock.close()
+            self._sock = None
         self.points.release()
         if self._hooks is not None and self.on_onset in self._hooks:
             self._hooks.remove(self.on_onset)
@@ -212,7 +217,9 @@ class OscServer:
             last_address=self._last_address,
             last_problem=self._problem,
             playing="points" if shape is None else shape.shape.spec,
-            elapsed_s=0.0 if self._started is None else self.clock() - self._started,
+            elapsed_s=0.0
+            if self._started is None
+            else (self._stopped or self.clock()) - self._started,
         )
 
     def on_onset(self, onset) -> None:
