@@ -1,6 +1,6 @@
 """Measure ``tactile serve``: OSC message -> frame at the array latency, and a flood.
 
-    python tools/serve_bench.py latency [--messages 600] [--rate 300] [--lead-ms 0]
+    python tools/serve_bench.py latency [--messages 600] [--rate 300] [--lead-ms 0] [--realtime]
     python tools/serve_bench.py split [--messages 600] [--rate 300]
     python tools/serve_bench.py flood [--flood-rate 50000] [--seconds 2]
 
@@ -180,7 +180,8 @@ def latency(args) -> None:
 
     with tempfile.TemporaryDirectory() as folder:
         rig = Rig(Path(folder), ["--method", "CT", "--rate", str(args.rate), "--timeout-ms",
-                                 "60000", "--lead-ms", str(args.lead_ms)])  # fmt: skip
+                                 "60000", "--lead-ms", str(args.lead_ms)]
+                  + (["--realtime"] if args.realtime else []))  # fmt: skip
         client = SimpleUDPClient("127.0.0.1", rig.port)
         rng = random.Random(1)
         sent = []
@@ -194,7 +195,8 @@ def latency(args) -> None:
         times, levels, served = rig.finish()
     lat = first_showing(times, levels, sent)
     print(f"OSC message -> frame at the emulator (its time to play, for a timed frame), "
-          f"tactile serve at {args.rate:g} Hz, lead {args.lead_ms:g} ms:")  # fmt: skip
+          f"tactile serve at {args.rate:g} Hz, lead {args.lead_ms:g} ms"
+          f"{', real-time priority' if args.realtime else ''}:")  # fmt: skip
     print("  " + describe(lat, f"{len(sent)} sent"))
     print(f"  server: {served['messages']} messages, {served['points']} points, "
           f"{served['problems']} problems")  # fmt: skip
@@ -253,6 +255,7 @@ def main(argv=None) -> int:
     lat.add_argument("--messages", type=int, default=600)
     lat.add_argument("--rate", type=float, default=300.0)
     lat.add_argument("--lead-ms", type=float, default=0.0)
+    lat.add_argument("--realtime", action="store_true", help="tactile serve --realtime")
     split = sub.add_parser("split")
     split.add_argument("--messages", type=int, default=600)
     split.add_argument("--rate", type=float, default=300.0)
