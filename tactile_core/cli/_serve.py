@@ -16,6 +16,13 @@ from ..device._stream_talk import DEFAULT_LEAD_MS
 from ..rendering.correction import check_correction
 from ._common import UsageError, _install_stop_handlers, _seconds, number, whole
 
+SWITCH_INTERVAL_S = 0.0001
+"""Python's thread switch interval while ``tactile serve`` streams (the streamer's default is
+0.5 ms): the server's receiver thread shares the interpreter lock with the frame thread, and
+under a flood of messages the frame thread waits at most this long for it (measured in
+``docs/serve.md``: p99 interval error at the array 2.7-3.3 ms during a 50,000 messages/s flood,
+5.9-7.1 ms at 0.5 ms)."""
+
 
 def add_lsl_arguments(p: argparse.ArgumentParser) -> None:
     """``--lsl`` and ``--lsl-levels``."""
@@ -186,6 +193,7 @@ def cmd_serve(args) -> int:
         reconnect=args.reconnect,
         realtime=args.realtime,
         lead_s=args.lead_ms / 1e3,
+        switch_interval_s=SWITCH_INTERVAL_S,
         on_status=lambda s: print(f"[{s.state}] {s.status}", file=sys.stderr, flush=True),
     )
     server = OscServer(
