@@ -98,7 +98,7 @@ def test_lsl_markers_stamped_with_the_first_frames_send_time(lead_s):
             errors.append(stamp - (sent + offset))
         assert max(abs(e) for e in errors) < 1e-3, errors
         print(
-            f"LSL marker error (lead {lead_s * 1e3:g} ms): max {max(map(abs, errors)) * 1e6:.1f} us"
+            f"LSL marker error (lead {lead_s * 1e3:g} ms): max {max(map(abs, errors)) * 1e6:.3f} us"
         )
         assert outlets.offset_s == pytest.approx(offset, abs=1e-4)
     finally:
