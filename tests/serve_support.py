@@ -51,6 +51,19 @@ class Taps:
                 self.changed.wait(remaining)
 
 
+def send_until_shown(send, taps, levels: bytes, tries=40) -> int:
+    """``send()`` until a frame shows ``levels`` (a point may time out before a frame shows it
+    on a machine that stalls longer than the timeout); the frame's index."""
+    for _ in range(tries):
+        start = len(taps.frames)
+        send()
+        try:
+            return taps.wait_levels(levels, timeout_s=0.5, after=start)
+        except AssertionError:
+            continue
+    raise AssertionError(f"no frame with levels {list(levels)} after {tries} sends")
+
+
 def levels_of(method, points, mu, gamma, profile=None):
     """Channel-ordered levels of ``points`` [(x, y, intensity)] rendered as the server does:
     each corrected with its intensity as master intensity, max per tactor, quantised."""

@@ -17,7 +17,7 @@ from tactile_core.device.streamer import Streamer
 from tactile_core.live import OscServer
 from tactile_core.rendering.scene import Scene
 
-from .serve_support import ServerRig, Taps, levels_of, wait_for
+from .serve_support import ServerRig, Taps, levels_of, send_until_shown, wait_for
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
 ZEROS = bytes(30)
@@ -134,11 +134,11 @@ def test_serve_e2e_point_not_refreshed_goes_off_at_the_array(emulator_thread):
     client = SimpleUDPClient(*server.address)
     try:
         want = levels_of("AS", [(2.5, 3.5, 1.0)], 0.33, 0.7)
-        client.send_message("/tactile/point/crashing-sender", [2.5, 3.5])  # and never again
-        lit = taps.wait_levels(want)
+        send = lambda: client.send_message("/tactile/point/crashing-sender", [2.5, 3.5])  # noqa: E731
+        lit = send_until_shown(send, taps, want)  # then never again
         off = taps.wait_levels(ZEROS, after=lit)
         wait_for(lambda: emulator.log.last() == ZEROS, what="all off at the array")
-        wait_for(lambda: server.stats.timed_out == 1, what="the timeout counted")
+        wait_for(lambda: server.stats.timed_out >= 1, what="the timeout counted")
         assert server.running and server.stats.active_points == 0
         assert all(f[2] == want for f in taps.frames[lit:off])  # lit until released, no flicker
     finally:

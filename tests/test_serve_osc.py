@@ -12,7 +12,7 @@ from pythonosc.osc_message_builder import OscMessageBuilder
 from tactile_core.live import Malformed, OscServer, read_packet
 from tactile_core.rendering.scene import Scene
 
-from .serve_support import ServerRig, levels_of, wait_for
+from .serve_support import ServerRig, levels_of, send_until_shown, wait_for
 
 
 def message(address, *args):
@@ -123,16 +123,20 @@ def test_serve_method_and_correction_change_the_points_and_refuse_shape_methods(
 
 
 def test_serve_shape_plays_once_then_back_to_points():
-    with ServerRig() as rig:
+    scenes = []  # every scene the server swaps in, in order
+    with ServerRig(on_scene=scenes.append) as rig:
         rig.send("/tactile/shape", "line:0.5,0.5,4.5,0.5", 0.2)
-        wait_for(lambda: rig.server.stats.playing == "line:0.5,0.5,4.5,0.5", what="the shape")
-        wait_for(lambda: rig.server.stats.playing == "points", what="back to points")
+        wait_for(lambda: len(scenes) >= 2, what="the shape, then back to points")
+        assert scenes[0].shape.spec == "line:0.5,0.5,4.5,0.5" and not scenes[0].repeat
+        assert scenes[0].marker == "osc-shape" and scenes[1].source is rig.server.points
         lit = [f for f in rig.taps.frames if any(f[2])]
         assert lit and all(f[2][5:] == bytes(25) for f in lit)  # the bottom row only
         rig.send("/tactile/shape", "circle:2.5,3,2", 30.0)
-        wait_for(lambda: rig.server.stats.playing != "points", what="the second shape")
+        wait_for(lambda: len(scenes) >= 3, what="the second shape")
+        assert rig.server.stats.playing == "circle:2.5,3,2"
         rig.send("/tactile/off")  # ends the shape at once
-        wait_for(lambda: rig.server.stats.playing == "points", what="off")
+        wait_for(lambda: len(scenes) >= 4, what="off")
+        assert scenes[3].source is rig.server.points and rig.server.stats.playing == "points"
         rig.send("/tactile/shape", "blob:1", 1.0)
         rig.send("/tactile/shape", "circle:2.5,3,2")
         rig.send("/tactile/shape", "circle:2.5,3,2", -1.0)
@@ -144,8 +148,8 @@ def test_serve_shape_plays_once_then_back_to_points():
 
 def test_serve_point_not_refreshed_is_released():
     with ServerRig(timeout_s=0.05) as rig:
-        rig.send("/tactile/point", 2.5, 3.5)
-        lit = rig.taps.wait_levels(levels_of("AS", [(2.5, 3.5, 1.0)], 0.33, 0.7))
+        want = levels_of("AS", [(2.5, 3.5, 1.0)], 0.33, 0.7)
+        lit = send_until_shown(lambda: rig.send("/tactile/point", 2.5, 3.5), rig.taps, want)
         off = rig.taps.wait_levels(bytes(30), after=lit)
         rig.wait_count("timed_out", 1)
         assert rig.server.stats.active_points == 0 and rig.server.running
