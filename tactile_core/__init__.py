@@ -10,9 +10,10 @@ The package is layered; each layer imports only those above it in this list::
     _shared      argument checks, atomic files, bounded JSON, bundled assets
     rendering    geometry, shapes, methods, correction, trace, scene, curves, percept
     device       profiles, wire format, links, streamer, emulator, recorder
+    live         driven by other programs: the OSC server, LSL outlets
     files        presets, exports
     experiments  the paper's three experiments, analysis, tuning the correction by feel
-    bench, cli   the ``tactile`` command and its benchmarks
+    bench, cli   the ``tactile`` command and its benchmarks; ``script`` (``tc.open_array``)
 
 ``docs/architecture.md`` draws the layers and the one-way flow of a frame.
 
@@ -52,6 +53,7 @@ __all__ = [
     "__version__",
     "correct",
     "get_method",
+    "open_array",
     "pairwise_wilcoxon",
     "parse_shape",
     "quantize",
@@ -66,6 +68,10 @@ _compat.install()
 
 
 def __getattr__(name: str):
+    if name == "open_array":  # the scripting API, imported when first asked for
+        from .script import open_array
+
+        return open_array
     # ``tactile_core.scene`` and the other paths of 0.1, as attributes (see _compat).
     module = _compat.moved_attribute(name)
     if module is None:

@@ -21,9 +21,10 @@ LAYERS = (
     ("tactile_core._shared", "tactile_core._version", "tactile_core._compat"),
     ("tactile_core.rendering",),
     ("tactile_core.device",),
+    ("tactile_core.live",),
     ("tactile_core.files",),
     ("tactile_core.experiments",),
-    ("tactile_core.bench", "tactile_core.cli", "tactile_core.__main__"),
+    ("tactile_core.bench", "tactile_core.cli", "tactile_core.__main__", "tactile_core.script"),
 )
 QT = ("PySide6", "pyqtgraph", "PyQt5", "PyQt6", "shiboken6")
 MAX_LINES = 500

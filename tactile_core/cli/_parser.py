@@ -9,6 +9,7 @@ from ..device._stream_talk import DEFAULT_LEAD_MS
 from ._common import _add_scene_arguments, number, whole
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._render import cmd_emulate, cmd_render, cmd_stream
+from ._serve import add_lsl_arguments, add_serve_parser
 from ._tact import add_export_parser, add_tact_option
 
 
@@ -90,7 +91,9 @@ def build_parser() -> argparse.ArgumentParser:
         f"(arrays with scheduled frames; 0: played on arrival; default {DEFAULT_LEAD_MS:g})",
     )
     add_tact_option(p)
+    add_lsl_arguments(p)
     p.set_defaults(func=cmd_stream)
+    add_serve_parser(sub)
 
     add_export_parser(sub)
 

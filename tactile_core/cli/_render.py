@@ -155,6 +155,7 @@ def cmd_stream(args) -> int:
         dither=args.dither,
         felt_domain=args.felt_amplitude,
         source=pattern,
+        marker="stream",
     )
     if args.felt_amplitude and profile.response is None:
         raise UsageError(f"--felt-amplitude needs a motor response curve: profile "
@@ -173,6 +174,9 @@ def cmd_stream(args) -> int:
         print(f"tactile stream: {exc}", file=sys.stderr)
         return 1
     recorder = Recorder(profile.array) if args.record else None
+    from ._serve import lsl_outlets
+
+    lsl = lsl_outlets(args, profile, scene.rate_hz)
     streamer = Streamer(
         link,
         profile,
@@ -186,6 +190,8 @@ def cmd_stream(args) -> int:
         ),
     )
     try:
+        if lsl is not None:
+            lsl.attach(streamer)
         streamer.start()
         while not stop.is_set() and not streamer.identified.wait(0.05):
             pass  # --seconds counts from the end of the hello exchange
@@ -198,6 +204,8 @@ def cmd_stream(args) -> int:
     finally:
         stats = streamer.stop()
         link.close()
+        if lsl is not None:
+            lsl.close()
     print(stats.summary())
     unsaved = 0
     if recorder is not None:

@@ -23,11 +23,12 @@ from .profile import (
     profile_from_dict,
     profile_names,
 )
-from .streamer import Streamer, StreamStats
+from .streamer import Onset, Streamer, StreamStats
 
 __all__ = [
     "DeviceProfile",
     "LinkError",
+    "Onset",
     "ProfileError",
     "SimulatedArray",
     "StreamStats",

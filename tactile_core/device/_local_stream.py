@@ -23,6 +23,7 @@ class LocalStream:
         realtime=False,
         lead_s: float = 0.0,
         own_core: bool = False,
+        on_onset=(),
     ):
         from .link import open_link
         from .streamer import Streamer
@@ -39,7 +40,12 @@ class LocalStream:
             reconnect=reconnect,
             realtime=realtime,
             lead_s=lead_s,
+            on_onset=on_onset,
         )
+        self.on_onset = self.streamer.on_onset
+        """The streamer's ``on_onset`` hooks (LSL markers, an OSC server's shapes)."""
+        self.taps = self.streamer.taps
+        """The streamer's taps (the LSL levels stream, a recorder)."""
 
     def start(self) -> LocalStream:
         """Start the output thread."""

@@ -35,7 +35,7 @@ from ..rendering.scene import Scene, check_scene
 from ._local_stream import LocalStream
 from .link import LinkError
 from .profile import DeviceProfile, default_profile, profile_from_dict
-from .streamer import StreamStats
+from .streamer import Onset, StreamStats
 
 _CHILDREN: weakref.WeakSet = weakref.WeakSet()
 PROCESS_SUPPORTED = os.name == "posix"
@@ -94,6 +94,10 @@ def _serve(cmd: Connection, events: Connection) -> None:
         return
     send(("opened", True, getattr(link, "description", str(url))))
     scene_ids = {} if scene is None else {id(scene): 0}
+
+    def onset(o) -> None:  # a presentation's first frame, for the parent's hooks
+        send(("onset", (scene_ids.get(id(o.scene), -1), o.time_s, o.seq, o.timed, o.cycle)))
+
     streamer = Streamer(
         link,
         profile,
@@ -102,6 +106,7 @@ def _serve(cmd: Connection, events: Connection) -> None:
         realtime=options["realtime"],
         lead_s=options["lead_s"],
         on_status=lambda s: send(("stats", s)),
+        on_onset=[onset],
     )
     streamer.start()
     alive = threading.Event()
@@ -193,6 +198,11 @@ class StreamerProcess:
         With two or more cores, run the child on a core of its own and this process on the
         others until :meth:`stop` (Linux), so that nothing of the parent (a GUI repainting)
         competes with the stream for a core.
+    on_onset : sequence of callables
+        The streamer's ``on_onset`` hooks, called from a listener thread with an ``Onset``
+        whose scene is the one handed to :meth:`set_scene` (LSL markers: the list is
+        ``self.on_onset``, so ``LslOutlets.attach`` adds its marker hook; the levels stream
+        needs the stream in this process).
 
     Raises
     ------
@@ -211,7 +221,9 @@ class StreamerProcess:
         realtime=False,
         lead_s: float = 0.0,
         own_core: bool = False,
+        on_onset=(),
     ):
+        self.on_onset = list(on_onset)
         self.realtime = realtime
         self.lead_s = lead_s
         self.own_core = own_core
@@ -308,6 +320,9 @@ class StreamerProcess:
                 self._levels = levels
                 self._frame = (sid, trace_time)
                 continue
+            if kind == "onset":
+                self._onset(*payload)
+                continue
             with self._lock:
                 old = self._stats
                 self._stats = payload
@@ -331,6 +346,14 @@ class StreamerProcess:
             try:
                 self.on_status(final)
             except Exception:
+                pass
+
+    def _onset(self, sid, time_s, seq, timed, cycle) -> None:
+        onset = Onset(self._scenes.get(sid), time_s, seq, timed, cycle)
+        for hook in list(self.on_onset):
+            try:
+                hook(onset)
+            except Exception:  # an observer's bug must not stop the listener
                 pass
 
     def _send(self, message) -> None:
@@ -419,20 +442,23 @@ class StreamerProcess:
 
 
 def open_stream(url=None, profile=None, *, scene=None, on_status=None, reconnect=False,
-                process=True, realtime=False, lead_s=0.0, own_core=False):  # fmt: skip
+                process=True, realtime=False, lead_s=0.0, own_core=False,
+                on_onset=()):  # fmt: skip
     """Open a link and start streaming to it, in a child process (default) or a thread.
 
     ``process`` is ignored (a thread is used) where child processes are not supported;
     ``realtime`` asks for real-time priority of the output thread, ``lead_s`` sends frames
     ahead to arrays that play them at their time (see ``Streamer``), ``own_core`` gives a child
-    process a core of its own (see :class:`StreamerProcess`).
+    process a core of its own (see :class:`StreamerProcess`); ``on_onset`` hooks get each
+    presentation's first frame (an ``Onset``; ``stream.on_onset`` is the list).
 
     Raises
     ------
     LinkError
         When the link cannot be opened; nothing keeps running.
     """
-    options = {"reconnect": reconnect, "realtime": realtime, "lead_s": lead_s}
+    options = {"reconnect": reconnect, "realtime": realtime, "lead_s": lead_s,
+               "on_onset": on_onset}  # fmt: skip
     if process and PROCESS_SUPPORTED:
         stream = StreamerProcess(url, profile, scene=scene, on_status=on_status, **options,
                                  own_core=own_core)  # fmt: skip

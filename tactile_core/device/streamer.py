@@ -40,6 +40,7 @@ import numpy as np
 
 from ..rendering.correction import Dither
 from ..rendering.scene import Scene, check_scene
+from ._onsets import Onset, OnsetWatch
 from ._stream_plan import (
     _ChannelLevels,
     _Plan,
@@ -54,7 +55,7 @@ from .link import LinkError
 from .profile import DeviceProfile, default_profile
 from .wire import Info, Status, encode_frame, encode_timed, level_bits
 
-__all__ = ["StreamStats", "Streamer"]
+__all__ = ["Onset", "StreamStats", "Streamer"]
 
 _RUNNING: weakref.WeakSet = weakref.WeakSet()
 
@@ -82,6 +83,9 @@ class Streamer:
         (``time.perf_counter`` seconds: when it was written, or for a timed frame when the array
         is to play it), sequence number and the channel-ordered levels (``bytes``). The
         recorder is one.
+    on_onset : sequence of callables
+        Called as ``hook(onset)`` with an :class:`Onset` (the scene, time and seq of the first
+        frame of each presentation, see ``_onsets``): LSL markers, scripts waiting for a stimulus.
     on_status : callable, optional
         Called as ``on_status(stats)`` from the output thread whenever the state or status
         changes (a GUI must hand it to its own thread).
@@ -139,6 +143,7 @@ class Streamer:
         identify: bool = True,
         lead_s: float = 0.0,
         clock: HostClock | None = None,
+        on_onset=(),
     ):
         if not 10.0 <= idle_rate_hz <= 1000.0:
             raise ValueError(f"idle_rate_hz must be within [10, 1000], got {idle_rate_hz!r}")
@@ -148,6 +153,8 @@ class Streamer:
         self.profile = profile or default_profile()
         self._scene = scene
         self.taps = list(taps)
+        self.on_onset = list(on_onset)
+        self._onsets = OnsetWatch(self.on_onset)
         self.on_status = on_status
         self.idle_rate_hz = idle_rate_hz
         self.spin_s = spin_s
@@ -371,6 +378,7 @@ class Streamer:
                     immediate = plan is not None and (
                         new.active != plan.active or new.tick != plan.tick
                     )
+                    self._onsets.planned(new, restart or plan is None or not plan.active)
                     plan = new
                     dither = (
                         Dither(self.profile.channels, self.profile.levels)
@@ -410,6 +418,7 @@ class Streamer:
                         self._talk.before_frame(deadline)
                         at = (self._talk.at_us(deadline + self.lead_s), deadline + self.lead_s)
                     sent = self._write(seq, levels, at)
+                    self._onsets.written(sent if at is None else at[1], seq, at is not None, k)
                     self.last_frame = (plan.scene, k / plan.rate if plan.active else None)
                     self._talk.after_frame()
                 except LinkError as exc:

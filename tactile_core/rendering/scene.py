@@ -78,6 +78,11 @@ class Scene:
         the scene's start), ``precompute(background=False)`` and ``precomputed``. The scene's
         method, correction, rate and filter apply; its shape and trace timing do not. Not part
         of a preset.
+    marker : str
+        What kind of presentation this is for stimulus markers (Lab Streaming Layer), such as
+        ``"trial"``, ``"ab"``, ``"osc-shape"``, ``"script"``; empty for an ordinary scene (at
+        most 64 characters). Travels with the scene (also to the stream process); not part of a
+        preset.
     """
 
     shape: Shape | None = None
@@ -99,6 +104,7 @@ class Scene:
     epoch: int = 0
     hold_s: float | None = None
     source: object = None
+    marker: str = ""
 
     def __post_init__(self):
         if self.source is not None and not callable(getattr(self.source, "live", None)):
@@ -133,6 +139,9 @@ class Scene:
         )
         object.__setattr__(self, "epoch", _validate.integer("epoch", self.epoch, 0))
         object.__setattr__(self, "hold_s", check_hold(self.hold_s))
+        if not isinstance(self.marker, str) or len(self.marker) > 64:
+            raise ValueError(f"marker must be a string of at most 64 characters, got "
+                             f"{_validate.shown(self.marker)}")  # fmt: skip
 
     @property
     def active(self) -> bool:

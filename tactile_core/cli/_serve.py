@@ -1,0 +1,260 @@
+"""``tactile serve``: an OSC server feeding live points to a device; ``--lsl`` for it and for
+``tactile stream``."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import sys
+import threading
+import time
+
+from .._shared.jsonfile import write_json_atomic
+from .._shared.outfile import check_output
+from ..device._stream_talk import DEFAULT_LEAD_MS
+from ..rendering.correction import check_correction
+from ._common import UsageError, _install_stop_handlers, _seconds, number, whole
+
+SWITCH_INTERVAL_S = 0.0001
+"""Python's thread switch interval while ``tactile serve`` streams (the streamer's default is
+0.5 ms): the server's receiver thread shares the interpreter lock with the frame thread, and
+under a flood of messages the frame thread waits at most this long for it (measured in
+``docs/serve.md``: p99 interval error at the array 2.7-3.3 ms during a 50,000 messages/s flood,
+5.9-7.1 ms at 0.5 ms)."""
+
+
+def add_lsl_arguments(p: argparse.ArgumentParser) -> None:
+    """``--lsl`` and ``--lsl-levels``."""
+    p.add_argument(
+        "--lsl",
+        action="store_true",
+        help="a Lab Streaming Layer marker stream (tactile-markers): one sample per "
+        "presentation, stamped with its first frame's send time",
+    )
+    p.add_argument(
+        "--lsl-levels",
+        action="store_true",
+        help="also the levels of every frame on LSL (tactile-levels)",
+    )
+
+
+def add_serve_parser(sub) -> None:
+    """The ``serve`` sub-command."""
+    from ..live import DEFAULT_PORT
+
+    p = sub.add_parser(
+        "serve",
+        help="drive a device from another program over OSC (UDP)",
+        description="Listen for OSC messages (/tactile/point x y [intensity], "
+        "/tactile/point/<id> ..., /tactile/release [id], /tactile/method NAME, "
+        "/tactile/mu F, /tactile/gamma F, /tactile/shape SHAPE DURATION_S, "
+        "/tactile/off) and render the points on the device. The first line of "
+        "standard output is osc://HOST:PORT; a status line goes to standard "
+        "error every --status-s seconds, a summary to standard output at the "
+        "end.",
+    )
+    p.add_argument(
+        "--osc-port",
+        type=whole,
+        default=DEFAULT_PORT,
+        help=f"UDP port to listen on (default {DEFAULT_PORT}; 0: any free port)",
+    )
+    p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="address to listen on (default 127.0.0.1: this machine only; another "
+        "address lets other machines drive the array, with a warning)",
+    )
+    p.add_argument(
+        "--device",
+        required=True,
+        metavar="URL",
+        help="port or pyserial URL; 'sim' for the simulated array",
+    )
+    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument(
+        "--method",
+        default="AS",
+        metavar="M",
+        help="a method that renders free points (not MM or IM): CT, AS, EN, PK, RO, "
+        "GS, VRCH, BA or a plug-in (default AS)",
+    )
+    p.add_argument("--mu", type=number, default=0.0, help="threshold in [0, 1] (default 0)")
+    p.add_argument("--gamma", type=number, default=1.0, help="gamma > 0 (default 1)")
+    p.add_argument("--rate", type=number, default=300.0, help="frames per second (default 300)")
+    p.add_argument(
+        "--timeout-ms",
+        type=number,
+        default=100.0,
+        help="release a point not refreshed within this long (default 100)",
+    )
+    p.add_argument(
+        "--interpolate",
+        action="store_true",
+        help="move each point between its last two updates (smooth, one update "
+        "interval later) instead of showing the newest at once",
+    )
+    p.add_argument(
+        "--max-rate",
+        type=number,
+        default=10_000.0,
+        help="messages read per second at most; more are dropped and counted (default 10000)",
+    )
+    p.add_argument(
+        "--lead-ms",
+        type=number,
+        default=DEFAULT_LEAD_MS,
+        help="send frames this far ahead to arrays with scheduled frames (0: played "
+        f"on arrival; default {DEFAULT_LEAD_MS:g})",
+    )
+    p.add_argument(
+        "--status-s",
+        type=number,
+        default=2.0,
+        help="seconds between status lines on standard error (default 2; 0: none)",
+    )
+    p.add_argument(
+        "--seconds", type=number, default=None, help="stop after this long (default: Ctrl-C)"
+    )
+    p.add_argument("--json", default=None, help="write the final counters to this JSON file")
+    p.add_argument("--reconnect", action="store_true", help="keep retrying after the link fails")
+    p.add_argument(
+        "--realtime", action="store_true", help="real-time priority (Linux; rtprio or root)"
+    )
+    add_lsl_arguments(p)
+    p.set_defaults(func=cmd_serve)
+
+
+def lsl_outlets(args, profile, rate_hz: float):
+    """The LSL outlets ``--lsl`` / ``--lsl-levels`` ask for, or None."""
+    if not (getattr(args, "lsl", False) or getattr(args, "lsl_levels", False)):
+        return None
+    from ..live import LslOutlets
+
+    return LslOutlets(profile, rate_hz=rate_hz, markers=True, levels=args.lsl_levels)
+
+
+def _plain(data: dict) -> dict:
+    return {
+        k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in data.items()
+    }
+
+
+def _check(args):
+    """Everything the command line says, checked before anything opens."""
+    from ..device.profile import ProfileError, load_profile
+    from ..rendering.points import free_method
+    from ..rendering.rasterize import check_renders
+    from ..rendering.scene import Scene
+
+    try:
+        profile = load_profile(args.profile)
+    except ProfileError as exc:
+        raise UsageError(str(exc)) from None
+    method = free_method(args.method).spec
+    check_renders(method, profile.target)
+    mu, gamma = check_correction(args.mu, args.gamma)
+    scene = Scene(method=method, mu=mu, gamma=gamma, rate_hz=args.rate)
+    if not 1.0 <= args.timeout_ms <= 60_000.0:
+        raise UsageError(f"--timeout-ms must be within [1, 60000], got {args.timeout_ms:g}")
+    if not 0.0 <= args.lead_ms <= 500.0:
+        raise UsageError(f"--lead-ms must be within [0, 500] milliseconds, got {args.lead_ms:g}")
+    if not (args.status_s == 0 or 0.1 <= args.status_s <= 3600):
+        raise UsageError(f"--status-s must be 0 or within [0.1, 3600], got {args.status_s:g}")
+    if not 1.0 <= args.max_rate <= 1e7:
+        raise UsageError(f"--max-rate must be within [1, 10000000], got {args.max_rate:g}")
+    if not 0 <= args.osc_port <= 65535:
+        raise UsageError(f"--osc-port must be within [0, 65535], got {args.osc_port}")
+    args.seconds = _seconds(args.seconds)
+    if args.json is not None:
+        check_output(args.json, (), "--json")
+    return profile, scene
+
+
+def cmd_serve(args) -> int:
+    """Serve OSC until stopped; all off on every way out; print the counters."""
+    from ..device.link import LinkError, open_link
+    from ..device.streamer import Streamer
+    from ..live import OscServer
+
+    profile, scene = _check(args)
+    stop = threading.Event()
+    _install_stop_handlers(stop)
+    try:
+        link = open_link(args.device, profile)
+    except LinkError as exc:
+        print(f"tactile serve: {exc}", file=sys.stderr)
+        return 1
+    lsl = None
+    streamer = Streamer(
+        link,
+        profile,
+        reconnect=args.reconnect,
+        realtime=args.realtime,
+        lead_s=args.lead_ms / 1e3,
+        switch_interval_s=SWITCH_INTERVAL_S,
+        on_status=lambda s: print(f"[{s.state}] {s.status}", file=sys.stderr, flush=True),
+    )
+    server = OscServer(
+        streamer,
+        profile,
+        scene=scene,
+        host=args.host,
+        port=args.osc_port,
+        timeout_s=args.timeout_ms / 1e3,
+        interpolate=args.interpolate,
+        max_rate_hz=args.max_rate,
+    )
+    try:
+        lsl = lsl_outlets(args, profile, scene.rate_hz)
+        if lsl is not None:
+            lsl.attach(streamer)
+        streamer.start()
+        try:
+            server.start()
+        except OSError as exc:
+            print(f"tactile serve: {exc}", file=sys.stderr)
+            return 1
+        host, port = server.address
+        print(f"osc://{host}:{port}", flush=True)
+        print(
+            f"serving {profile.name} ({scene.method}, mu={scene.mu:g}, gamma={scene.gamma:g})"
+            f" to {link.description} on udp {host}:{port}; Ctrl-C to end",
+            file=sys.stderr,
+            flush=True,
+        )
+        _wait(args, stop, streamer, server)
+    finally:
+        served = server.stop()
+        stats = streamer.stop()
+        link.close()
+        if lsl is not None:
+            lsl.close()
+    print(served.summary())
+    print(stats.summary())
+    if args.json:
+        write_json_atomic(
+            args.json, {"serve": served.to_dict(), "stream": _plain(dataclasses.asdict(stats))}
+        )
+    if stats.state == "failed":
+        print(f"tactile serve: {stats.status}", file=sys.stderr)
+        print(streamer.failure_traceback, file=sys.stderr, end="")
+        return 70
+    return 0 if stats.state != "refused" and stats.errors == 0 else 1
+
+
+def _wait(args, stop, streamer, server) -> None:
+    """Until Ctrl-C, ``--seconds`` or the stream ending; a status line every ``--status-s``."""
+    start = time.monotonic()
+    deadline = None if args.seconds is None else start + args.seconds
+    next_line = start + args.status_s if args.status_s else math.inf
+    while not stop.is_set() and streamer.running and server.running:
+        now = time.monotonic()
+        if deadline is not None and now >= deadline:
+            break
+        if now >= next_line:
+            print(server.stats.line(), file=sys.stderr, flush=True)
+            next_line += args.status_s
+        until = min(next_line, deadline if deadline is not None else math.inf)
+        stop.wait(max(0.0, min(0.1, until - now)))

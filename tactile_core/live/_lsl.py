@@ -1,0 +1,179 @@
+"""Stimulus markers, and the levels sent, on Lab Streaming Layer (``pylsl``, which bundles liblsl).
+
+Two outlets, both off unless asked for:
+
+- ``tactile-markers`` (type ``Markers``, one string channel, irregular rate): one sample per
+  presentation (an :class:`~tactile_core.device.Onset` of the streamer), a JSON object with its
+  kind (the scene's ``marker``: ``trial``, ``interval``, ``ab``, ``osc-shape``, ``script``, …;
+  ``scene`` when it has none), method, shape, μ, γ, gain, duration and the frame's ``seq``,
+  stamped with the time its first frame was written to the device (or, for a frame scheduled
+  ahead, the host time it is to play at);
+- ``tactile-levels`` (type ``Levels``, one int16 channel per actuator in channel order, at the
+  frame rate): the levels of every frame written, stamped likewise.
+
+Clocks: the streamer's times are ``time.perf_counter`` seconds; LSL's are
+``pylsl.local_clock()`` (liblsl's ``std::chrono::steady_clock``). On Linux both read
+``CLOCK_MONOTONIC``; elsewhere both are monotonic clocks of the same machine that differ by a
+constant. :func:`lsl_offset_s` measures that constant once (the read of ``local_clock``
+bracketed by two ``perf_counter`` reads, the tightest of 50), and every time is sent as
+``perf_counter time + offset``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+
+from .._version import __version__
+from ..device.profile import DeviceProfile, default_profile
+
+MARKERS_NAME = "tactile-markers"
+LEVELS_NAME = "tactile-levels"
+
+
+def _pylsl():
+    try:
+        import pylsl
+    except ImportError as exc:  # pragma: no cover - a dependency; a broken install says why
+        raise RuntimeError(f"Lab Streaming Layer needs pylsl (pip install pylsl): {exc}") from None
+    return pylsl
+
+
+def lsl_offset_s(tries: int = 50) -> float:
+    """``pylsl.local_clock() - time.perf_counter()`` in seconds, measured now.
+
+    Each try reads LSL's clock between two ``perf_counter`` reads; the tightest bracket wins,
+    and its midpoint is taken (the error is at most half the bracket, well under a
+    microsecond).
+    """
+    local_clock = _pylsl().local_clock
+    best_width, offset = math.inf, 0.0
+    for _ in range(tries):
+        before = time.perf_counter()
+        lsl = local_clock()
+        after = time.perf_counter()
+        if after - before < best_width:
+            best_width, offset = after - before, lsl - (before + after) / 2
+    return offset
+
+
+def marker_text(onset) -> str:
+    """The JSON string of an :class:`~tactile_core.device.Onset`'s marker."""
+    scene = onset.scene
+    source = getattr(scene, "source", None)
+    data = {
+        "kind": getattr(scene, "marker", "") or "scene",
+        "method": scene.method,
+        "shape": None if scene.shape is None else scene.shape.spec,
+        "source": None if source is None else type(source).__name__,
+        "mu": scene.mu,
+        "gamma": scene.gamma,
+        "gain": scene.gain,
+        "duration_s": scene.duration_s if scene.shape is not None else None,
+        "cycle": onset.cycle,
+        "seq": onset.seq,
+        "timed": onset.timed,
+    }
+    return json.dumps(data, separators=(",", ":"))
+
+
+class LslOutlets:
+    """The marker outlet and, optionally, the levels outlet of one array.
+
+    Parameters
+    ----------
+    profile : DeviceProfile, optional
+        The array: channels, their names, levels (the palm array by default).
+    rate_hz : float
+        Nominal rate of the levels stream (the stream's frame rate).
+    markers, levels : bool
+        Which outlets to open (markers only by default).
+    source_id : str, optional
+        LSL's source id, a recording's key to the same stream after a restart
+        (``tactile-<profile name>`` by default; the outlets add ``-markers`` and ``-levels``).
+
+    Use :meth:`attach` to feed them from a :class:`~tactile_core.device.Streamer`, or call
+    :meth:`onset` and :meth:`push_levels` from a stream's hooks yourself.
+    """
+
+    def __init__(
+        self,
+        profile: DeviceProfile | None = None,
+        *,
+        rate_hz: float = 300.0,
+        markers: bool = True,
+        levels: bool = False,
+        source_id: str | None = None,
+    ):
+        pylsl = _pylsl()
+        self.profile = profile or default_profile()
+        self.source_id = source_id or f"tactile-{self.profile.name}"
+        self.offset_s = lsl_offset_s()
+        """LSL clock minus ``time.perf_counter``, added to every time sent."""
+        self.markers_sent = 0
+        self.levels_sent = 0
+        self._markers = self._levels = None
+        if markers:
+            info = pylsl.StreamInfo(MARKERS_NAME, "Markers", 1, pylsl.IRREGULAR_RATE,
+                                    pylsl.cf_string, f"{self.source_id}-markers")  # fmt: skip
+            self._describe(info)
+            self._markers = pylsl.StreamOutlet(info)
+        if levels:
+            n = self.profile.channels
+            info = pylsl.StreamInfo(LEVELS_NAME, "Levels", n, float(rate_hz), pylsl.cf_int16,
+                                    f"{self.source_id}-levels")  # fmt: skip
+            desc = self._describe(info)
+            desc.append_child_value("levels", str(self.profile.levels))
+            channels = desc.append_child("channels")
+            names = list(self.profile.layout.names)
+            order = self.profile.array.channel_index
+            for ch in range(n):
+                channel = channels.append_child("channel")
+                channel.append_child_value("label", str(names[int(order[ch])]))
+                channel.append_child_value("unit", "level")
+            self._levels = pylsl.StreamOutlet(info)
+
+    def _describe(self, info):
+        desc = info.desc()
+        desc.append_child_value("software", f"tactile-tuner {__version__}")
+        desc.append_child_value("device", self.profile.name)
+        desc.append_child_value("pid", str(os.getpid()))
+        return desc
+
+    def onset(self, onset) -> None:
+        """Push the marker of a presentation (a streamer's ``on_onset`` hook)."""
+        if self._markers is not None:
+            self._markers.push_sample([marker_text(onset)], onset.time_s + self.offset_s)
+            self.markers_sent += 1
+
+    def push_levels(self, time_s: float, seq: int, levels: bytes) -> None:
+        """Push one frame's levels (a streamer's tap)."""
+        if self._levels is not None:
+            self._levels.push_sample(list(levels), time_s + self.offset_s)
+            self.levels_sent += 1
+
+    def attach(self, streamer) -> LslOutlets:
+        """Feed the outlets from ``streamer`` (its ``on_onset`` hooks and taps)."""
+        if self._markers is not None:
+            streamer.on_onset.append(self.onset)
+        if self._levels is not None:
+            streamer.taps.append(self.push_levels)
+        return self
+
+    def detach(self, streamer) -> None:
+        """Stop feeding the outlets from ``streamer``."""
+        for hooks, hook in ((streamer.on_onset, self.onset), (streamer.taps, self.push_levels)):
+            if hook in hooks:
+                hooks.remove(hook)
+
+    def close(self) -> None:
+        """Close the outlets (recorders see the streams end)."""
+        self._markers = self._levels = None
+
+    def __enter__(self) -> LslOutlets:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()

@@ -1,0 +1,128 @@
+"""What the OSC server counts, as one immutable snapshot, and how it reads on a terminal."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+PROBLEMS = (
+    ("malformed", "malformed"),
+    ("unknown", "unknown address"),
+    ("wrong_type", "wrong arguments"),
+    ("non_finite", "non-finite"),
+    ("out_of_range", "out of range"),
+    ("refused", "refused"),
+    ("flood_dropped", "dropped (over the rate limit)"),
+    ("kernel_dropped", "dropped by the system (buffer full)"),
+    ("errors", "internal errors"),
+)
+"""The counters of messages that did nothing, with their names on the status line."""
+
+
+@dataclass(frozen=True)
+class ServeStats:
+    """Counters of an :class:`~tactile_core.live.OscServer`, read at one moment.
+
+    Attributes
+    ----------
+    address : str
+        ``host:port`` the server listens on.
+    datagrams, messages : int
+        UDP datagrams received; OSC messages read from them (bundles hold several).
+    points, releases, controls, shapes : int
+        Point updates applied; releases (``/tactile/release``); ``/tactile/method``, ``mu``,
+        ``gamma`` and ``off`` applied; shapes started.
+    malformed : int
+        Datagrams that are not OSC packets.
+    unknown : int
+        Messages to an address the server does not have.
+    wrong_type : int
+        Messages with the wrong number or types of arguments.
+    non_finite : int
+        Messages with a NaN or an infinity.
+    out_of_range : int
+        Values outside their range (intensity, coordinates, a point id, more than the points
+        the table holds).
+    refused : int
+        Well-formed messages the server cannot honour (a method that needs a shape for points,
+        an unknown method, a bad shape spec), with the reason in ``last_problem``.
+    flood_dropped : int
+        Messages over the rate limit, dropped unread (``/tactile/off`` and ``/tactile/release``
+        are always read).
+    kernel_dropped : int
+        Datagrams the operating system dropped because the receive buffer was full (Linux).
+    errors : int
+        Messages whose handling raised unexpectedly (a bug; the server goes on).
+    timed_out : int
+        Points released because they were not refreshed within the timeout.
+    active_points : int
+        Points in the table now.
+    rate_hz : float
+        Messages per second over about the last second (all received, read or not).
+    last_sender, last_address, last_problem : str
+        Who sent the latest datagram (``host:port``), its first address, and the latest problem.
+    playing : str
+        ``"points"``, or the shape being played.
+    elapsed_s : float
+        Seconds since the server started.
+    """
+
+    address: str = ""
+    datagrams: int = 0
+    messages: int = 0
+    points: int = 0
+    releases: int = 0
+    controls: int = 0
+    shapes: int = 0
+    malformed: int = 0
+    unknown: int = 0
+    wrong_type: int = 0
+    non_finite: int = 0
+    out_of_range: int = 0
+    refused: int = 0
+    flood_dropped: int = 0
+    kernel_dropped: int = 0
+    errors: int = 0
+    timed_out: int = 0
+    active_points: int = 0
+    rate_hz: float = 0.0
+    last_sender: str = ""
+    last_address: str = ""
+    last_problem: str = ""
+    playing: str = "points"
+    elapsed_s: float = 0.0
+
+    @property
+    def problems(self) -> int:
+        """Messages (and datagrams) that did nothing: the sum of the problem counters."""
+        return sum(getattr(self, key) for key, _ in PROBLEMS)
+
+    def line(self) -> str:
+        """One status line: traffic, sender, points, and any problems."""
+        sender = f" from {self.last_sender}" if self.last_sender else ""
+        text = (
+            f"osc {self.address}: {self.messages} messages ({self.rate_hz:.0f}/s){sender}; "
+            f"{self.active_points} points, playing {self.playing}"
+        )
+        problems = [f"{getattr(self, k)} {name}" for k, name in PROBLEMS if getattr(self, k)]
+        if self.timed_out:
+            problems.append(f"{self.timed_out} points timed out")
+        if problems:
+            text += "; " + ", ".join(problems)
+        return text
+
+    def summary(self) -> str:
+        """The final report, a few lines."""
+        lines = [
+            f"served {self.elapsed_s:.1f} s on {self.address}: {self.datagrams} datagrams, "
+            f"{self.messages} messages",
+            f"  applied: {self.points} point updates, {self.releases} releases, "
+            f"{self.controls} controls, {self.shapes} shapes; {self.timed_out} points timed out",
+            "  did nothing: " + ", ".join(f"{getattr(self, k)} {name}" for k, name in PROBLEMS),
+        ]
+        if self.last_problem:
+            lines.append(f"  last problem: {self.last_problem}")
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
+        """The JSON form (``tactile serve --json``)."""
+        return {**asdict(self), "problems": self.problems}

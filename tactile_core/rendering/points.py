@@ -1,0 +1,258 @@
+"""Live points: positions another program sends, rendered each frame with a scene's method.
+
+A :class:`LivePoints` table holds named points ``{id: (x, y, intensity, time of the update)}``.
+Any thread may write it (the OSC server's, a script's); the streamer's output thread reads it
+once per frame through the frame source that :meth:`LivePoints.live` returns, which is what a
+:class:`~tactile_core.rendering.scene.Scene` takes as its ``source``::
+
+    points = LivePoints()
+    scene = Scene(method="AS", source=points)   # hand it to a streamer once
+    points.set("hand", 2.5, 3.0)                 # then move the point from any thread
+
+Threads: a writer builds a new dictionary and swaps it in under a lock that only writers take;
+the output thread reads whichever dictionary is current (one reference, read atomically) and
+never waits for a writer. Each point is an immutable tuple.
+
+Per frame, at the frame's time ``now`` (the clock read when the frame is computed, just before
+it is written):
+
+- a point whose newest update is older than ``timeout_s`` (100 ms by default) is not rendered,
+  so a sender that crashed or lost its network never leaves a motor on (:meth:`expire` also
+  drops it from the table, for the counters);
+- *newest* (default): each point is where its newest update put it; updates arriving faster
+  than the frame rate are resampled by taking the newest, slower ones are held;
+- *interpolated* (``interpolate=True``): the point moves from its previous update to its newest
+  over the time between the two, starting when the newest arrived, so a 30 Hz sender gives
+  smooth motion at 300 frames a second at the cost of one update interval of delay; an interval
+  longer than the timeout or 1 s (a sender that paused) is not interpolated: the point jumps;
+- each point is rendered by the scene's method (one that needs no shape: CT, AS, EN, PK, RO,
+  GS, VRCH, BA, or a plug-in; MM and IM are refused as for :func:`~.rasterize.render_xy`) and
+  corrected with its intensity as the master intensity: a lit tactor gets
+  ``mu + gain * intensity * (1 - mu) * I**gamma``; intensity 0 lights nothing;
+- several points on one tactor: the tactor gets the largest of their corrected values (max,
+  ``docs/decisions.md``).
+
+With the box filter, the values are averaged over the scene's sub-sample times within the frame
+period just ended (a difference only for interpolated points).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from typing import NamedTuple
+
+from .._shared import validate as _validate
+from .correction import check_correction, correct1
+from .geometry import SNAP_REL
+from .layout import Layout
+from .methods import METHODS, get_method
+from .methods._layout import layout_sampler
+from .rasterize import check_target
+
+DEFAULT_TIMEOUT_S = 0.1
+"""A point not refreshed within this long is released (the contract's 100 ms)."""
+MAX_POINTS = 64
+"""Most points at once: the cost of a frame stays bounded whatever a sender does."""
+MAX_ID_CHARS = 64
+
+
+class Point(NamedTuple):
+    """One point as its newest update left it, with the update before (for interpolation)."""
+
+    x: float
+    y: float
+    intensity: float
+    time_s: float
+    previous: tuple | None = None
+    """``(x, y, intensity, time_s)`` of the update before, or None (a new point)."""
+
+
+def free_method(method):
+    """The :class:`~.methods.Method` for ``method`` if it renders free points (needs no shape);
+    ``ValueError`` naming the methods that do otherwise."""
+    m = get_method(method)
+    if m.needs_shape:
+        free = ", ".join(n for n, k in METHODS.items() if not k.needs_shape)
+        raise ValueError(
+            f"method {m.name} needs a shape (it picks its tactors from the shape's strokes); "
+            f"free points work with {free}"
+        )
+    return m
+
+
+class LivePoints:
+    """A table of named points, written from any thread, rendered by the output thread.
+
+    Parameters
+    ----------
+    timeout_s : float or None
+        A point not refreshed within this long is released (0.1 s by default; 0.001 to 60).
+        None: a point stays until released (a script's points; never for a network sender).
+    interpolate : bool
+        Move each point from its previous update to its newest (see the module's notes) instead
+        of showing the newest at once.
+    max_points : int
+        Most points at once (1 to 1024); a new id beyond it raises ``ValueError``.
+    clock : callable
+        Seconds on the streamer's clock (``time.perf_counter`` by default).
+    """
+
+    def __init__(self, *, timeout_s: float | None = DEFAULT_TIMEOUT_S, interpolate: bool = False,
+                 max_points: int = MAX_POINTS, clock=time.perf_counter):  # fmt: skip
+        if timeout_s is not None:
+            timeout_s = _validate.in_range("timeout_s", timeout_s, 0.001, 60.0)
+        self.timeout_s = timeout_s
+        self._limit = math.inf if timeout_s is None else timeout_s
+        self.interpolate = _validate.boolean("interpolate", interpolate)
+        self.max_points = _validate.integer("max_points", max_points, 1, 1024)
+        self.clock = clock
+        self._points: dict = {}
+        self._write = threading.Lock()
+
+    def __reduce__(self):
+        raise TypeError(
+            "live points are fed and rendered in one process: stream them from a thread of "
+            "this process (open_stream(..., process=False)), not through the stream process"
+        )
+
+    @property
+    def points(self) -> dict:
+        """The current points, ``{id: Point}`` (a snapshot: never changes after it is read)."""
+        return self._points
+
+    def set(self, point_id, x, y, intensity=1.0, *, time_s: float | None = None) -> None:
+        """Put point ``point_id`` (a string of 0 to 64 characters) at ``(x, y)`` in grid units
+        (layout units on a layout) with ``intensity`` in [0, 1]; ``ValueError`` names a bad
+        value. ``time_s``: when the update arrived (now by default)."""
+        if not isinstance(point_id, str) or len(point_id) > MAX_ID_CHARS:
+            raise ValueError(
+                f"point id must be a string of at most {MAX_ID_CHARS} characters, got "
+                f"{_validate.shown(point_id)}"
+            )
+        x = _validate.coordinate("x", x)
+        y = _validate.coordinate("y", y)
+        intensity = _validate.in_range("intensity", intensity, 0.0, 1.0)
+        self.put(point_id, x, y, intensity, self.clock() if time_s is None else time_s)
+
+    def put(self, point_id: str, x: float, y: float, intensity: float, now: float) -> None:
+        """:meth:`set` for a caller that checked every value (the OSC server, per message)."""
+        with self._write:
+            points = self._points
+            old = points.get(point_id)
+            if old is None and len(points) >= self.max_points:
+                raise ValueError(
+                    f"point {_validate.shown(point_id)}: already {self.max_points} points "
+                    "(release some first)"
+                )
+            fresh = old is not None and now - old.time_s <= self._limit
+            before = (old.x, old.y, old.intensity, old.time_s) if fresh else None
+            new = dict(points)
+            new[point_id] = Point(x, y, intensity, now, before)
+            self._points = new
+
+    def release(self, point_id=None) -> int:
+        """Release one point (None: all); how many were released."""
+        with self._write:
+            points = self._points
+            if point_id is None:
+                self._points = {}
+                return len(points)
+            if point_id not in points:
+                return 0
+            new = dict(points)
+            del new[point_id]
+            self._points = new
+            return 1
+
+    def expire(self, now_s: float | None = None) -> int:
+        """Drop the points not refreshed within the timeout; how many were dropped. (The
+        frames already leave them out: this keeps the table and its counters honest.)"""
+        now = self.clock() if now_s is None else now_s
+        with self._write:
+            points = self._points
+            keep = {k: p for k, p in points.items() if now - p.time_s <= self._limit}
+            if len(keep) != len(points):
+                self._points = keep
+            return len(points) - len(keep)
+
+    def live(self, method, target, sampling, mu, gamma, gain=1.0) -> PointFrames:
+        """The frame source of a :class:`~tactile_core.rendering.scene.Scene`: frames of the
+        current points with ``method`` on ``target`` (a Grid or a Layout)."""
+        return PointFrames(self, method, target, sampling, mu, gamma, gain)
+
+
+class PointFrames:
+    """Frames of a :class:`LivePoints` table with one method and correction, for the streamer.
+
+    :meth:`entries` renders the points as they are at the moment it is called (frame ``k`` is
+    only counted); nothing is tabulated, so :meth:`precompute` does nothing.
+    """
+
+    precomputed = False
+
+    def __init__(self, points: LivePoints, method, target, sampling, mu, gamma, gain=1.0):
+        self.table = points
+        self.method = free_method(method)
+        self.target = check_target(target)
+        self.mu, self.gamma = check_correction(mu, gamma)
+        self.gain = _validate.in_range("gain", gain, 0.0, 1.0)
+        self.sampling = sampling
+        offsets = sampling.offsets_s().tolist()
+        period = 1.0 / sampling.rate_hz
+        self._lags = [period - o for o in offsets] if len(offsets) > 1 else [0.0]
+        if isinstance(self.target, Layout):
+            entries1 = layout_sampler(self.method, self.target).entries1
+            self._entries1 = lambda x, y, tol: [(i, v) for i, v in entries1(x, y, tol) if v > 0]
+        else:
+            cols, rows, sample1 = self.target.cols, self.target.rows, self.method.sample1
+            self._entries1 = lambda x, y, tol: [
+                (r * cols + c, v)
+                for c, r, v in sample1(None, x, y, None, tol)
+                if v > 0.0 and 0 <= c < cols and 0 <= r < rows
+            ]
+
+    def precompute(self, background: bool = False) -> None:
+        """Nothing to tabulate: live points change every frame."""
+
+    def entries(self, k: int) -> tuple:
+        """Lit tactors now: ``((flat index, corrected value), ...)``."""
+        points = self.table.points
+        if not points:
+            return ()
+        now = self.table.clock()
+        if len(self._lags) == 1:
+            return tuple(self.at(points, now).items())
+        acc: dict[int, float] = {}
+        for lag in self._lags:
+            for i, v in self.at(points, now - lag).items():
+                acc[i] = acc.get(i, 0.0) + v
+        scale = 1.0 / len(self._lags)
+        return tuple((i, v * scale) for i, v in acc.items())
+
+    def at(self, points: dict, now: float) -> dict:
+        """``{index: corrected value}`` of ``points`` at time ``now`` (max over points)."""
+        timeout = self.table._limit
+        interpolate = self.table.interpolate
+        mu, gamma, gain = self.mu, self.gamma, self.gain
+        out: dict[int, float] = {}
+        for p in points.values():
+            age = now - p.time_s
+            if age > timeout:
+                continue
+            x, y, a = p.x, p.y, p.intensity
+            if interpolate and p.previous is not None and age >= 0.0:
+                px, py, pa, pt = p.previous
+                span = p.time_s - pt
+                if 0.0 < span <= min(timeout, 1.0) and age < span:
+                    f = age / span
+                    x, y, a = px + (x - px) * f, py + (y - py) * f, pa + (a - pa) * f
+            if a <= 0.0:
+                continue
+            tol = SNAP_REL * max(abs(x), abs(y), 1.0)
+            for i, v in self._entries1(x, y, tol):
+                value = correct1(v, mu, gamma, gain * a)
+                if value > out.get(i, 0.0):
+                    out[i] = value
+        return out

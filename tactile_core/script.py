@@ -1,0 +1,316 @@
+"""A blocking-friendly API for experiment scripts (PsychoPy or plain Python).
+
+>>> import tactile_core as tc
+>>> with tc.open_array("sim") as array:                       # doctest: +SKIP
+...     shown = array.play("circle:2.5,3,2", method="IM", duration_s=1.0)
+...     print(f"first frame at {shown.first_frame_s:.4f} s (time.perf_counter)")
+
+:func:`open_array` opens a device (the same URLs as ``tactile stream``: ``sim``, a serial port,
+a pseudo-terminal from ``tactile emulate``) and streams to it from a thread of this process.
+:meth:`Array.play` presents a shape once and, by default, returns when it has played; the
+:class:`Presentation` it returns carries the time its first frame was written to the device
+(the same moment an LSL marker is stamped with, ``lsl=True``). :meth:`Array.point` drives
+live points. This module never imports Qt (a test imports it in a fresh interpreter).
+
+Safety: leaving the ``with`` block in any way (an exception, Ctrl-C) turns the array off and
+stops the stream; so do :meth:`Array.close`, interpreter exit, and SIGTERM (``open_array``
+makes it raise ``SystemExit`` in the main thread while the array is open, unless the script
+has its own handler). Ctrl-C while :meth:`Presentation.wait` blocks turns the array off before
+the ``KeyboardInterrupt`` goes on up.
+"""
+
+from __future__ import annotations
+
+import heapq
+import itertools
+import signal
+import threading
+import time
+
+from ._shared import validate as _validate
+from .device.link import open_link
+from .device.profile import DeviceProfile, load_profile
+from .device.streamer import Streamer
+from .rendering.points import LivePoints, free_method
+from .rendering.scene import Scene
+from .rendering.shapes import Shape, parse_shape
+
+__all__ = ["Array", "Presentation", "open_array"]
+
+START_TIMEOUT_S = 5.0
+"""How long :meth:`Presentation.wait` waits for the first frame before saying why not."""
+
+
+class Presentation:
+    """One stimulus handed to the array by :meth:`Array.play`.
+
+    Attributes
+    ----------
+    scene : Scene
+        What was played.
+    started, done : threading.Event
+        Set when the first frame was written; when the stimulus has played (or was cut short
+        by another play, ``all_off`` or ``close``).
+    first_frame_s : float or None
+        ``time.perf_counter`` seconds when its first frame was written to the device (for a
+        frame scheduled ahead, ``lead_ms``: when the array is to play it); None before.
+    seq : int or None
+        The first frame's sequence number on the wire.
+    interrupted : bool
+        True when it was cut short.
+    """
+
+    def __init__(self, scene: Scene, array: Array):
+        self.scene = scene
+        self.started = threading.Event()
+        self.done = threading.Event()
+        self.first_frame_s: float | None = None
+        self.seq: int | None = None
+        self.interrupted = False
+        self._array = array
+
+    @property
+    def duration_s(self) -> float:
+        """How long the stimulus plays."""
+        return self.scene.duration_s
+
+    def wait(self, timeout_s: float | None = None) -> Presentation:
+        """Block until the stimulus has played (or ``timeout_s`` passed); return it.
+
+        ``RuntimeError`` if no frame went out within :data:`START_TIMEOUT_S` (the stream
+        stopped: its status says why). Ctrl-C here turns the array off, then propagates.
+        """
+        try:
+            if not self.started.wait(START_TIMEOUT_S):
+                stats = self._array.streamer.stats
+                raise RuntimeError(f"no frame went out within {START_TIMEOUT_S:g} s: "
+                                   f"[{stats.state}] {stats.status}")  # fmt: skip
+            self.done.wait(timeout_s)
+        except KeyboardInterrupt:
+            self._array.all_off()
+            raise
+        return self
+
+    def __repr__(self) -> str:
+        when = "not started" if self.first_frame_s is None else f"{self.first_frame_s:.6f} s"
+        shape = self.scene.shape.spec if self.scene.shape is not None else "source"
+        return f"Presentation({shape}, {self.scene.method}, first frame {when})"
+
+
+class Array:
+    """An open array: play shapes, drive points, turn it off. Made by :func:`open_array`."""
+
+    def __init__(self, link, profile: DeviceProfile, *, rate_hz: float, lead_s: float,
+                 lsl: bool, lsl_levels: bool, point_timeout_s: float | None):  # fmt: skip
+        self.link = link
+        self.profile = profile
+        self.rate_hz = _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
+        self.points = LivePoints(timeout_s=point_timeout_s)
+        self.streamer = Streamer(link, profile, lead_s=lead_s, on_onset=[self._on_onset])
+        self.lsl = None
+        self._lock = threading.Lock()
+        self._waiting: dict[int, Presentation] = {}
+        self._current: Presentation | None = None
+        self._due: list = []  # heap of (time_s, n, presentation) to mark done
+        self._n = itertools.count()
+        self._wake = threading.Event()
+        self._closed = threading.Event()
+        self._epochs = itertools.count(1)
+        self._saved_sigterm = None
+        if lsl or lsl_levels:
+            from .live import LslOutlets
+
+            self.lsl = LslOutlets(profile, rate_hz=self.rate_hz, levels=lsl_levels)
+            self.lsl.attach(self.streamer)
+        self._keeper = threading.Thread(target=self._keep, name="tactile-script", daemon=True)
+
+    def _start(self) -> Array:
+        self.streamer.start()
+        self._keeper.start()
+        self.streamer.identified.wait(START_TIMEOUT_S)
+        if (threading.current_thread() is threading.main_thread()
+                and signal.getsignal(signal.SIGTERM) == signal.SIG_DFL):  # fmt: skip
+            self._saved_sigterm = signal.signal(signal.SIGTERM, _terminate)
+        return self
+
+    # --- presenting ----------------------------------------------------------------------------
+
+    def play(self, shape, method: str = "IM", *, mu: float = 0.33, gamma: float = 0.7,
+             duration_s: float = 1.0, gain: float = 1.0, direction: str = "forward",
+             wait: bool = True, marker: str = "script") -> Presentation:  # fmt: skip
+        """Present ``shape`` once with ``method`` and the correction ``(mu, gamma)``.
+
+        Parameters
+        ----------
+        shape : Shape or str
+            A shape (``tc.Circle(...)``) or its spec (``"circle:2.5,3,2"``); or a frame source
+            (any object with ``live(...)``, such as an imported pattern), played for
+            ``duration_s``.
+        method : str
+            Any method (the paper's four, the peers, a plug-in; ``"RO:r=1.5"``).
+        mu, gamma, gain : float
+            The correction and master intensity.
+        duration_s : float
+            How long the trace takes; the array is off afterwards.
+        wait : bool
+            Block until it has played (default), or return at once.
+        marker : str
+            The kind of presentation in its LSL marker.
+
+        Returns
+        -------
+        Presentation
+            With the first frame's time once it went out.
+        """
+        if self._closed.is_set():
+            raise ValueError("the array is closed")
+        if isinstance(shape, str):
+            shape = parse_shape(shape)
+        kind = {"shape": shape} if isinstance(shape, Shape) else {"source": shape}
+        scene = Scene(method=method, mu=mu, gamma=gamma, duration_s=duration_s, pause_s=0.0,
+                      repeat=False, rate_hz=self.rate_hz, gain=gain, direction=direction,
+                      marker=marker, epoch=next(self._epochs), **kind)  # fmt: skip
+        scene.live(self.profile.target, self.rate_hz)  # refused here, by name, not by the stream
+        presentation = Presentation(scene, self)
+        with self._lock:
+            self._finish_current()
+            self._waiting[id(scene)] = presentation
+            self._current = presentation
+        self.streamer.set_scene(scene)
+        return presentation.wait() if wait else presentation
+
+    def point(self, x: float, y: float, intensity: float = 1.0, *, point_id: str = "",
+              method: str = "AS", mu: float = 0.33, gamma: float = 0.7) -> None:  # fmt: skip
+        """Put a live point at ``(x, y)`` (grid units) with ``intensity``; it stays until
+        :meth:`release` (or, with ``point_timeout_s``, until not refreshed for that long).
+        ``method`` must render free points (not MM or IM)."""
+        spec = free_method(method).spec
+        self.points.set(point_id, x, y, intensity)
+        scene = self.streamer.scene
+        if (
+            scene is None
+            or scene.source is not self.points
+            or ((scene.method, scene.mu, scene.gamma) != (spec, mu, gamma))
+        ):
+            with self._lock:
+                self._finish_current()
+            self.streamer.set_scene(Scene(method=method, mu=mu, gamma=gamma, rate_hz=self.rate_hz,
+                                          source=self.points, marker="script-points"))  # fmt: skip
+
+    def release(self, point_id: str | None = None) -> None:
+        """Release one live point (None: all)."""
+        self.points.release(point_id)
+
+    def all_off(self) -> None:
+        """Everything off at the next frame: points released, a presentation cut short."""
+        self.points.release()
+        with self._lock:
+            self._finish_current()
+        self.streamer.set_scene(None)
+
+    def close(self) -> None:
+        """All off, stop the stream (its last frame is all zeros) and close the device."""
+        if self._closed.is_set():
+            return
+        self._closed.set()
+        try:
+            self.all_off()
+        finally:
+            self._wake.set()
+            self.streamer.stop()
+            self.link.close()
+            if self.lsl is not None:
+                self.lsl.close()
+            if self._saved_sigterm is not None:
+                try:
+                    signal.signal(signal.SIGTERM, self._saved_sigterm)
+                except ValueError:  # not the main thread
+                    pass
+
+    def __enter__(self) -> Array:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # --- threads -------------------------------------------------------------------------------
+
+    def _finish_current(self) -> None:
+        """(Under the lock.) The presentation playing is cut short."""
+        current = self._current
+        if current is not None and not current.done.is_set():
+            current.interrupted = True
+            current.done.set()
+            self._waiting.pop(id(current.scene), None)
+        self._current = None
+
+    def _on_onset(self, onset) -> None:
+        """The output thread: the first frame of a presentation went out."""
+        with self._lock:
+            presentation = self._waiting.pop(id(onset.scene), None)
+            if presentation is None:
+                return
+            presentation.first_frame_s = onset.time_s
+            presentation.seq = onset.seq
+            end = onset.time_s + presentation.duration_s
+            heapq.heappush(self._due, (end, next(self._n), presentation))
+        presentation.started.set()
+        self._wake.set()
+
+    def _keep(self) -> None:
+        """Mark presentations done when their time is up."""
+        while not self._closed.is_set():
+            with self._lock:
+                now = time.perf_counter()
+                while self._due and self._due[0][0] <= now:
+                    _, _, presentation = heapq.heappop(self._due)
+                    presentation.done.set()
+                wait = self._due[0][0] - now if self._due else 1.0
+            self._wake.wait(min(wait, 1.0))
+            self._wake.clear()
+        with self._lock:
+            for _, _, presentation in self._due:
+                presentation.interrupted = True
+                presentation.done.set()
+
+
+def _terminate(signum, frame):
+    raise SystemExit(128 + signum)
+
+
+def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_ms: float = 0.0,
+               lsl: bool = False, lsl_levels: bool = False,
+               point_timeout_s: float | None = None) -> Array:  # fmt: skip
+    """Open a device and start streaming to it (all off until something is played).
+
+    Parameters
+    ----------
+    url : str
+        ``"sim"`` (the simulated array), a serial port, a pyserial URL, a pseudo-terminal.
+    profile : str, Path or DeviceProfile, optional
+        The device profile (the palm array by default).
+    rate_hz : float
+        Frames per second (300).
+    lead_ms : float
+        Send frames this far ahead to arrays that play them at their time (0: on arrival).
+    lsl, lsl_levels : bool
+        Open the LSL marker outlet (``tactile-markers``), and the levels outlet.
+    point_timeout_s : float or None
+        Release a live point not refreshed within this long (None: it stays until released).
+
+    Returns
+    -------
+    Array
+        Use it as a context manager, or call :meth:`Array.close`.
+    """
+    if not isinstance(profile, DeviceProfile):
+        profile = load_profile(profile)
+    lead = _validate.in_range("lead_ms", lead_ms, 0.0, 500.0) / 1e3
+    link = open_link(url, profile)
+    try:
+        array = Array(link, profile, rate_hz=rate_hz, lead_s=lead, lsl=lsl,
+                      lsl_levels=lsl_levels, point_timeout_s=point_timeout_s)  # fmt: skip
+        return array._start()
+    except BaseException:
+        link.close()
+        raise

@@ -1,0 +1,271 @@
+"""Measure ``tactile serve``: OSC message -> frame at the array latency, and a flood.
+
+    python tools/serve_bench.py latency [--messages 600] [--rate 300] [--lead-ms 0] [--realtime]
+    python tools/serve_bench.py split [--messages 600] [--rate 300]
+    python tools/serve_bench.py flood [--flood-rate 50000] [--seconds 2]
+
+Three processes, as in use: the array (the emulator on a pseudo-terminal, in a child process
+that reports the ``CLOCK_MONOTONIC`` time it received each frame), ``tactile serve`` streaming
+into it, and this one sending OSC with python-osc's ``SimpleUDPClient`` (``time.perf_counter``
+is ``CLOCK_MONOTONIC`` on Linux, so the times compare directly).
+
+latency: points alternate between the corner tactors (CT: one tactor lit each), one every 20-40
+ms at a random phase of the frame clock; the latency of a message is the time from just before
+``sendto`` to the emulator's receipt of the first frame showing it.
+
+split: the server and the stream in this process, so that a tap gives each frame's write time:
+OSC -> write and OSC -> emulator side by side.
+
+flood: a second process sends ``/tactile/point/flood`` at ``--flood-rate`` for ``--seconds``;
+the server's counters (``--json``) and the frame intervals at the array before, during and
+after the flood are printed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import random
+import signal
+import subprocess
+import sys
+import tempfile
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+
+CLI = [sys.executable, "-m", "tactile_core.cli"]
+EMULATOR = textwrap.dedent("""
+    import signal, sys, threading
+    import numpy as np
+    from tactile_core.device.emulator import Emulator
+    stop = threading.Event()
+    signal.signal(signal.SIGINT, lambda *a: stop.set())
+    emulator = Emulator()
+    print(emulator.open(), flush=True)
+    emulator.run(stop.is_set)
+    times, seqs, levels = emulator.log.arrays()
+    np.savez(sys.argv[1], time=times, levels=levels)
+    emulator.close()
+""")
+FLOOD = textwrap.dedent("""
+    import socket, sys, time
+    from pythonosc.osc_message_builder import OscMessageBuilder
+    port, rate, seconds = int(sys.argv[1]), float(sys.argv[2]), float(sys.argv[3])
+    b = OscMessageBuilder("/tactile/point/flood"); b.add_arg(2.5); b.add_arg(3.0)
+    data = b.build().dgram
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    sent = 0
+    start = time.perf_counter()
+    print(start, flush=True)
+    while (now := time.perf_counter() - start) < seconds:
+        while sent < int(now * rate):
+            try:
+                sock.sendto(data, ("127.0.0.1", port))
+            except OSError:
+                pass
+            sent += 1
+    print(sent, time.perf_counter(), flush=True)
+""")
+
+
+SENDER = textwrap.dedent("""
+    import random, sys, time
+    from pythonosc.udp_client import SimpleUDPClient
+    client = SimpleUDPClient("127.0.0.1", int(sys.argv[1]))
+    rng = random.Random(1)
+    sent = []
+    for j in range(int(sys.argv[2])):
+        time.sleep(rng.uniform(0.02, 0.04))
+        t = time.perf_counter()
+        client.send_message("/tactile/point", [0.5, 0.5] if j % 2 == 0 else [4.5, 5.5])
+        sent.append(t)
+    print(" ".join(map(repr, sent)), flush=True)
+""")
+
+
+def first_showing(times, levels, sent):
+    """Per message: time to the first frame from its send time on that shows its tactor."""
+    lit = (levels[:, 0] > 0, levels[:, 29] > 0)  # channel 0 = tactor (0, 0); 29 = (4, 5)
+    out = []
+    for j, t in enumerate(sent):
+        after = np.flatnonzero((times >= t) & lit[j % 2])
+        if len(after):
+            out.append(times[after[0]] - t)
+    return np.array(out) * 1e3
+
+
+def describe(lat, what):
+    p50, p99 = np.percentile(lat, 50), np.percentile(lat, 99)
+    return (f"{what}: p50 {p50:.2f} ms, p99 {p99:.2f} ms, max {lat.max():.2f} ms, "
+            f"mean {lat.mean():.2f} ms ({len(lat)} messages)")  # fmt: skip
+
+
+def latency_split(args) -> None:
+    """The server and the stream in this process (a tap gives each frame's write time), the
+    emulator and the sender in their own: OSC -> write, and write -> emulator."""
+    from tactile_core.device.link import open_link
+    from tactile_core.device.profile import default_profile
+    from tactile_core.device.streamer import Streamer
+    from tactile_core.live import OscServer
+    from tactile_core.rendering.scene import Scene
+
+    with tempfile.TemporaryDirectory() as folder:
+        record = Path(folder) / "frames.npz"
+        emulator = subprocess.Popen([sys.executable, "-c", EMULATOR, str(record)],
+                                    stdout=subprocess.PIPE, text=True)  # fmt: skip
+        profile = default_profile()
+        link = open_link(emulator.stdout.readline().strip(), profile)
+        written = []
+        streamer = Streamer(link, profile, taps=[lambda t, s, lv: written.append((t, lv))])
+        server = OscServer(streamer, profile, scene=Scene(method="CT", rate_hz=args.rate),
+                           port=0, timeout_s=60.0)  # fmt: skip
+        streamer.start()
+        server.start()
+        time.sleep(1.0)
+        out = subprocess.run([sys.executable, "-c", SENDER, str(server.address[1]),
+                              str(args.messages)], capture_output=True, text=True)  # fmt: skip
+        time.sleep(0.2)
+        server.stop()
+        streamer.stop()
+        link.close()
+        emulator.send_signal(signal.SIGINT)
+        emulator.communicate(timeout=30)
+        with np.load(record) as data:
+            times, levels = data["time"], data["levels"]
+    sent = [float(x) for x in out.stdout.split()]
+    w_times = np.array([t for t, _ in written])
+    w_levels = np.array([np.frombuffer(lv, dtype=np.uint8) for _, lv in written])
+    print(f"OSC message -> frame, {args.rate:g} Hz, frames for now, server in-process:")
+    print("  " + describe(first_showing(w_times, w_levels, sent), "to the write"))
+    print("  " + describe(first_showing(times, levels, sent), "to the emulator"))
+
+
+class Rig:
+    """The emulator and ``tactile serve`` as child processes."""
+
+    def __init__(self, folder: Path, serve_args: list[str]):
+        self.record = folder / "frames.npz"
+        self.summary = folder / "serve.json"
+        self.emulator = subprocess.Popen([sys.executable, "-c", EMULATOR, str(self.record)],
+                                         stdout=subprocess.PIPE, text=True)  # fmt: skip
+        path = self.emulator.stdout.readline().strip()
+        self.serve = subprocess.Popen(
+            [*CLI, "serve", "--device", path, "--osc-port", "0", "--status-s", "0",
+             "--json", str(self.summary), *serve_args],
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        )  # fmt: skip
+        first = self.serve.stdout.readline().strip()
+        if not first.startswith("osc://"):
+            self.emulator.kill()
+            raise SystemExit(f"tactile serve did not start: {self.serve.communicate()[1]}")
+        self.port = int(first.rsplit(":", 1)[1])
+        time.sleep(1.0)  # the hello exchange and the first frames
+
+    def finish(self):
+        self.serve.send_signal(signal.SIGINT)
+        self.serve.communicate(timeout=30)
+        self.emulator.send_signal(signal.SIGINT)
+        self.emulator.communicate(timeout=30)
+        with np.load(self.record) as data:
+            times, levels = data["time"], data["levels"]
+        return times, levels, json.loads(self.summary.read_text())["serve"]
+
+
+def latency(args) -> None:
+    from pythonosc.udp_client import SimpleUDPClient
+
+    with tempfile.TemporaryDirectory() as folder:
+        rig = Rig(Path(folder), ["--method", "CT", "--rate", str(args.rate), "--timeout-ms",
+                                 "60000", "--lead-ms", str(args.lead_ms)]
+                  + (["--realtime"] if args.realtime else []))  # fmt: skip
+        client = SimpleUDPClient("127.0.0.1", rig.port)
+        rng = random.Random(1)
+        sent = []
+        for j in range(args.messages):
+            x, y = (0.5, 0.5) if j % 2 == 0 else (4.5, 5.5)
+            time.sleep(rng.uniform(0.02, 0.04))
+            t = time.perf_counter()
+            client.send_message("/tactile/point", [x, y])
+            sent.append(t)
+        time.sleep(0.2)
+        times, levels, served = rig.finish()
+    lat = first_showing(times, levels, sent)
+    print(f"OSC message -> frame at the emulator (its time to play, for a timed frame), "
+          f"tactile serve at {args.rate:g} Hz, lead {args.lead_ms:g} ms"
+          f"{', real-time priority' if args.realtime else ''}:")  # fmt: skip
+    print("  " + describe(lat, f"{len(sent)} sent"))
+    print(f"  server: {served['messages']} messages, {served['points']} points, "
+          f"{served['problems']} problems")  # fmt: skip
+
+
+def intervals(times, start, end, period):
+    inside = times[(times >= start) & (times < end)]
+    errors = np.abs(np.diff(inside) - period) * 1e3
+    if not len(errors):
+        return "no frames"
+    return (f"{len(inside)} frames, |interval - {period * 1e3:.2f} ms| p50 "
+            f"{np.percentile(errors, 50):.3f} ms, p99 {np.percentile(errors, 99):.3f} ms, "
+            f"max {errors.max():.3f} ms")  # fmt: skip
+
+
+def cpu_s(pid: int) -> float:
+    """User + system CPU seconds of process ``pid`` (Linux), or NaN."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return float("nan")
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def flood(args) -> None:
+    with tempfile.TemporaryDirectory() as folder:
+        rig = Rig(Path(folder), ["--rate", "300", "--lead-ms", "0"])
+        idle0, t0 = cpu_s(rig.serve.pid), time.perf_counter()
+        time.sleep(args.seconds)
+        idle = (cpu_s(rig.serve.pid) - idle0) / (time.perf_counter() - t0)
+        busy0 = cpu_s(rig.serve.pid)
+        proc = subprocess.run([sys.executable, "-c", FLOOD, str(rig.port), str(args.flood_rate),
+                               str(args.seconds)], capture_output=True, text=True)  # fmt: skip
+        busy = (cpu_s(rig.serve.pid) - busy0) / args.seconds
+        first, last = proc.stdout.splitlines()
+        start = float(first)
+        sent, end = int(last.split()[0]), float(last.split()[1])
+        time.sleep(args.seconds)
+        times, _, served = rig.finish()
+    print(f"flood: {sent} messages in {end - start:.2f} s ({sent / (end - start):,.0f}/s) "
+          f"from a second process")  # fmt: skip
+    print(f"  server: {served['datagrams']} datagrams read, {served['kernel_dropped']} dropped by "
+          f"the system (buffer full), {served['flood_dropped']} dropped over the rate limit, "
+          f"{served['points']} points applied, {served['errors']} errors")  # fmt: skip
+    print(f"  tactile serve's CPU: {idle:.0%} of a core before, {busy:.0%} during the flood")
+    period = 1 / 300
+    print(f"  frames at the array before: {intervals(times, start - args.seconds, start, period)}")
+    print(f"  frames at the array during: {intervals(times, start, end, period)}")
+    print(f"  frames at the array after:  {intervals(times, end, end + args.seconds, period)}")
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = p.add_subparsers(dest="what", required=True)
+    lat = sub.add_parser("latency")
+    lat.add_argument("--messages", type=int, default=600)
+    lat.add_argument("--rate", type=float, default=300.0)
+    lat.add_argument("--lead-ms", type=float, default=0.0)
+    lat.add_argument("--realtime", action="store_true", help="tactile serve --realtime")
+    split = sub.add_parser("split")
+    split.add_argument("--messages", type=int, default=600)
+    split.add_argument("--rate", type=float, default=300.0)
+    fl = sub.add_parser("flood")
+    fl.add_argument("--flood-rate", type=float, default=50_000.0)
+    fl.add_argument("--seconds", type=float, default=2.0)
+    args = p.parse_args(argv)
+    {"latency": latency, "split": latency_split, "flood": flood}[args.what](args)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
