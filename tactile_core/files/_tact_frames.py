@@ -45,7 +45,7 @@ from ..rendering.rasterize import (
     render,
 )
 from ..rendering.shapes import TimedPath
-from ..rendering.trace import MAX_SAMPLES, Sampling
+from ..rendering.trace import MAX_SAMPLES, Sampling, entry_table
 from ._tact_read import TactError, TactFile
 
 MAX_TABLE_FRAMES = 200_000
@@ -269,15 +269,7 @@ class PatternFrames:
         for first in range(0, self.n_frames, max(chunk, 1)):
             count = min(chunk, self.n_frames - first)
             _, frames = self.render(first, count)
-            flat = frames.reshape(count, self.grid.size)
-            rows, cols = np.nonzero(flat)
-            values = flat[rows, cols].tolist()
-            bounds = np.searchsorted(rows, np.arange(count + 1)).tolist()
-            cols = cols.tolist()
-            table.extend(
-                tuple(zip(cols[bounds[k] : bounds[k + 1]], values[bounds[k] : bounds[k + 1]]))
-                for k in range(count)
-            )
+            table.extend(entry_table(frames.reshape(count, self.grid.size)))
             if chunk < self.n_frames:
                 time.sleep(0)  # let a concurrent output thread run between chunks
         self._table = table

@@ -47,9 +47,8 @@ from .._shared import validate as _validate
 from .correction import check_correction, correct1
 from .geometry import SNAP_REL
 from .layout import Layout
-from .methods import METHODS, get_method
 from .methods._layout import layout_sampler
-from .rasterize import check_target
+from .rasterize import check_target, free_method
 
 DEFAULT_TIMEOUT_S = 0.1
 """A point not refreshed within this long is released (the contract's 100 ms)."""
@@ -67,19 +66,6 @@ class Point(NamedTuple):
     time_s: float
     previous: tuple | None = None
     """``(x, y, intensity, time_s)`` of the update before, or None (a new point)."""
-
-
-def free_method(method):
-    """The :class:`~.methods.Method` for ``method`` if it renders free points (needs no shape);
-    ``ValueError`` naming the methods that do otherwise."""
-    m = get_method(method)
-    if m.needs_shape:
-        free = ", ".join(n for n, k in METHODS.items() if not k.needs_shape)
-        raise ValueError(
-            f"method {m.name} needs a shape (it picks its tactors from the shape's strokes); "
-            f"free points work with {free}"
-        )
-    return m
 
 
 class LivePoints:

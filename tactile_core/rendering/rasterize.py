@@ -322,6 +322,19 @@ def _check_size(n: int, grid: Grid) -> None:
         )
 
 
+def free_method(method):
+    """The :class:`~.methods.Method` for ``method`` if it renders free points (needs no shape);
+    ``ValueError`` naming the methods that do otherwise."""
+    m = get_method(method)
+    if m.needs_shape:
+        free = ", ".join(n for n, k in METHODS.items() if not k.needs_shape)
+        raise ValueError(
+            f"method {m.name} needs a shape (it picks its tactors from the shape's strokes); "
+            f"free points work with {free}"
+        )
+    return m
+
+
 def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     """Render free points (no shape) with a method that needs none (CT or AS).
 
@@ -342,13 +355,7 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     ndarray of float64, shape ``broadcast(x, y).shape + (grid.rows, grid.cols)``
         (``+ (layout.size,)`` on a layout that is not a grid)
     """
-    m = get_method(method)
-    if m.needs_shape:
-        free = ", ".join(n for n, k in METHODS.items() if not k.needs_shape)
-        raise ValueError(
-            f"method {m.name} needs a shape (it picks its tactors from the shape's strokes); "
-            f"free points work with {free}"
-        )
+    m = free_method(method)
     grid = check_target(grid)
     try:
         if isinstance(x, (str, bytes)) or isinstance(y, (str, bytes)):

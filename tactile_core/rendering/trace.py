@@ -348,6 +348,19 @@ def frames_per_cycle(period_s: float, rate_hz: float, max_frames: int = 200_000)
     return None
 
 
+def entry_table(flat: np.ndarray) -> list:
+    """Frames ``(count, size)`` as the live path serves them: per frame a tuple of
+    ``(index, value)`` of its nonzero entries (a precomputed table's rows)."""
+    rows, cols = np.nonzero(flat)
+    values = flat[rows, cols].tolist()
+    bounds = np.searchsorted(rows, np.arange(len(flat) + 1)).tolist()
+    cols = cols.tolist()
+    return [
+        tuple(zip(cols[bounds[k] : bounds[k + 1]], values[bounds[k] : bounds[k + 1]]))
+        for k in range(len(flat))
+    ]
+
+
 class LiveFrames:
     """Frames of one scene served one at a time, touching only the lit tactors.
 
@@ -428,15 +441,7 @@ class LiveFrames:
                 first_frame=first,
                 gain=self.gain,
             )
-            flat = frames.reshape(count, self.grid.size)
-            rows, cols = np.nonzero(flat)
-            values = flat[rows, cols].tolist()
-            bounds = np.searchsorted(rows, np.arange(count + 1)).tolist()
-            cols = cols.tolist()
-            table.extend(
-                tuple(zip(cols[bounds[k] : bounds[k + 1]], values[bounds[k] : bounds[k + 1]]))
-                for k in range(count)
-            )
+            table.extend(entry_table(frames.reshape(count, self.grid.size)))
             if chunk < self.cycle:
                 time.sleep(0)
         self._table = table

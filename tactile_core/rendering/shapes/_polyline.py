@@ -19,6 +19,22 @@ MAX_POINTS = 10_000
 """Most vertices a polyline may have."""
 
 
+def checked_points(points) -> tuple:
+    """``points`` as a tuple of 2 to :data:`MAX_POINTS` finite ``(x, y)`` floats, or
+    ``ValueError`` naming ``points`` (or ``points[i]``)."""
+    if isinstance(points, (str, bytes, dict)):
+        raise ValueError(f"points must be a sequence of (x, y), got {_validate.shown(points)}")
+    try:
+        raw = list(points)
+    except TypeError:
+        raise ValueError(
+            f"points must be a sequence of (x, y), got {_validate.shown(points)}"
+        ) from None
+    if not 2 <= len(raw) <= MAX_POINTS:
+        raise ValueError(f"points must hold 2 to {MAX_POINTS} points, got {len(raw)}")
+    return tuple(_validate.point(f"points[{i}]", p) for i, p in enumerate(raw))
+
+
 @dataclass(frozen=True)
 class Polyline(Shape):
     """Path through ``points`` in order, ``t`` proportional to arc length.
@@ -36,20 +52,7 @@ class Polyline(Shape):
     closed: bool = False
 
     def __post_init__(self):
-        if isinstance(self.points, (str, bytes, dict)):
-            raise ValueError(
-                f"points must be a sequence of (x, y), got {_validate.shown(self.points)}"
-            )
-        try:
-            raw = list(self.points)
-        except TypeError:
-            raise ValueError(
-                f"points must be a sequence of (x, y), got {_validate.shown(self.points)}"
-            ) from None
-        if not 2 <= len(raw) <= MAX_POINTS:
-            raise ValueError(f"points must hold 2 to {MAX_POINTS} points, got {len(raw)}")
-        pts = tuple(_validate.point(f"points[{i}]", p) for i, p in enumerate(raw))
-        object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "points", checked_points(self.points))
         object.__setattr__(self, "closed", _validate.boolean("closed", self.closed))
 
     @cached_property

@@ -23,7 +23,7 @@ from functools import cached_property
 import numpy as np
 
 from ..._shared import validate as _validate
-from ._polyline import MAX_POINTS, _continues
+from ._polyline import MAX_POINTS, _continues, checked_points
 from ._shape import Shape, _fmt
 from ._strokes import LineStrokes
 
@@ -69,20 +69,8 @@ class TimedPath(Shape):
     fade: str = "NONE"
 
     def __post_init__(self):
-        if isinstance(self.points, (str, bytes, dict)):
-            raise ValueError(
-                f"points must be a sequence of (x, y), got {_validate.shown(self.points)}"
-            )
-        try:
-            raw = list(self.points)
-        except TypeError:
-            raise ValueError(
-                f"points must be a sequence of (x, y), got {_validate.shown(self.points)}"
-            ) from None
-        n = len(raw)
-        if not 2 <= n <= MAX_POINTS:
-            raise ValueError(f"points must hold 2 to {MAX_POINTS} points, got {n}")
-        pts = tuple(_validate.point(f"points[{i}]", p) for i, p in enumerate(raw))
+        pts = checked_points(self.points)
+        n = len(pts)
         times = _numbers("times_s", self.times_s, n)
         for i, value in enumerate(times):
             _validate.in_range(f"times_s[{i}]", value, 0.0, _validate.MAX_DURATION_S)
