@@ -225,34 +225,3 @@ class LiveController(QtCore.QObject):
         if self.serving != "off" and stats.state in ("stopped", "failed"):
             self._stopped(f"the stream {stats.state} ({stats.status}): the OSC server is off",
                           command=stats.state == "failed")  # fmt: skip
-
-
-def install_live(window) -> LiveController:
-    """Give ``window`` (a ``MainWindow``) the OSC server and the LSL setting: the controller,
-    its box in the device dock, its actions in the Array menu, and what excludes it."""
-    from .serve_panel import ServePanel, add_live_actions
-
-    live = LiveController(window.state, window.device, window)
-    live.message_posted.connect(window.statusBar().showMessage)
-    live.error_raised.connect(window.show_error)
-
-    def blocked() -> str:
-        if window.experiments.running:
-            return "the OSC server cannot run during an experiment run"
-        if window.blind.active:
-            return "the OSC server cannot run during a Blind A/B session"
-        return ""
-
-    live.blocked = blocked
-    window.blind.blind_changed.connect(lambda on: on and live.set_serving(
-        False, "OSC server off: the Blind A/B session plays the tuner's own scenes"))  # fmt: skip
-    window.experiments.running_changed.connect(lambda on: on and live.set_serving(
-        False, "OSC server off: the run presents the tuner's own scenes"))  # fmt: skip
-    gestures = window.tune.gestures
-    can_pulse = gestures.can_pulse
-    gestures.can_pulse = lambda: can_pulse() and live.serving == "off"
-    live.changed.connect(lambda: live.serving != "off" and gestures.set_draw_mode(False))
-    window.serve_panel = ServePanel(live)
-    window.device_panel.layout().addWidget(window.serve_panel, 0, 5, 3, 1)
-    add_live_actions(window, live)
-    return live

@@ -1,4 +1,5 @@
-"""The OSC server's box in the device dock, and the Array menu's serve and LSL actions."""
+"""The OSC server's box in the device dock, the Array menu's serve and LSL actions, and
+:func:`install_live`, which gives the main window all of it."""
 
 from __future__ import annotations
 
@@ -57,11 +58,13 @@ class ServePanel(QtWidgets.QGroupBox):
         self.port_spin.setRange(0, 65535)
         self.port_spin.setSpecialValueText("any")
         self.port_spin.setValue(live.port)
-        self.warning = QtWidgets.QLabel("beyond this machine: anyone who can reach the port "
-                                        "drives the array")  # fmt: skip
+        self.warning = QtWidgets.QLabel("beyond this machine!")
         self.warning.setObjectName("osc_warning")
         self.warning.setStyleSheet("color: #c0392b; font-weight: bold;")
-        self.warning.setWordWrap(True)
+        self.warning.setToolTip(tip(
+            "Listening beyond this machine: anyone who can reach the port drives the array "
+            "(there is no authentication)"
+        ))  # fmt: skip
         self.traffic = QtWidgets.QLabel("off")
         self.traffic.setObjectName("osc_traffic")
         self.counters = QtWidgets.QLabel("")
@@ -71,18 +74,22 @@ class ServePanel(QtWidgets.QGroupBox):
         for label in (self.traffic, self.counters, self.lsl_label):
             label.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
         grid = QtWidgets.QGridLayout(self)
+        grid.setContentsMargins(4, 0, 4, 0)  # as tall as the device's own three rows
+        grid.setVerticalSpacing(0)
         row = QtWidgets.QHBoxLayout()
+        row.setSpacing(6)
         row.addWidget(self.toggle)
         row.addWidget(QtWidgets.QLabel("host"))
         row.addWidget(self.host_edit)
         row.addWidget(QtWidgets.QLabel("port"))
         row.addWidget(self.port_spin)
+        row.addWidget(self.warning)
         row.addStretch(1)
-        grid.addLayout(row, 0, 0)
-        grid.addWidget(self.warning, 1, 0)
-        grid.addWidget(self.traffic, 2, 0)
-        grid.addWidget(self.counters, 3, 0)
-        grid.addWidget(self.lsl_label, 4, 0)
+        grid.addLayout(row, 0, 0, 1, 2)
+        grid.addWidget(self.traffic, 1, 0, 1, 2)
+        grid.addWidget(self.counters, 2, 0)
+        grid.addWidget(self.lsl_label, 2, 1)
+        grid.setColumnStretch(0, 1)
         self.toggle.setToolTip(tip(
             "Listen for OSC messages (/tactile/point x y [intensity], /tactile/method, "
             "/tactile/mu, /tactile/gamma, /tactile/shape, /tactile/off, as tactile serve) and "
@@ -163,3 +170,32 @@ def add_live_actions(window, live: LiveController) -> None:
 
     live.changed.connect(show)
     show()
+
+
+def install_live(window) -> LiveController:
+    """Give ``window`` (a ``MainWindow``) the OSC server and the LSL setting: the controller,
+    its box in the device dock, its actions in the Array menu, and what excludes it."""
+    live = LiveController(window.state, window.device, window)
+    live.message_posted.connect(window.statusBar().showMessage)
+    live.error_raised.connect(window.show_error)
+
+    def blocked() -> str:
+        if window.experiments.running:
+            return "the OSC server cannot run during an experiment run"
+        if window.blind.active:
+            return "the OSC server cannot run during a Blind A/B session"
+        return ""
+
+    live.blocked = blocked
+    window.blind.blind_changed.connect(lambda on: on and live.set_serving(
+        False, "OSC server off: the Blind A/B session plays the tuner's own scenes"))  # fmt: skip
+    window.experiments.running_changed.connect(lambda on: on and live.set_serving(
+        False, "OSC server off: the run presents the tuner's own scenes"))  # fmt: skip
+    gestures = window.tune.gestures
+    can_pulse = gestures.can_pulse
+    gestures.can_pulse = lambda: can_pulse() and live.serving == "off"
+    live.changed.connect(lambda: live.serving != "off" and gestures.set_draw_mode(False))
+    window.serve_panel = ServePanel(live)
+    window.device_panel.layout().addWidget(window.serve_panel, 0, 5, 3, 1)
+    add_live_actions(window, live)
+    return live

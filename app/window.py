@@ -26,7 +26,7 @@ from .experiments import ExperimentsPanel, GuidedTuning
 from .files import FileActions
 from .keys import KeyFilter, is_text_input
 from .menus import build_menus
-from .serve import install_live
+from .serve_panel import install_live
 from .settings import restore_window, restored_preset, save_window
 from .state import TunerState
 from .texts import DRAW_HELP
