@@ -3,6 +3,7 @@
     python tools/serve_bench.py latency [--messages 600] [--rate 300] [--lead-ms 0] [--realtime]
     python tools/serve_bench.py split [--messages 600] [--rate 300]
     python tools/serve_bench.py flood [--flood-rate 50000] [--seconds 2]
+    python tools/serve_bench.py tuner [--messages 600] [--rate 300] [--lead-ms 0] [--realtime]
 
 Three processes, as in use: the array (the emulator on a pseudo-terminal, in a child process
 that reports the ``CLOCK_MONOTONIC`` time it received each frame), ``tactile serve`` streaming
@@ -15,6 +16,9 @@ ms at a random phase of the frame clock; the latency of a message is the time fr
 
 split: the server and the stream in this process, so that a tap gives each frame's write time:
 OSC -> write and OSC -> emulator side by side.
+
+tuner: the same as latency, through the tuner (offscreen, its display running) instead of
+``tactile serve``: its OSC server, turned on as the toggle does, in its stream process.
 
 flood: a second process sends ``/tactile/point/flood`` at ``--flood-rate`` for ``--seconds``;
 the server's counters (``--json``) and the frame intervals at the array before, during and
@@ -202,6 +206,64 @@ def latency(args) -> None:
           f"{served['problems']} problems")  # fmt: skip
 
 
+def _pump(app, until, timeout_s: float) -> None:
+    """Run the Qt event loop (the display timer, the stream's events) until ``until()``."""
+    deadline = time.monotonic() + timeout_s
+    while not until():
+        if time.monotonic() > deadline:
+            raise SystemExit("the tuner did not get there in time")
+        app.processEvents()
+        time.sleep(0.002)
+
+
+def latency_tuner(args) -> None:
+    """OSC message -> frame at the emulator through the tuner's server (in its stream process)."""
+    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+    from PySide6 import QtCore, QtWidgets
+
+    from tactile_tuner.window import MainWindow
+
+    with tempfile.TemporaryDirectory() as folder:
+        settings = QtCore.QSettings  # the bench's own settings, never the user's
+        settings.setDefaultFormat(settings.Format.IniFormat)
+        settings.setPath(settings.Format.IniFormat, settings.Scope.UserScope, folder)
+        record = Path(folder) / "frames.npz"
+        emulator = subprocess.Popen([sys.executable, "-c", EMULATOR, str(record)],
+                                    stdout=subprocess.PIPE, text=True)  # fmt: skip
+        path = emulator.stdout.readline().strip()
+        app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
+        win = MainWindow(restore=False, realtime=args.realtime)
+        win.resize(1280, 720)
+        win.show()
+        win.device.set_lead(args.lead_ms)
+        win.device.connect_device(path)
+        win.state.update(method="CT", rate_hz=args.rate)
+        _pump(app, lambda: win.device.stats.frames > 300, 30)
+        win.serve.port = 0
+        win.serve.set_serving(True)
+        _pump(app, lambda: win.serve.serving == "on", 30)
+        port = str(win.serve.address[1])
+        sender = subprocess.Popen([sys.executable, "-c", SENDER, port, str(args.messages)],
+                                  stdout=subprocess.PIPE, text=True)  # fmt: skip
+        _pump(app, lambda: sender.poll() is not None, 60 + args.messages * 0.05)
+        out = sender.stdout.read()
+        end = time.monotonic() + 0.2
+        _pump(app, lambda: time.monotonic() > end, 5)
+        stats, display = win.serve.stats, win.tune.live.display_rate()
+        win.close()
+        emulator.send_signal(signal.SIGINT)
+        emulator.communicate(timeout=30)
+        with np.load(record) as data:
+            times, levels = data["time"], data["levels"]
+    sent = [float(x) for x in out.split()]
+    print(f"OSC message -> frame at the emulator (its time to play, for a timed frame), "
+          f"the tuner's server at {args.rate:g} Hz, lead {args.lead_ms:g} ms"
+          f"{', real-time priority' if args.realtime else ''}:")  # fmt: skip
+    print("  " + describe(first_showing(times, levels, sent), f"{len(sent)} sent"))
+    print(f"  server: {stats.messages} messages, {stats.points} points, {stats.problems} "
+          f"problems; the tuner's display at {display[0]:.0f} Hz")  # fmt: skip
+
+
 def intervals(times, start, end, period):
     inside = times[(times >= start) & (times < end)]
     errors = np.abs(np.diff(inside) - period) * 1e3
@@ -259,11 +321,17 @@ def main(argv=None) -> int:
     split = sub.add_parser("split")
     split.add_argument("--messages", type=int, default=600)
     split.add_argument("--rate", type=float, default=300.0)
+    tuner = sub.add_parser("tuner")
+    tuner.add_argument("--messages", type=int, default=600)
+    tuner.add_argument("--rate", type=float, default=300.0)
+    tuner.add_argument("--lead-ms", type=float, default=0.0)
+    tuner.add_argument("--realtime", action="store_true", help="the stream's --realtime")
     fl = sub.add_parser("flood")
     fl.add_argument("--flood-rate", type=float, default=50_000.0)
     fl.add_argument("--seconds", type=float, default=2.0)
     args = p.parse_args(argv)
-    {"latency": latency, "split": latency_split, "flood": flood}[args.what](args)
+    commands = {"latency": latency, "split": latency_split, "flood": flood, "tuner": latency_tuner}
+    commands[args.what](args)
     return 0
 
 
