@@ -145,6 +145,12 @@ class LiveController(QtCore.QObject):
         self.changed.emit()
 
     def _divert(self, scene) -> None:
+        why = self._method_guard(scene.method)
+        if why:  # a whole scene (a preset) with MM or IM: the points keep theirs, and so the state
+            instead = "AS" if self.state.layout.grid is not None else layouts.FALLBACK
+            QtCore.QTimer.singleShot(0, lambda: self.state.update(method=instead))
+            self._post(f"{why}; playing {instead}")
+            return
         self.device.services.set_osc_scene(scene)
 
     def _method_guard(self, name: str) -> str:

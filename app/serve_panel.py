@@ -194,7 +194,15 @@ def install_live(window) -> LiveController:
     gestures = window.tune.gestures
     can_pulse = gestures.can_pulse
     gestures.can_pulse = lambda: can_pulse() and live.serving == "off"
-    live.changed.connect(lambda: live.serving != "off" and gestures.set_draw_mode(False))
+    free_only = "Another program drives free points over OSC: MM and IM need a shape"
+
+    def on_changed() -> None:
+        serving = live.serving != "off"
+        if serving:
+            gestures.set_draw_mode(False)
+        window.controls.method.set_free_only(free_only if serving else "")
+
+    live.changed.connect(on_changed)
     window.serve_panel = ServePanel(live)
     window.device_panel.layout().addWidget(window.serve_panel, 0, 5, 3, 1)
     add_live_actions(window, live)

@@ -150,7 +150,16 @@ def test_tuner_serve_in_process_stream_and_blind_ab_turns_it_off(qtbot, clients)
     win = make_window(qtbot, process=False)
     try:
         osc, port = serve(qtbot, win, clients)
-        until_sent(qtbot, osc, (0.5, 0.5), lambda: win.device.sent_levels()[0, 0] == 22)
+        levels = win.device.sent_levels
+        until_sent(qtbot, osc, (0.5, 0.5), lambda: levels()[0, 0] == 22)
+        im = win.controls.method.method_buttons.button(3)
+        assert not im.isEnabled()  # MM and IM need a shape
+        win.state.set_scene(win.state.scene.replace(method="IM"))  # a preset's: refused too
+        qtbot.waitUntil(lambda: win.state.scene.method == "AS", timeout=WAIT_MS)
+        win.toggle_play()  # Space: the points pause, all off
+        until_sent(qtbot, osc, (0.5, 0.5), lambda: levels().sum() == 0)
+        win.toggle_play()
+        until_sent(qtbot, osc, (0.5, 0.5), lambda: levels()[0, 0] == 22)
         said = []
         win.serve.message_posted.connect(lambda text, _ms: said.append(text))
         assert win.blind.start(seed=1)
@@ -159,6 +168,8 @@ def test_tuner_serve_in_process_stream_and_blind_ab_turns_it_off(qtbot, clients)
         win.serve_panel.toggle.click()  # refused while blind
         assert win.serve.serving == "off" and not win.serve_panel.toggle.isChecked()
         assert "cannot run during a Blind A/B session" in said[-1]
+        win.blind.cancel()
+        assert im.isEnabled()
     finally:
         win.close()
 
