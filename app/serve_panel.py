@@ -36,7 +36,10 @@ def traffic_text(live: LiveController, stats) -> str:
     text = f"udp {host}:{port} · {stats.rate_hz:.0f} messages/s" if stats else f"udp {host}:{port}"
     if stats is not None:
         sender = stats.last_sender or "nobody yet"
-        text += f" · last sender {sender} · {stats.active_points} points, {stats.playing}"
+        n = stats.active_points
+        text += (
+            f" · last sender {sender} · {n} point{'' if n == 1 else 's'}, playing {stats.playing}"
+        )
     return text
 
 
@@ -126,6 +129,7 @@ class ServePanel(QtWidgets.QGroupBox):
         on = live.serving != "off"
         self.toggle.blockSignals(True)
         self.toggle.setChecked(on)
+        self.toggle.setText("Stop serving" if on else "Serve OSC")
         self.toggle.blockSignals(False)
         self.host_edit.setEnabled(not on)
         self.port_spin.setEnabled(not on)
