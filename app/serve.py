@@ -228,6 +228,9 @@ class LiveController(QtCore.QObject):
         self.changed.emit()
 
     def _on_device_status_changed(self, stats) -> None:
+        if self.lsl_markers and stats.state == "stopped" and self.lsl_status != "off":
+            self.lsl_status = "closed with the stream"  # a new stream opens them again
+            self.changed.emit()
         if self.serving != "off" and stats.state in ("stopped", "failed"):
             self._stopped(f"the stream {stats.state} ({stats.status}): the OSC server is off",
                           command=stats.state == "failed")  # fmt: skip

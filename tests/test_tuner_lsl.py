@@ -84,3 +84,23 @@ def test_tuner_scenes_carry_their_presentation_kind(qtbot, window):
     assert device.streamer.scene.marker == "interval"
     trials._play(state.scene)
     assert device.streamer.scene.marker == "trial"
+
+
+def test_tuner_lsl_levels_outlet_carries_the_frames(qtbot):
+    from tactile_tuner.window import MainWindow
+
+    win = MainWindow(restore=False, process=False)
+    qtbot.addWidget(win)
+    try:
+        sid = f"test-{uuid.uuid4().hex}"
+        win.serve.lsl_source_id = sid
+        win.serve.set_lsl(True, levels=True)
+        qtbot.waitUntil(lambda: win.serve.lsl_status == f"{sid}-markers", timeout=WAIT_MS)
+        assert "LSL markers and levels" in win.serve_panel.lsl_label.text()
+        inlet, info = inlet_for(f"source_id='{sid}-levels'")
+        assert info.channel_count() == win.device.profile.channels
+        sample, _ = inlet.pull_sample(timeout=10)
+        assert sample is not None and len(sample) == 30 and max(sample) <= 22
+        inlet.close_stream()
+    finally:
+        win.close()

@@ -208,3 +208,16 @@ def test_tuner_remembers_the_lsl_setting_and_the_osc_address(qtbot):
         assert "LSL markers" in win.serve_panel.lsl_label.text()
     finally:
         win.close()
+
+
+def test_tuner_serve_comes_back_on_the_same_port_with_another_stream(qtbot, clients):
+    win = make_window(qtbot, process=False)
+    try:
+        osc, port = serve(qtbot, win, clients)
+        win.device_panel.lead_spin.setValue(0)  # the stream reopens
+        qtbot.waitUntil(lambda: win.serve.serving == "on", timeout=WAIT_MS)
+        assert win.serve.address == ("127.0.0.1", port) and win.device.lead_ms == 0
+        until_sent(qtbot, osc, (4.5, 5.5), lambda: win.device.sent_levels()[5, 4] == 22)
+    finally:
+        win.close()
+    assert port_free(port)
