@@ -202,9 +202,10 @@ class LiveController(QtCore.QObject):
             self.stats_changed.emit(payload)
             return
         elif kind == "osc-scene" and self.serving != "off":
-            method, mu, gamma = payload
-            if self.state.update(method=method, mu=mu, gamma=gamma):
-                self._post(f"the sender set {method}, mu {mu:.2f}, gamma {gamma:.2f}", 5000)
+            if self.state.update(**payload):  # only what the sender changed
+                said = ", ".join(f"{k} {v:.2f}" if k != "method" else str(v)
+                                 for k, v in payload.items())  # fmt: skip
+                self._post(f"the sender set {said}", 5000)
         elif kind in ("osc-refused", "osc-warning"):
             self._post(str(payload))
         elif kind == "lsl-opened":

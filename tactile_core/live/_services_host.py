@@ -21,8 +21,9 @@ Events (``send((kind, payload))``, from any thread):
 - ``osc-started`` ``(host, port)``; ``osc-failed`` the reason; ``osc-warning`` a sentence;
 - ``osc-stats`` ``(ServeStats, points)`` ten times a second while serving, ``points`` the
   driven points ``((id, x, y, intensity), ...)`` (at most :data:`MAX_SHOWN`);
-- ``osc-scene`` ``(method, mu, gamma)`` when a sender changed them (``/tactile/method``,
-  ``mu``, ``gamma``), never for the owner's own changes;
+- ``osc-scene`` ``{field: value}`` with what a sender changed (``method``, ``mu``, ``gamma``:
+  ``/tactile/method``, ``/tactile/mu``, ``/tactile/gamma``), never the owner's own changes: only
+  the fields the sender set, so an owner's change on its way down the pipe is not undone;
 - ``osc-refused`` the reason (the owner's scene cannot drive points: MM, IM);
 - ``osc-stopped`` the final ``ServeStats``;
 - ``lsl-opened`` ``{"levels": bool, "source_id": str}``, ``lsl-failed`` the reason,
@@ -42,8 +43,12 @@ MAX_SHOWN = 8
 """Most driven points an ``osc-stats`` event carries (for display)."""
 
 
+TUNING = ("method", "mu", "gamma")
+"""What a sender may change of the owner's scene."""
+
+
 def _tuning(scene) -> tuple:
-    return scene.method, scene.mu, scene.gamma
+    return tuple(getattr(scene, name) for name in TUNING)
 
 
 class ServicesHost:
@@ -127,10 +132,11 @@ class ServicesHost:
 
     def _on_scene(self, scene) -> None:
         """The server swapped in a scene: tell the owner when a sender changed the tuning."""
-        tuning = _tuning(scene)
-        if tuning != self._owner:
+        tuning, owner = _tuning(scene), self._owner
+        if tuning != owner:
             self._owner = tuning
-            self.send(("osc-scene", tuning))
+            changed = {k: v for k, v, was in zip(TUNING, tuning, owner) if v != was}
+            self.send(("osc-scene", changed))
 
     def _stop(self, say: bool = True) -> None:
         server, self.server = self.server, None
