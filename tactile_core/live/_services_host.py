@@ -32,6 +32,7 @@ Events (``send((kind, payload))``, from any thread):
 
 from __future__ import annotations
 
+import sys
 import threading
 
 from ._lsl import LslOutlets
@@ -63,15 +64,22 @@ class ServicesHost:
     send : callable
         ``send((kind, payload))``: an event for the owner (the pipe to the parent process, or a
         callback), from any thread.
+    switch_interval_s : float or None
+        While serving, Python's thread switch interval (``sys.setswitchinterval``), put back
+        when the server stops; None leaves it. The receiver shares the interpreter lock with the
+        output thread: ``tactile serve``'s 0.1 ms keeps a flood out of the frames' tail, and the
+        stream process uses it too (:mod:`._child`).
     """
 
-    def __init__(self, streamer, profile, send):
+    def __init__(self, streamer, profile, send, *, switch_interval_s: float | None = None):
         self.streamer = streamer
         self.profile = profile
         self.send = send
         self.server: OscServer | None = None
         self.outlets: LslOutlets | None = None
         self._owner = None  # (method, mu, gamma) the owner last set
+        self.switch_interval_s = switch_interval_s
+        self._saved_switch = None
         self._quit = threading.Event()  # the publisher's, one per server
         self._publisher: threading.Thread | None = None
 
@@ -112,6 +120,9 @@ class ServicesHost:
             self.send(("osc-failed", str(exc)))
             return
         self.server = server
+        if self.switch_interval_s is not None:
+            self._saved_switch = sys.getswitchinterval()
+            sys.setswitchinterval(self.switch_interval_s)
         self.send(("osc-started", tuple(server.address)))
         self._quit = threading.Event()
         self._publisher = threading.Thread(target=self._publish, args=(server, self._quit),
@@ -147,6 +158,9 @@ class ServicesHost:
         if server is None:
             return
         stats = server.stop()
+        if self._saved_switch is not None:
+            sys.setswitchinterval(self._saved_switch)
+            self._saved_switch = None
         if say:
             self.send(("osc-stopped", stats))
 
