@@ -82,6 +82,7 @@ class LiveController(QtCore.QObject):
         """LSL's source id (``tactile-<profile name>`` when None)."""
         self.lsl_status = "off"
         self.blocked = lambda: ""
+        self._paused_before = False
         state.method_guard = self._method_guard
         device.live_event.connect(self._on_device_live_event)
         device.connection_changed.connect(self._on_device_connection_changed)
@@ -111,6 +112,9 @@ class LiveController(QtCore.QObject):
             self._post(f"{method} needs a shape: the driven points play {instead}")
         self.serving = "starting"
         self.device.divert = self._divert
+        self._paused_before = not self.state.scene.playing
+        if self._paused_before:  # the sender's points play at once (Space pauses them)
+            self.state.update(playing=True)
         self._start(self.port)
         self.changed.emit()
         return self.serving != "off"
@@ -125,7 +129,10 @@ class LiveController(QtCore.QObject):
         self.device.divert = None
         self.serving = "off"
         self.address = None
-        self.device.resume()
+        if self._paused_before:
+            self.state.update(playing=False)  # as it was, and to the stream
+        else:
+            self.device.resume()
         self.error_raised.emit(f"the OSC server could not start: {why}")
         self.changed.emit()
 

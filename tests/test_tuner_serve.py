@@ -213,7 +213,9 @@ def test_tuner_remembers_the_lsl_setting_and_the_osc_address(qtbot):
 def test_tuner_serve_comes_back_on_the_same_port_with_another_stream(qtbot, clients):
     win = make_window(qtbot, process=False)
     try:
+        win.state.update(playing=False)
         osc, port = serve(qtbot, win, clients)
+        assert win.state.scene.playing  # the sender's points play at once
         win.device_panel.lead_spin.setValue(0)  # the stream reopens
         qtbot.waitUntil(lambda: win.serve.serving == "on", timeout=WAIT_MS)
         assert win.serve.address == ("127.0.0.1", port) and win.device.lead_ms == 0
