@@ -344,7 +344,9 @@ class BlindPanel(QtWidgets.QWidget):
         self.current_key = key
         for i, b in enumerate(self.key_buttons):
             b.setChecked(i == key - 1)
-        self.state.update(method=self.mapping[key - 1], playing=True)
+        # A play starts the trace again: one presentation (one LSL marker, kind "ab") per play.
+        self.state.update(method=self.mapping[key - 1], playing=True, marker="ab",
+                          epoch=self.state.scene.epoch + 1)  # fmt: skip
         self._account()
         if self.unsaved:
             self._autosave()

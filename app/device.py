@@ -10,8 +10,17 @@ from tactile_core.device.link import SIMULATED_URLS, LinkError
 from tactile_core.device.process import open_stream
 from tactile_core.device.profile import DeviceProfile, default_profile
 from tactile_core.device.streamer import StreamStats
+from tactile_core.live import CHILD_MODULE, LiveServices
 
 from .state import TunerState
+
+TUNE_MARKER = "tune"
+"""The presentation kind of the tuner's ordinary playing (a scene no part gave a kind)."""
+
+
+def outgoing(scene):
+    """``scene`` as it goes to the stream: with :data:`TUNE_MARKER` when it has no kind."""
+    return scene if scene is None or scene.marker else scene.replace(marker=TUNE_MARKER)
 
 
 class DeviceController(QtCore.QObject):
@@ -37,7 +46,12 @@ class DeviceController(QtCore.QObject):
         Frames go this far ahead to an array that plays them at its own time (0: frames for now).
 
     A stream child gets a core of its own where there are two or more (the GUI runs on the
-    others), so that repainting never competes with it for a core.
+    others), so that repainting never competes with it for a core. It runs the OSC server and
+    the LSL outlets beside its output thread when asked (:attr:`services`, a
+    :class:`~tactile_core.live.LiveServices`; their news as :attr:`live_event`).
+
+    Every scene goes out with a presentation kind for the LSL markers: the one a part gave it
+    (``trial``, ``interval``, ``ab``) or :data:`TUNE_MARKER`.
     """
 
     status_changed = QtCore.Signal(object)
@@ -47,8 +61,11 @@ class DeviceController(QtCore.QObject):
     error_raised = QtCore.Signal(str)
     profile_changed = QtCore.Signal(object)
     """Another :class:`DeviceProfile` is in use (its layout is the state's now)."""
+    live_event = QtCore.Signal(str, object)
+    """``(kind, payload)`` from the stream's services (OSC server, LSL outlets; GUI thread)."""
 
     _status_from_thread = QtCore.Signal(object)
+    _live_from_thread = QtCore.Signal(str, object)
 
     def __init__(self, state: TunerState, profile: DeviceProfile | None = None, parent=None,
                  process: bool = True, realtime: bool = False,
@@ -62,9 +79,15 @@ class DeviceController(QtCore.QObject):
         self.url: str | None = None
         # Emitted from a worker thread; Qt queues it to this object's (the GUI) thread.
         self._status_from_thread.connect(self.status_changed.emit)
+        self._live_from_thread.connect(self.live_event.emit)
         self._generation = 0
+        self.divert = None
+        """While another program drives the array: a callable that takes the state's scenes
+        instead of the stream (the OSC server's method and correction)."""
+        self.driven_points: tuple = ()
+        """The points another program drives, ``((id, x, y, intensity), ...)``, for display."""
         state.set_layout(self.profile.layout)  # the scene follows the layout before it streams
-        self.streamer = self._open(None)
+        self.streamer, self.services = self._open(None)
         state.scene_changed.connect(self._on_state_scene_changed)
 
     def _open(self, url):
@@ -77,28 +100,35 @@ class DeviceController(QtCore.QObject):
             if generation == self._generation:
                 self._status_from_thread.emit(stats)
 
-        return open_stream(
+        def on_event(kind, payload):
+            if generation == self._generation:
+                self._live_from_thread.emit(kind, payload)
+
+        stream = open_stream(
             url,
             self.profile,
-            scene=self.state.scene,
+            scene=None if self.divert is not None else outgoing(self.state.scene),
             on_status=on_status,
             reconnect=url is not None,
             process=self.process,
             realtime=self.realtime,
             lead_s=self.lead_ms / 1e3,
             own_core=True,
+            child=CHILD_MODULE,
         )
+        return stream, LiveServices(stream, on_event)
 
     def _switch(self, url) -> bool:
         previous = self._generation
         try:
-            new = self._open(url)
+            new, services = self._open(url)
         except LinkError as exc:
             self._generation = previous  # the current stream stays, and so do its reports
             self.error_raised.emit(str(exc))
             return False
-        self.streamer.stop()  # all off on the old link
-        self.streamer = new
+        self.services.close()
+        self.streamer.stop()  # all off on the old link (its server closed)
+        self.streamer, self.services = new, services
         self.url = url
         self.connection_changed.emit(self.description)
         return True
@@ -157,7 +187,14 @@ class DeviceController(QtCore.QObject):
         return True
 
     def _on_state_scene_changed(self, scene) -> None:
-        self.streamer.set_scene(scene)
+        if self.divert is not None:
+            self.divert(scene)
+        else:
+            self.streamer.set_scene(outgoing(scene))
+
+    def resume(self) -> None:
+        """Hand the state's scene to the stream again (after another program drove it)."""
+        self.streamer.set_scene(outgoing(self.state.scene))
 
     def all_off(self) -> None:
         """Everything off at once, and pause."""
@@ -186,5 +223,7 @@ class DeviceController(QtCore.QObject):
         return self.profile.felt(self.sent())
 
     def shutdown(self) -> None:
-        """All off and close (window close, application exit)."""
+        """All off and close (window close, application exit): the OSC server and the LSL
+        outlets close with the stream."""
+        self.services.close()
         self.streamer.stop()

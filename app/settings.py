@@ -1,6 +1,8 @@
 """What the tuner remembers between sessions (QSettings): the scene, the window's layout, the
-heatmap's view, the curves' lanes, the Compare and Blind A/B method sets and the results folder.
-``--no-restore`` ignores them; a run never writes its trial scenes here."""
+heatmap's view, the curves' lanes, the Compare and Blind A/B method sets, the results folder,
+the Lab Streaming Layer setting and the OSC server's address (never whether it was serving: another
+program drives the array only when asked in this session). ``--no-restore`` ignores them; a run
+never writes its trial scenes here."""
 
 from __future__ import annotations
 
@@ -44,6 +46,27 @@ def restore_window(window) -> None:
     folder = settings.value("results_folder")
     if folder:
         window.experiments.setup.folder_edit.setText(str(folder))
+    restore_live(settings, window.serve)
+
+
+def _flag(settings, key: str) -> bool:
+    return str(settings.value(key, "false")).lower() == "true"
+
+
+def restore_live(settings, live) -> None:
+    """The OSC server's host and port and the LSL setting (opening the outlets if it was on)."""
+    host = str(settings.value("osc_host", "") or "").strip()
+    if host:
+        live.host = host
+    try:
+        live.port = min(max(int(settings.value("osc_port", live.port)), 0), 65535)
+    except (TypeError, ValueError):
+        pass  # a damaged setting: the default port
+    if _flag(settings, "lsl_markers"):
+        live.set_lsl(True, _flag(settings, "lsl_levels"))
+    else:
+        live.lsl_levels = _flag(settings, "lsl_levels")
+        live.changed.emit()
 
 
 def save_window(window) -> None:
@@ -62,4 +85,9 @@ def save_window(window) -> None:
     settings.setValue("compare_methods", " ".join(window.compare.chosen_methods))
     settings.setValue("blind_methods", " ".join(window.blind.chosen_methods))
     settings.setValue("results_folder", window.experiments.setup.folder_edit.text())
+    live = window.serve
+    settings.setValue("osc_host", live.host)
+    settings.setValue("osc_port", live.port)
+    settings.setValue("lsl_markers", live.lsl_markers)
+    settings.setValue("lsl_levels", live.lsl_levels)
     settings.sync()

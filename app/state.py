@@ -90,6 +90,10 @@ class TunerState(QtCore.QObject):
         self._layout = Layout.from_grid(Grid())
         self.last_message = ""
         """The last status message (one posted before anything listened: shown at start-up)."""
+        self.method_guard = None
+        """A callable ``guard(name) -> why`` ("" when allowed) consulted by :meth:`update`
+        besides the layout (another program driving free points refuses MM and IM); a refusal
+        goes to the status line."""
         if layout is not None:
             self.set_layout(layout)
 
@@ -100,13 +104,30 @@ class TunerState(QtCore.QObject):
 
     def update(self, **changes) -> bool:
         """Apply field changes; False (and :attr:`error_raised`) if they are invalid. Playing
-        (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go."""
+        (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go.
+
+        A change that starts a new presentation (a new epoch or shape, playing after a pause)
+        without naming its ``marker`` is the tuner's own: the kind a part gave the scene before
+        (``ab``, ``trial``) is dropped."""
         if changes.get("playing") and "hold_s" not in changes:
             changes["hold_s"] = None
         why = layouts.refusal(changes["method"], self._layout) if "method" in changes else ""
         if why:
             self.error_raised.emit(why)
             return False
+        guard = self.method_guard
+        why = guard(changes["method"]) if guard is not None and "method" in changes else ""
+        if why:
+            self._post(why)
+            return False
+        old = self._scene
+        starts = (
+            changes.get("epoch", old.epoch) != old.epoch
+            or changes.get("shape", old.shape) != old.shape
+            or (changes.get("playing") and not old.playing)
+        )
+        if starts and old.marker and "marker" not in changes:
+            changes["marker"] = ""
         try:
             new = self._scene.replace(**changes)
         except (ValueError, TypeError) as exc:

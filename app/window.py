@@ -26,6 +26,7 @@ from .experiments import ExperimentsPanel, GuidedTuning
 from .files import FileActions
 from .keys import KeyFilter, is_text_input
 from .menus import build_menus
+from .serve_panel import install_live
 from .settings import restore_window, restored_preset, save_window
 from .state import TunerState
 from .texts import DRAW_HELP
@@ -83,6 +84,8 @@ class MainWindow(QtWidgets.QMainWindow):
         Presets, exports and profiles.
     guided : GuidedTuning
         The result of tuning the correction by feel.
+    serve : LiveController
+        Driven by another program (OSC), and LSL markers (:mod:`.serve`).
     """
 
     def __init__(
@@ -167,6 +170,7 @@ class MainWindow(QtWidgets.QMainWindow):
             lanes_check=self.tune.lanes_check,
         )
         self._connect_parts()
+        self.serve = install_live(self)
         self.statusBar().showMessage(self.state.last_message or "ready")  # e.g. BA for AS
         self._key_filter = KeyFilter(
             self,

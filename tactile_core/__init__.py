@@ -31,7 +31,16 @@ from .rendering.correction import correct, quantize
 from .rendering.geometry import PALM_ARRAY, ArraySpec, Grid
 from .rendering.methods import METHOD_NAMES, METHODS, get_method
 from .rendering.rasterize import render, render_point, render_xy
-from .rendering.shapes import Circle, Line, Polyline, Shape, Square, parse_shape, shape_from_dict
+from .rendering.shapes import (
+    Circle,
+    Line,
+    Polyline,
+    Shape,
+    Square,
+    TimedPath,
+    parse_shape,
+    shape_from_dict,
+)
 from .rendering.trace import LiveFrames, Sampling, Trace, render_frames
 
 __all__ = [
@@ -49,6 +58,7 @@ __all__ = [
     "Shape",
     "Square",
     "Staircase",
+    "TimedPath",
     "Trace",
     "__version__",
     "correct",

@@ -190,3 +190,13 @@ def test_a_pattern_streamed_into_the_simulated_array_matches_the_batch_frames():
     sent = np.array([f[2] for f in taps.frames])
     assert np.array_equal(sent[:n], expected) and expected.any()
     assert not sent[n:].any() and not last.any()  # then off, until stopped
+
+
+def test_timed_path_is_at_the_top_level_as_line_is():
+    from tactile_core.rendering.shapes import TimedPath
+
+    assert tc.TimedPath is TimedPath and "TimedPath" in tc.__all__
+    path = tc.TimedPath([(0.5, 0.5), (2.5, 0.5), (2.5, 0.5)], [0.0, 1.0, 2.0])
+    assert path.duration_s == 2.0 and path.point(0.5) == pytest.approx((2.5, 0.5))
+    frames = tc.render(path, "AS", np.array([0.0, 0.25]))
+    assert frames[0, 0, 0] == 1.0 and frames[1, 0, 1] == 1.0  # (1.5, 0.5) at t = 0.25

@@ -2,7 +2,8 @@
 
     python tools/serve_bench.py latency [--messages 600] [--rate 300] [--lead-ms 0] [--realtime]
     python tools/serve_bench.py split [--messages 600] [--rate 300]
-    python tools/serve_bench.py flood [--flood-rate 50000] [--seconds 2]
+    python tools/serve_bench.py flood [--flood-rate 50000] [--seconds 2] [--tuner]
+    python tools/serve_bench.py tuner [--messages 600] [--rate 300] [--lead-ms 0] [--realtime]
 
 Three processes, as in use: the array (the emulator on a pseudo-terminal, in a child process
 that reports the ``CLOCK_MONOTONIC`` time it received each frame), ``tactile serve`` streaming
@@ -15,6 +16,9 @@ ms at a random phase of the frame clock; the latency of a message is the time fr
 
 split: the server and the stream in this process, so that a tap gives each frame's write time:
 OSC -> write and OSC -> emulator side by side.
+
+tuner: the same as latency, through the tuner (offscreen, its display running) instead of
+``tactile serve``: its OSC server, turned on as the toggle does, in its stream process.
 
 flood: a second process sends ``/tactile/point/flood`` at ``--flood-rate`` for ``--seconds``;
 the server's counters (``--json``) and the frame intervals at the array before, during and
@@ -164,6 +168,13 @@ class Rig:
             raise SystemExit(f"tactile serve did not start: {self.serve.communicate()[1]}")
         self.port = int(first.rsplit(":", 1)[1])
         time.sleep(1.0)  # the hello exchange and the first frames
+        self.pid = self.serve.pid
+
+    def wait(self, seconds: float) -> None:
+        time.sleep(seconds)
+
+    def output_of(self, proc, timeout_s: float) -> str:
+        return proc.communicate(timeout=timeout_s)[0]
 
     def finish(self):
         self.serve.send_signal(signal.SIGINT)
@@ -202,6 +213,84 @@ def latency(args) -> None:
           f"{served['problems']} problems")  # fmt: skip
 
 
+class TunerRig:
+    """The emulator as a child process and the tuner (offscreen, its display running) streaming
+    into it, its OSC server turned on as the toggle does; the same interface as :class:`Rig`."""
+
+    def __init__(self, folder: Path, *, method="CT", rate=300.0, lead_ms=0.0, realtime=False):
+        os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+        from PySide6 import QtCore, QtWidgets
+
+        from tactile_tuner.window import MainWindow
+
+        settings = QtCore.QSettings  # the bench's own settings, never the user's
+        settings.setDefaultFormat(settings.Format.IniFormat)
+        settings.setPath(settings.Format.IniFormat, settings.Scope.UserScope, str(folder))
+        self.record = folder / "frames.npz"
+        self.emulator = subprocess.Popen([sys.executable, "-c", EMULATOR, str(self.record)],
+                                         stdout=subprocess.PIPE, text=True)  # fmt: skip
+        path = self.emulator.stdout.readline().strip()
+        self.app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
+        self.win = win = MainWindow(restore=False, realtime=realtime)
+        win.resize(1280, 720)
+        win.show()
+        win.device.set_lead(lead_ms)
+        win.device.connect_device(path)
+        win.state.update(method=method, rate_hz=rate)
+        self.pump(lambda: win.device.stats.frames > 300, 30)
+        win.serve.port = 0
+        win.serve.set_serving(True)
+        self.pump(lambda: win.serve.serving == "on", 30)
+        self.port = win.serve.address[1]
+        self.pid = win.device.streamer._proc.pid  # the stream process, where the server is
+        self.display_hz = 0.0
+
+    def pump(self, until, timeout_s: float) -> None:
+        """Run the Qt event loop (the display timer, the stream's events) until ``until()``."""
+        deadline = time.monotonic() + timeout_s
+        while not until():
+            if time.monotonic() > deadline:
+                raise SystemExit("the tuner did not get there in time")
+            self.app.processEvents()
+            time.sleep(0.002)
+
+    def wait(self, seconds: float) -> None:
+        end = time.monotonic() + seconds
+        self.pump(lambda: time.monotonic() > end, seconds + 5)
+
+    def output_of(self, proc, timeout_s: float) -> str:
+        self.pump(lambda: proc.poll() is not None, timeout_s)
+        return proc.stdout.read()
+
+    def finish(self):
+        self.display_hz = self.win.tune.live.display_rate()[0]
+        served = self.win.serve.stats.to_dict()
+        self.win.close()
+        self.emulator.send_signal(signal.SIGINT)
+        self.emulator.communicate(timeout=30)
+        with np.load(self.record) as data:
+            return data["time"], data["levels"], served
+
+
+def latency_tuner(args) -> None:
+    """OSC message -> frame at the emulator through the tuner's server (in its stream process)."""
+    with tempfile.TemporaryDirectory() as folder:
+        rig = TunerRig(Path(folder), rate=args.rate, lead_ms=args.lead_ms, realtime=args.realtime)
+        command = [sys.executable, "-c", SENDER, str(rig.port), str(args.messages)]
+        sender = subprocess.Popen(command, stdout=subprocess.PIPE, text=True)
+        out = rig.output_of(sender, 60 + args.messages * 0.05)
+        rig.wait(0.2)
+        times, levels, served = rig.finish()
+    sent = [float(x) for x in out.split()]
+    print(f"OSC message -> frame at the emulator (its time to play, for a timed frame), "
+          f"the tuner's server at {args.rate:g} Hz, lead {args.lead_ms:g} ms"
+          f"{', real-time priority' if args.realtime else ''}:")  # fmt: skip
+    print("  " + describe(first_showing(times, levels, sent), f"{len(sent)} sent"))
+    print(f"  server: {served['messages']} messages, {served['points']} points, "
+          f"{served['problems']} problems; the tuner's display at "
+          f"{rig.display_hz:.0f} Hz")  # fmt: skip
+
+
 def intervals(times, start, end, period):
     inside = times[(times >= start) & (times < end)]
     errors = np.abs(np.diff(inside) - period) * 1e3
@@ -223,25 +312,30 @@ def cpu_s(pid: int) -> float:
 
 def flood(args) -> None:
     with tempfile.TemporaryDirectory() as folder:
-        rig = Rig(Path(folder), ["--rate", "300", "--lead-ms", "0"])
-        idle0, t0 = cpu_s(rig.serve.pid), time.perf_counter()
-        time.sleep(args.seconds)
-        idle = (cpu_s(rig.serve.pid) - idle0) / (time.perf_counter() - t0)
-        busy0 = cpu_s(rig.serve.pid)
-        proc = subprocess.run([sys.executable, "-c", FLOOD, str(rig.port), str(args.flood_rate),
-                               str(args.seconds)], capture_output=True, text=True)  # fmt: skip
-        busy = (cpu_s(rig.serve.pid) - busy0) / args.seconds
-        first, last = proc.stdout.splitlines()
+        if args.tuner:
+            rig = TunerRig(Path(folder), method="AS")
+        else:
+            rig = Rig(Path(folder), ["--rate", "300", "--lead-ms", "0"])
+        idle0, t0 = cpu_s(rig.pid), time.perf_counter()
+        rig.wait(args.seconds)
+        idle = (cpu_s(rig.pid) - idle0) / (time.perf_counter() - t0)
+        busy0 = cpu_s(rig.pid)
+        proc = subprocess.Popen([sys.executable, "-c", FLOOD, str(rig.port), str(args.flood_rate),
+                                 str(args.seconds)], stdout=subprocess.PIPE, text=True)  # fmt: skip
+        out = rig.output_of(proc, args.seconds + 60)
+        busy = (cpu_s(rig.pid) - busy0) / args.seconds
+        first, last = out.splitlines()
         start = float(first)
         sent, end = int(last.split()[0]), float(last.split()[1])
-        time.sleep(args.seconds)
+        rig.wait(args.seconds)
         times, _, served = rig.finish()
+    who = "the tuner's stream process" if args.tuner else "tactile serve"
     print(f"flood: {sent} messages in {end - start:.2f} s ({sent / (end - start):,.0f}/s) "
           f"from a second process")  # fmt: skip
     print(f"  server: {served['datagrams']} datagrams read, {served['kernel_dropped']} dropped by "
           f"the system (buffer full), {served['flood_dropped']} dropped over the rate limit, "
           f"{served['points']} points applied, {served['errors']} errors")  # fmt: skip
-    print(f"  tactile serve's CPU: {idle:.0%} of a core before, {busy:.0%} during the flood")
+    print(f"  {who}'s CPU: {idle:.0%} of a core before, {busy:.0%} during the flood")
     period = 1 / 300
     print(f"  frames at the array before: {intervals(times, start - args.seconds, start, period)}")
     print(f"  frames at the array during: {intervals(times, start, end, period)}")
@@ -259,11 +353,18 @@ def main(argv=None) -> int:
     split = sub.add_parser("split")
     split.add_argument("--messages", type=int, default=600)
     split.add_argument("--rate", type=float, default=300.0)
+    tuner = sub.add_parser("tuner")
+    tuner.add_argument("--messages", type=int, default=600)
+    tuner.add_argument("--rate", type=float, default=300.0)
+    tuner.add_argument("--lead-ms", type=float, default=0.0)
+    tuner.add_argument("--realtime", action="store_true", help="the stream's --realtime")
     fl = sub.add_parser("flood")
     fl.add_argument("--flood-rate", type=float, default=50_000.0)
     fl.add_argument("--seconds", type=float, default=2.0)
+    fl.add_argument("--tuner", action="store_true", help="through the tuner's server")
     args = p.parse_args(argv)
-    {"latency": latency, "split": latency_split, "flood": flood}[args.what](args)
+    commands = {"latency": latency, "split": latency_split, "flood": flood, "tuner": latency_tuner}
+    commands[args.what](args)
     return 0
 
 

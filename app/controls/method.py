@@ -52,6 +52,7 @@ class MethodWidget(SceneGroupWidget):
         self.method_buttons = QtWidgets.QButtonGroup(self)
         self._method_hidden = False
         self._drawing = False
+        self._free_only = ""  # why only free-point methods may be picked (another program)
         for i, name in enumerate(PAPER_METHODS):
             method = METHODS[name]
             button = QtWidgets.QRadioButton(f"{i + 1}  {name}  {method.title}")
@@ -94,6 +95,8 @@ class MethodWidget(SceneGroupWidget):
     def _on_method_buttons_clicked(self, index: int) -> None:
         if index < len(PAPER_METHODS):
             self._set(method=PAPER_METHODS[index])
+            if self.state.scene.method != PAPER_METHODS[index]:
+                self.refresh()  # refused (the status line says why): the method in use
         else:
             self._on_other_combo_activated(max(self.other_combo.currentIndex(), 0))
 
@@ -162,6 +165,8 @@ class MethodWidget(SceneGroupWidget):
             why = layouts.refusal(name, self.state.layout)
             if not why and self._drawing and name in ("MM", "IM"):
                 why = DRAW_HELP
+            if not why and self._free_only and name in ("MM", "IM"):
+                why = self._free_only
             button = self.method_buttons.button(i)
             button.setEnabled(not (why or self._method_hidden))
             button.setToolTip(tip(why or METHOD_TIPS[name]))
@@ -171,6 +176,12 @@ class MethodWidget(SceneGroupWidget):
     def set_draw_mode(self, on: bool) -> None:
         """Reflect draw mode: MM and IM are unavailable on free points."""
         self._drawing = bool(on)
+        self._enable_buttons()
+
+    def set_free_only(self, why: str) -> None:
+        """Only methods that render free points (another program drives them): MM and IM off,
+        ``why`` their tooltip ("" lifts it)."""
+        self._free_only = why
         self._enable_buttons()
 
     def set_method_hidden(self, hidden: bool) -> None:

@@ -111,12 +111,14 @@ class TrialPresenter(QtCore.QObject):
         self._steps = []
         self.countdown.setText("")
 
-    def _play(self, scene: Scene | None) -> None:
+    def _play(self, scene: Scene | None, marker: str = "trial") -> None:
+        """Present ``scene`` from its beginning (None: silence); ``marker`` is its kind for the
+        LSL markers: ``trial``, or ``interval`` for an interval of guided tuning."""
         current = self.state.scene
         if scene is None:
             self.state.set_scene(current.replace(playing=False))
         else:
-            self.state.set_scene(scene.replace(epoch=current.epoch + 1))
+            self.state.set_scene(scene.replace(epoch=current.epoch + 1, marker=marker))
 
     def present(self) -> None:
         """Present the current trial from its beginning (finish when none is left)."""
@@ -191,7 +193,7 @@ class TrialPresenter(QtCore.QObject):
         if not self._steps:
             return
         scene, seconds, label = self._steps.pop(0)
-        self._play(scene)
+        self._play(scene, "interval")
         if label is None:  # both played: the question
             self.countdown.setText("")
             self.prompt.setText(self.runner.current.prompt if self.runner and

@@ -31,7 +31,10 @@ class LiveDisplay(QtCore.QObject):
     that instant on the heatmap (in the state's view mode) and as the curves' cursor.
 
     The output thread (or process) never touches a widget; this timer's rate is independent of
-    the stream's frame rate.
+    the stream's frame rate. While another program drives the array (the OSC server) there is no
+    trace to evaluate: every view but *felt* shows the levels sent, with the first driven point
+    (the shape's outline stays: the curves beside are of that shape, with the same method and
+    correction).
 
     Parameters
     ----------
@@ -82,6 +85,8 @@ class LiveDisplay(QtCore.QObject):
             del self.tick_times[:2048]
         tune, scene = self.tune, self.state.scene
         heatmap = tune.heatmap
+        if self._show_driven():
+            return
         _, trace_time = self.device.streamer.last_frame
         trace = self._trace(scene)
         t = phase = None
@@ -107,6 +112,28 @@ class LiveDisplay(QtCore.QObject):
             heatmap.set_point(point)
             tune.curves.set_cursor(phase)
             self.frame_shown.emit(scene, t, phase)
+
+    def _show_driven(self) -> bool:
+        """Another program's points, as the stream sends them (True), or not driven (False)."""
+        driven = self.device.divert is not None
+        tune = self.tune
+        if not driven or tune.method_hidden:
+            return driven
+        values = self.device.sent()
+        if values.shape != self.state.layout.frame_shape:
+            return True  # the stream of another layout, not yet replaced
+        felt = self.device.felt() if self.state.view_mode == "felt" else None
+        values = values if felt is None else felt
+        labels = None
+        if self.state.show_levels:
+            in_levels = felt is None and self.state.view_mode == "sent"
+            labels = self.device.sent_levels() if in_levels else np.char.mod("%.2f", values)
+        tune.heatmap.set_frame(values, labels)
+        points = self.device.driven_points
+        tune.heatmap.set_point(points[0][1:3] if points else None)
+        tune.curves.set_cursor(None)
+        self.frame_shown.emit(self.state.scene, None, None)
+        return True
 
     def _entries(self, scene, t) -> tuple:
         """The lit tactors at ``t``: ``((flat index, raw value), ...)``, on the grid or, on a

@@ -25,7 +25,6 @@ import os
 import subprocess
 import sys
 import threading
-import time
 import weakref
 from multiprocessing.connection import Connection
 
@@ -33,11 +32,14 @@ import numpy as np
 
 from ..rendering.scene import Scene, check_scene
 from ._local_stream import LocalStream
+from ._stream_child import BUILT_IN_EVENTS, pin_to, serve
 from .link import LinkError
-from .profile import DeviceProfile, default_profile, profile_from_dict
+from .profile import DeviceProfile, default_profile
 from .streamer import Onset, StreamStats
 
 _CHILDREN: weakref.WeakSet = weakref.WeakSet()
+CHILD_MODULE = "tactile_core.device.process"
+"""The stream process's entry module (``python -m``) unless a caller names another."""
 PROCESS_SUPPORTED = os.name == "posix"
 """Child-process streaming needs inherited pipe descriptors (POSIX); elsewhere threads."""
 
@@ -46,15 +48,6 @@ PROCESS_SUPPORTED = os.name == "posix"
 def _stop_children() -> None:
     for child in list(_CHILDREN):
         child.stop(timeout=2.0)
-
-
-def _pin_to(cpus) -> bool:
-    """Run this process on ``cpus`` only (Linux); False where that is not possible."""
-    try:
-        os.sched_setaffinity(0, cpus)
-    except (AttributeError, OSError, ValueError):
-        return False
-    return True
 
 
 def own_core() -> tuple[set, set] | None:
@@ -69,93 +62,11 @@ def own_core() -> tuple[set, set] | None:
     return {cpus[-1]}, set(cpus[:-1])
 
 
-def _serve(cmd: Connection, events: Connection) -> None:
-    """The child: open the link, stream, obey commands until told to stop or orphaned."""
-    from .link import open_link
-    from .streamer import Streamer
-
-    _, url, profile_data, scene, options = cmd.recv()
-    profile = profile_from_dict(profile_data, source="profile")
-    if options.get("cpu") is not None:
-        _pin_to(options["cpu"])
-    lock = threading.Lock()
-
-    def send(message) -> None:
-        with lock:
-            try:
-                events.send(message)
-            except (OSError, EOFError):
-                pass
-
-    try:
-        link = open_link(url, profile)
-    except LinkError as exc:
-        send(("opened", False, str(exc)))
-        return
-    send(("opened", True, getattr(link, "description", str(url))))
-    scene_ids = {} if scene is None else {id(scene): 0}
-
-    def onset(o) -> None:  # a presentation's first frame, for the parent's hooks
-        send(("onset", (scene_ids.get(id(o.scene), -1), o.time_s, o.seq, o.timed, o.cycle)))
-
-    streamer = Streamer(
-        link,
-        profile,
-        scene=scene,
-        reconnect=options["reconnect"],
-        realtime=options["realtime"],
-        lead_s=options["lead_s"],
-        on_status=lambda s: send(("stats", s)),
-        on_onset=[onset],
-    )
-    streamer.start()
-    alive = threading.Event()
-    alive.set()
-
-    def frame_message():
-        frame_scene, trace_time = streamer.last_frame
-        levels = streamer.last_levels.tobytes()  # cell order
-        return ("frame", (levels, trace_time, scene_ids.get(id(frame_scene), -1)))
-
-    def publish() -> None:
-        last_stats = 0.0
-        while alive.is_set():
-            send(frame_message())
-            now = time.monotonic()
-            if now - last_stats > 0.1:
-                last_stats = now
-                send(("stats", streamer.stats))
-            time.sleep(0.01)
-
-    publisher = threading.Thread(target=publish, name="publish", daemon=True)
-    publisher.start()
-    try:
-        while True:
-            try:
-                message = cmd.recv()
-            except (EOFError, OSError):
-                break  # the parent is gone: turn everything off
-            kind = message[0]
-            if kind == "scene":
-                _, sid, new = message
-                if new is not None:
-                    scene_ids[id(new)] = sid
-                streamer.set_scene(new)
-            elif kind == "all_off":
-                streamer.all_off()
-            elif kind == "stop":
-                break
-    finally:
-        stats = streamer.stop()
-        alive.clear()
-        publisher.join(1.0)
-        link.close()
-        send(frame_message())  # the all-off frame
-        send(("stopped", stats))
-
-
-def main(argv=None) -> int:
+def main(argv=None, extension=None) -> int:
     """Entry point of the child: ``python -m tactile_core.device.process CMD_FD EVENTS_FD``.
+
+    ``extension`` is for the entry module of a layer above (see :mod:`._stream_child`): the
+    stream's commands and events, and its own beside them.
 
     Ctrl-C and SIGHUP from the terminal reach the whole process group; the child ignores them
     and lets the parent stop it (or notices the parent is gone when its pipe closes), so a
@@ -170,7 +81,7 @@ def main(argv=None) -> int:
     cmd = Connection(int(argv[0]), writable=False)
     events = Connection(int(argv[1]), readable=False)
     try:
-        _serve(cmd, events)
+        serve(cmd, events, extension)
     finally:
         events.close()
         cmd.close()
@@ -203,6 +114,14 @@ class StreamerProcess:
         whose scene is the one handed to :meth:`set_scene` (LSL markers: the list is
         ``self.on_onset``, so ``LslOutlets.attach`` adds its marker hook; the levels stream
         needs the stream in this process).
+    child : str
+        The module the child runs (``python -m CHILD``): this one by default; an entry module
+        of a layer above adds its own commands and events (``tactile_core.live``'s runs the OSC
+        server and the LSL outlets beside the output thread). See :meth:`command` and
+        ``on_event``.
+    on_event : sequence of callables
+        Called as ``hook(kind, payload)`` from the listener thread with every event of a kind
+        the stream itself does not send (an extension's); the list is ``self.on_event``.
 
     Raises
     ------
@@ -222,8 +141,12 @@ class StreamerProcess:
         lead_s: float = 0.0,
         own_core: bool = False,
         on_onset=(),
+        child: str = CHILD_MODULE,
+        on_event=(),
     ):
         self.on_onset = list(on_onset)
+        self.on_event = list(on_event)
+        self.child = child
         self.realtime = realtime
         self.lead_s = lead_s
         self.own_core = own_core
@@ -254,7 +177,7 @@ class StreamerProcess:
                 [
                     sys.executable,
                     "-m",
-                    "tactile_core.device.process",
+                    self.child,
                     str(cmd_read),
                     str(events_write),
                 ],
@@ -276,7 +199,7 @@ class StreamerProcess:
         self._send(("config", self.url, self.profile.to_dict(), self._scene, options))
         if cores is not None:
             self._saved_affinity = os.sched_getaffinity(0)
-            _pin_to(cores[1])
+            pin_to(cores[1])
         if not self._events.poll(timeout):
             self._kill()
             raise LinkError(f"the stream process did not start within {timeout:g} s")
@@ -323,6 +246,9 @@ class StreamerProcess:
             if kind == "onset":
                 self._onset(*payload)
                 continue
+            if kind not in BUILT_IN_EVENTS:
+                self._event(kind, payload)
+                continue
             with self._lock:
                 old = self._stats
                 self._stats = payload
@@ -355,6 +281,20 @@ class StreamerProcess:
                 hook(onset)
             except Exception:  # an observer's bug must not stop the listener
                 pass
+
+    def _event(self, kind, payload) -> None:
+        for hook in list(self.on_event):
+            try:
+                hook(kind, payload)
+            except Exception:  # an observer's bug must not stop the listener
+                pass
+
+    def command(self, kind: str, *args) -> None:
+        """Send the child a command of a kind the stream does not know, for the extension of
+        its entry module (``child``); a child without one ignores it."""
+        if kind in ("config", "scene", "all_off", "stop"):
+            raise ValueError(f"command kind {kind!r} is the stream's own")
+        self._send((kind, *args))
 
     def _send(self, message) -> None:
         if self._cmd is None:
@@ -413,7 +353,7 @@ class StreamerProcess:
 
     def _restore_affinity(self) -> None:
         if self._saved_affinity is not None:
-            _pin_to(self._saved_affinity)
+            pin_to(self._saved_affinity)
             self._saved_affinity = None
 
     @property
@@ -443,14 +383,15 @@ class StreamerProcess:
 
 def open_stream(url=None, profile=None, *, scene=None, on_status=None, reconnect=False,
                 process=True, realtime=False, lead_s=0.0, own_core=False,
-                on_onset=()):  # fmt: skip
+                on_onset=(), child=CHILD_MODULE):  # fmt: skip
     """Open a link and start streaming to it, in a child process (default) or a thread.
 
     ``process`` is ignored (a thread is used) where child processes are not supported;
     ``realtime`` asks for real-time priority of the output thread, ``lead_s`` sends frames
     ahead to arrays that play them at their time (see ``Streamer``), ``own_core`` gives a child
     process a core of its own (see :class:`StreamerProcess`); ``on_onset`` hooks get each
-    presentation's first frame (an ``Onset``; ``stream.on_onset`` is the list).
+    presentation's first frame (an ``Onset``; ``stream.on_onset`` is the list); ``child`` is
+    the module a child process runs (see :class:`StreamerProcess`; a thread has no child).
 
     Raises
     ------
@@ -461,7 +402,7 @@ def open_stream(url=None, profile=None, *, scene=None, on_status=None, reconnect
                "on_onset": on_onset}  # fmt: skip
     if process and PROCESS_SUPPORTED:
         stream = StreamerProcess(url, profile, scene=scene, on_status=on_status, **options,
-                                 own_core=own_core)  # fmt: skip
+                                 own_core=own_core, child=child)  # fmt: skip
     else:
         stream = LocalStream(url, profile, scene=scene, on_status=on_status, **options)
     return stream.start()

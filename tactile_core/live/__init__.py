@@ -9,6 +9,9 @@ it (the first frame of each presentation, the levels sent).
   :class:`ServeStats`.
 - :class:`LslOutlets` (``--lsl``): a marker per presentation stamped with its first frame's
   time on LSL's clock, and optionally the levels of every frame.
+- :class:`LiveServices` (the tuner): both of them beside a stream's output thread, also in a
+  stream process started with ``child=CHILD_MODULE``, run by commands from the program that
+  owns the stream.
 
 ``docs/serve.md`` documents the address space and the streams.
 """
@@ -17,11 +20,14 @@ from ._lsl import LEVELS_NAME, MARKERS_NAME, LslOutlets, lsl_offset_s, marker_te
 from ._osc_server import DEFAULT_PORT, OscServer
 from ._osc_wire import Malformed, read_packet
 from ._serve_stats import ServeStats
+from ._services import CHILD_MODULE, LiveServices
 
 __all__ = [
+    "CHILD_MODULE",
     "DEFAULT_PORT",
     "LEVELS_NAME",
     "MARKERS_NAME",
+    "LiveServices",
     "LslOutlets",
     "Malformed",
     "OscServer",
