@@ -68,9 +68,13 @@ def test_stream_plays_the_file_then_stops(tmp_path, capsys):
     assert main(args) == 0
     out = capsys.readouterr().out
     assert "frames applied" in out
-    levels = np.loadtxt(record, delimiter=",", skiprows=1)[:, -20:]
-    assert 90 <= len(levels) <= 130  # the file lasts 1 s at 100 Hz, then the all-off frame
-    assert levels[:50].any() and not levels[-1].any()
+    table = np.loadtxt(record, delimiter=",", skiprows=1)
+    levels = table[:, -20:]
+    # the file lasts 1 s at 100 Hz, then the all-off frame: ~100 frames over ~1 s (a loaded
+    # machine skips deadlines, never the file's time: fewer frames, the same span)
+    assert 10 <= len(levels) <= 130
+    assert 0.9 <= table[-1, 0] - table[0, 0] <= 1.6
+    assert levels[: len(levels) // 2].any() and not levels[-1].any()
 
 
 def test_export_tact_writes_a_shapes_trace(tmp_path, capsys):

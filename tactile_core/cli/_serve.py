@@ -13,15 +13,9 @@ import time
 from .._shared.jsonfile import write_json_atomic
 from .._shared.outfile import check_output
 from ..device._stream_talk import DEFAULT_LEAD_MS
+from ..live import SWITCH_INTERVAL_S
 from ..rendering.correction import check_correction
 from ._common import UsageError, _install_stop_handlers, _seconds, number, whole
-
-SWITCH_INTERVAL_S = 0.0001
-"""Python's thread switch interval while ``tactile serve`` streams (the streamer's default is
-0.5 ms): the server's receiver thread shares the interpreter lock with the frame thread, and
-under a flood of messages the frame thread waits at most this long for it (measured in
-``docs/serve.md``: p99 interval error at the array 2.7-3.3 ms during a 50,000 messages/s flood,
-5.9-7.1 ms at 0.5 ms)."""
 
 
 def add_lsl_arguments(p: argparse.ArgumentParser) -> None:

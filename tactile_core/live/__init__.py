@@ -17,7 +17,7 @@ it (the first frame of each presentation, the levels sent).
 """
 
 from ._lsl import LEVELS_NAME, MARKERS_NAME, LslOutlets, lsl_offset_s, marker_text
-from ._osc_server import DEFAULT_PORT, OscServer
+from ._osc_server import DEFAULT_PORT, SWITCH_INTERVAL_S, OscServer
 from ._osc_wire import Malformed, read_packet
 from ._serve_stats import ServeStats
 from ._services import CHILD_MODULE, LiveServices
@@ -27,6 +27,7 @@ __all__ = [
     "DEFAULT_PORT",
     "LEVELS_NAME",
     "MARKERS_NAME",
+    "SWITCH_INTERVAL_S",
     "LiveServices",
     "LslOutlets",
     "Malformed",

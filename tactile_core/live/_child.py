@@ -12,12 +12,8 @@ from __future__ import annotations
 import sys
 
 from ..device.process import main as stream_main
+from ._osc_server import SWITCH_INTERVAL_S
 from ._services_host import ServicesHost
-
-SWITCH_INTERVAL_S = 0.0001
-"""The thread switch interval while serving, as ``tactile serve``'s (docs/serve.md: a flood of
-50,000 messages a second put the frame interval's p99 at 2.7-3.3 ms at 0.1 ms, 5.9-7.1 ms at the
-streamer's 0.5 ms): this process holds only the stream and the services."""
 
 
 def services(streamer, profile, send) -> ServicesHost:

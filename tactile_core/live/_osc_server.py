@@ -44,6 +44,13 @@ MAX_MESSAGES = 256
 _ALWAYS_READ = (b"/tactile/off", b"/tactile/release")
 _SO_RXQ_OVFL = getattr(socket, "SO_RXQ_OVFL", 40 if sys.platform.startswith("linux") else None)
 
+SWITCH_INTERVAL_S = 0.0001
+"""Python's thread switch interval while ``tactile serve`` streams (the streamer's default is
+0.5 ms): the server's receiver thread shares the interpreter lock with the frame thread, and
+under a flood of messages the frame thread waits at most this long for it (measured in
+``docs/serve.md``: p99 interval error at the array 2.7-3.3 ms during a 50,000 messages/s flood,
+5.9-7.1 ms at 0.5 ms)."""
+
 
 class OscServer(AddressSpace):
     """Points and commands over OSC (UDP), fed to a stream: ``tactile serve`` and the tuner.
