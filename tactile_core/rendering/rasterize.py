@@ -9,7 +9,7 @@ import numpy as np
 from .._shared import validate as _validate
 from .geometry import SNAP_REL, Grid
 from .methods import METHODS, get_method
-from .methods._cells import ZIP, outer
+from .methods._cells import ZIP, Block, outer
 from .shapes import Shape
 
 _DEFAULT_GRID = Grid()
@@ -109,7 +109,10 @@ def scatter(entries, n: int, grid: Grid) -> np.ndarray:
 def scatter_cells(cells, n: int, grid: Grid) -> np.ndarray:
     """:func:`scatter` for the batch form of the built-in methods (:mod:`.methods._cells`):
     every candidate in one pass. Candidates of one sample never name one tactor twice, so they
-    are written, not added."""
+    are written, not added. A :class:`~.methods._cells.Block` goes through
+    :func:`_scatter_block`."""
+    if type(cells) is Block:
+        return _scatter_block(cells, n, grid)
     col_table, row_table = _index_tables(grid)
     flat, base = _new_buffer(n, grid)
     cols = _index_part(cells.cols, col_table, bounded=True)
@@ -136,6 +139,47 @@ def scatter_cells(cells, n: int, grid: Grid) -> np.ndarray:
             flat[index[k]] += values[k]
     else:
         flat[index] = values.reshape(index.shape)
+    return _frames(flat, n, grid)
+
+
+@functools.lru_cache(maxsize=64)
+def _block_tables(grid: Grid, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per axis, from a block's first cell plus the block's size (clipped to the table) to
+    the index parts (:func:`_index_tables`) of the block's cells along that axis.
+
+    Columns: ``table[i, c + width]`` is the part of column ``c + i``, for ``c`` in
+    ``[-width, cols]``; beyond that range every cell of the block is outside the grid, and so
+    are the table's first and last entries, where the clipped lookups land.
+    """
+    out = []
+    for size, step, span in ((grid.cols, 1, width), (grid.rows, grid.cols, height)):
+        first = np.arange(-span, size + 1)[None, :] + np.arange(span)[:, None]  # cells
+        table = np.where((first >= 0) & (first < size), first * step, _OFF_GRID)
+        table = np.ascontiguousarray(table, dtype=np.intp)
+        table.flags.writeable = False
+        out.append(table)
+    return out[0], out[1]
+
+
+def _scatter_block(block: Block, n: int, grid: Grid) -> np.ndarray:
+    """:func:`scatter_cells` for a :class:`~.methods._cells.Block`: each axis's index parts
+    from one lookup of the block's first cell, then every cell in one write."""
+    width, height = block.width, block.height
+    col_table, row_table = _block_tables(grid, width, height)
+    first = block.origin.astype(np.intp)
+    if width == height:
+        first += width
+    else:
+        first[0] += width
+        first[1] += height
+    cols = col_table.take(first[0], axis=1, mode="clip")
+    rows = row_table.take(first[1], axis=1, mode="clip")
+    rows += np.arange(0, n * grid.size, grid.size, dtype=np.intp)
+    index = outer(np.add, rows, cols, np.empty((width * height, n), dtype=np.intp))
+    np.maximum(index, -1, out=index)
+    del first, cols, rows  # (the frames are allocated last: a smaller peak of memory)
+    flat = np.zeros(n * grid.size + 1)
+    flat[index] = block.values
     return _frames(flat, n, grid)
 
 

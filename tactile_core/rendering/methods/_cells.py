@@ -5,9 +5,12 @@ light; the renderer then pays a few numpy calls per entry. The built-in methods 
 entries (AS, EN, PK, RO, GS, VRCH) also define ``sample_cells``, which returns a :class:`Cells`:
 the candidate columns and rows of every point as two small 2-D arrays, the ``(column, row)``
 pairs that make up the candidates, and their values as one ``(k, n)`` array, so that the
-renderer scatters all of them in a handful of calls whatever their number. Their ``sample`` is
-:meth:`Cells.entries` of it, so both forms give the same numbers. Plug-ins are never asked for
-this form (their output goes through the protocol's checks).
+renderer scatters all of them in a handful of calls whatever their number. Methods whose
+candidates are a whole block of cells around each point (AS, EN, RO, GS, VRCH) return a
+:class:`Block` instead: the block's first cell and its values, no candidate arrays at all (the
+renderer finds the block's cells from small per-grid tables). Their ``sample`` is
+:meth:`Cells.entries` (:meth:`Block.entries`) of it, so both forms give the same numbers.
+Plug-ins are never asked for this form (their output goes through the protocol's checks).
 """
 
 from __future__ import annotations
@@ -70,6 +73,39 @@ class Cells(NamedTuple):
         ]
 
 
+class Block(NamedTuple):
+    """Candidate tactors of ``n`` points that make up a block of ``width x height`` cells
+    around each point, and their intensities.
+
+    Attributes
+    ----------
+    origin : ndarray of float64, shape (2, n)
+        The block's lower-left cell of each point: column (``origin[0]``) and row (whole
+        numbers, possibly outside the grid).
+    values : ndarray of float64, shape (width * height, n)
+        Intensity of each cell of the block, in [0, 1], rows outer: value ``j * width + i`` is
+        cell ``(origin[0] + i, origin[1] + j)``. No two name one tactor, so the renderer writes
+        them (cells outside the grid are dropped).
+    width, height : int
+        The block's size in columns and rows.
+    """
+
+    origin: np.ndarray
+    values: np.ndarray
+    width: int
+    height: int
+
+    def cells(self) -> Cells:
+        """The same candidates as :class:`Cells` (every column with every row, rows outer)."""
+        cols = self.origin[0] + np.arange(self.width, dtype=np.float64)[:, None]
+        rows = self.origin[1] + np.arange(self.height, dtype=np.float64)[:, None]
+        return Cells(cols, rows, self.values)
+
+    def entries(self) -> list:
+        """The protocol's form: ``[(cols, rows, values), ...]``, one entry per cell."""
+        return self.cells().entries()
+
+
 ZIP = "zip"
 """:attr:`Cells.pairs` for candidates given column by row (``(cols[i], rows[i])``)."""
 
@@ -98,6 +134,9 @@ def outer(op, rows: np.ndarray, cols: np.ndarray, out: np.ndarray) -> np.ndarray
         ``out``.
     """
     a, n = cols.shape
+    if len(out) == a * len(rows):  # every pair: one broadcast operation
+        op(rows[:, None, :], cols[None, :, :], out=out.reshape(len(rows), a, n))
+        return out
     full, rest = divmod(len(out), a)
     op(rows[:full, None, :], cols[None, :, :], out=out[: full * a].reshape(full, a, n))
     if rest:

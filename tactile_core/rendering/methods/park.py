@@ -39,7 +39,7 @@ import math
 import numpy as np
 
 from ..geometry import cell_split, cell_split1
-from ._cells import Cells, outer, stack_points
+from ._cells import PAIR, Block, Cells, outer, stack_points
 
 NAME = "PK"
 TITLE = "inverse distance, 3 tactors (Park 2016)"
@@ -121,37 +121,35 @@ def sample(shape, x, y, t, tol, blend=0.0):
 
 
 def sample_cells(shape, xy, t, tol, blend=0.0):
-    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
-    ``xy`` (``(2, n)``): per axis the nearest corner of the square of centres around each point
-    and the other one, and of their pairs the first three, rows outer: (nearest, nearest),
-    (other, nearest) and (nearest, other), which leaves out the corner opposite the nearest
-    (with ``blend``: every tactor a crossfade may light). Distances are
-    ``sqrt(dx^2 + dy^2)``."""
+    """:func:`sample` in the renderer's batch form, for the points ``xy`` (``(2, n)``): the
+    2 x 2 block of the square of centres around each point (:class:`~._cells.Block`), the
+    corner opposite the nearest at 0 (with ``blend``: every tactor a crossfade may light, as
+    :class:`~._cells.Cells`). Distances are ``sqrt(dx^2 + dy^2)``."""
     cr, f = cell_split(xy - 0.5, tol)
     if blend > 0.0:
         return _blended_cells(cr[0], cr[1], f[0], f[1], blend)
-    # Offsets of the nearest corner (1 from the centre line on: a tie goes upper/right) and
-    # of the other one.
-    near_other = np.empty((2, 2, f.shape[1]))
-    near = near_other[:, 0]
-    np.multiply(f, 2.0, out=near)
-    np.floor(near, out=near)
-    np.subtract(1.0, near, out=near_other[:, 1])
-    sq = np.square(f[:, None, :] - near_other)
-    d = outer(np.add, sq[1], sq[0], np.empty((3, f.shape[1])))
+    n = f.shape[1]
+    sq = np.square(f[:, None, :] - PAIR)  # [axis, corner 0 or 1, point]
+    d = outer(np.add, sq[1], sq[0], np.empty((4, n)))  # rows outer
     np.sqrt(d, out=d)
-    on = np.flatnonzero(d[0] == 0.0)  # on a tactor's centre: it alone, at 1
-    np.maximum(d[0], 1e-300, out=d[0])  # (only there: elsewhere d >= the snap tolerance)
+    # Per axis the nearest corner is 1 from the centre line on (a tie goes upper/right); the
+    # corner left out is the other one on both axes.
+    other = np.empty((2, 2, n), dtype=np.bool_)
+    np.greater_equal(f, 0.5, out=other[:, 0])
+    np.less(f, 0.5, out=other[:, 1])
+    left_out = outer(np.logical_and, other[1], other[0], np.empty((4, n), dtype=np.bool_))
+    on = None
+    if not d[0].all():  # on a tactor's centre (only there is a distance 0): it alone, at 1
+        on = np.flatnonzero(d[0] == 0.0)
+        np.maximum(d[0], 1e-300, out=d[0])
     w = np.divide(1.0, d, out=d)
-    total = w[0] + w[1]
-    total += w[2]
-    w /= total
+    np.putmask(w, left_out, 0.0)
+    w /= w.sum(axis=0)
     values = np.sqrt(w, out=w)
-    if on.size:
+    if on is not None:
         values[:, on] = 0.0
         values[0, on] = 1.0
-    cells = cr[:, None, :] + near_other
-    return Cells(cells[0], cells[1], values)
+    return Block(cr, values, 2, 2)
 
 
 def _blended_cells(c, r, fx, fy, blend):
