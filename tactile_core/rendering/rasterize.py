@@ -9,7 +9,7 @@ import numpy as np
 from .._shared import validate as _validate
 from .geometry import SNAP_REL, Grid
 from .methods import METHODS, get_method
-from .methods._cells import ZIP, Block, outer
+from .methods._cells import ZIP, Block, Indexed, outer
 from .shapes import Shape
 
 _DEFAULT_GRID = Grid()
@@ -113,6 +113,8 @@ def scatter_cells(cells, n: int, grid: Grid) -> np.ndarray:
     :func:`_scatter_block`."""
     if type(cells) is Block:
         return _scatter_block(cells, n, grid)
+    if type(cells) is Indexed:
+        return _scatter_indexed(cells, n, grid)
     col_table, row_table = _index_tables(grid)
     flat, base = _new_buffer(n, grid)
     cols = _index_part(cells.cols, col_table, bounded=True)
@@ -180,6 +182,25 @@ def _scatter_block(block: Block, n: int, grid: Grid) -> np.ndarray:
     del first, cols, rows  # (the frames are allocated last: a smaller peak of memory)
     flat = np.zeros(n * grid.size + 1)
     flat[index] = block.values
+    return _frames(flat, n, grid)
+
+
+def _scatter_indexed(cells: Indexed, n: int, grid: Grid) -> np.ndarray:
+    """:func:`scatter_cells` for :class:`~.methods._cells.Indexed`: the table's flat indices
+    for this grid (computed once per table and grid), one lookup, every candidate in one
+    write."""
+    table = cells.table
+    parts = table.flat_parts.get(grid)
+    if parts is None:
+        col_table, row_table = _index_tables(grid)
+        parts = _index_part(table.cols, col_table) + _index_part(table.rows, row_table)
+        parts.flags.writeable = False  # (negative, far below -n * size, off the grid)
+        table.flat_parts[grid] = parts
+    index = parts.take(cells.picks)
+    index += np.arange(0, n * grid.size, grid.size, dtype=np.intp)
+    np.maximum(index, -1, out=index)  # (off the grid: the spare slot)
+    flat = np.zeros(n * grid.size + 1)
+    flat[index] = cells.values
     return _frames(flat, n, grid)
 
 

@@ -8,7 +8,9 @@ pairs that make up the candidates, and their values as one ``(k, n)`` array, so 
 renderer scatters all of them in a handful of calls whatever their number. Methods whose
 candidates are a whole block of cells around each point (AS, EN, RO, GS, VRCH) return a
 :class:`Block` instead: the block's first cell and its values, no candidate arrays at all (the
-renderer finds the block's cells from small per-grid tables). Their ``sample`` is
+renderer finds the block's cells from small per-grid tables). IM, whose tactors come from a
+per-shape table of cells, returns :class:`Indexed`: entries of that :class:`CellTable`, whose
+flat indices the renderer keeps per grid. Their ``sample`` is
 :meth:`Cells.entries` (:meth:`Block.entries`) of it, so both forms give the same numbers.
 Plug-ins are never asked for this form (their output goes through the protocol's checks).
 """
@@ -103,6 +105,54 @@ class Block(NamedTuple):
 
     def entries(self) -> list:
         """The protocol's form: ``[(cols, rows, values), ...]``, one entry per cell."""
+        return self.cells().entries()
+
+
+class CellTable:
+    """Cells a method picks its tactors from, built once (per shape), with their flat indices
+    per grid kept for the renderer.
+
+    Parameters
+    ----------
+    cols, rows : array_like of float
+        Each entry's cell (whole numbers, possibly outside the grid).
+    """
+
+    def __init__(self, cols, rows):
+        self.cols = np.array(cols, dtype=np.float64)
+        self.rows = np.array(rows, dtype=np.float64)
+        self.cols.flags.writeable = self.rows.flags.writeable = False
+        self.flat_parts: dict = {}  # grid -> flat index of each entry, negative off the grid
+
+    def __len__(self) -> int:
+        return len(self.cols)
+
+
+class Indexed(NamedTuple):
+    """Candidate tactors of ``n`` points as entries of a :class:`CellTable`, and their
+    intensities.
+
+    Attributes
+    ----------
+    picks : ndarray of intp, shape (k, n)
+        Each candidate's entry of ``table``.
+    table : CellTable
+    values : ndarray of float64, shape (k, n)
+        Intensity of each candidate, in [0, 1]. No two candidates of one point name one tactor
+        inside the grid, so the renderer writes them (cells outside the grid are dropped).
+    """
+
+    picks: np.ndarray
+    table: CellTable
+    values: np.ndarray
+
+    def cells(self) -> Cells:
+        """The same candidates as :class:`Cells` (column ``i`` with row ``i``)."""
+        table = self.table
+        return Cells(table.cols.take(self.picks), table.rows.take(self.picks), self.values, ZIP)
+
+    def entries(self) -> list:
+        """The protocol's form: ``[(cols, rows, values), ...]``, one entry per candidate."""
         return self.cells().entries()
 
 
