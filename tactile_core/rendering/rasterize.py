@@ -70,6 +70,14 @@ def _index_part(cells, table: np.ndarray, *, bounded: bool = False):
     return table.take(index, mode="clip")
 
 
+@functools.lru_cache(maxsize=4)
+def _offsets(n: int, size: int) -> np.ndarray:
+    """Each sample's offset into the frames' flat buffer (read-only, kept for a few sizes)."""
+    out = np.arange(0, n * size, size, dtype=np.intp)
+    out.flags.writeable = False
+    return out
+
+
 def _new_buffer(n: int, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
     """Zeroed frames as one flat buffer with a spare slot at its end (where cells outside the
     grid go), and each sample's offset into it."""
@@ -176,7 +184,7 @@ def _scatter_block(block: Block, n: int, grid: Grid) -> np.ndarray:
         first[1] += height
     cols = col_table.take(first[0], axis=1, mode="clip")
     rows = row_table.take(first[1], axis=1, mode="clip")
-    rows += np.arange(0, n * grid.size, grid.size, dtype=np.intp)
+    rows += _offsets(n, grid.size)
     index = outer(np.add, rows, cols, np.empty((width * height, n), dtype=np.intp))
     np.maximum(index, -1, out=index)
     del first, cols, rows  # (the frames are allocated last: a smaller peak of memory)
@@ -197,7 +205,7 @@ def _scatter_indexed(cells: Indexed, n: int, grid: Grid) -> np.ndarray:
         parts.flags.writeable = False  # (negative, far below -n * size, off the grid)
         table.flat_parts[grid] = parts
     index = parts.take(cells.picks)
-    index += np.arange(0, n * grid.size, grid.size, dtype=np.intp)
+    index += _offsets(n, grid.size)
     np.maximum(index, -1, out=index)  # (off the grid: the spare slot)
     flat = np.zeros(n * grid.size + 1)
     flat[index] = cells.values

@@ -101,38 +101,64 @@ def _block_offsets(radius: float, strict: bool) -> np.ndarray:
     return column
 
 
-def block(xy, tol, radius: float, strict: bool):
-    """The candidate tactors of points ``xy`` (``(2, n)``) as a block: every column of the
-    plan with every row (a superset of :attr:`Plan.pairs`: the others lie beyond the radius),
-    the shared slot (``Plan.far``) on the point's side, so the columns are consecutive.
+class Split(NamedTuple):
+    """Points placed in their blocks of candidate cells (:func:`block`).
 
-    Returns
-    -------
+    Attributes
+    ----------
     origin : ndarray of float64, shape (2, n)
         The block's first column (``origin[0]``) and row.
-    offsets : ndarray of float64, shape (2, width, n)
-        The point's offset from each of the block's columns' (rows') tactors, in pitches:
-        ``dx`` and ``dy``, computed as ``fx - k`` for the column ``floor(x - 0.5) + k``.
+    f : ndarray of float64, shape (2, n)
+        The point's offset from the block's first cell's tactor, less the plan's first offset:
+        the offset from column ``j`` of the block is ``f - column[j]``.
+    column : ndarray of float64, shape (width, 1)
+        The offsets of the block's columns (rows) that ``f`` is measured against.
     """
+
+    origin: np.ndarray
+    f: np.ndarray
+    column: np.ndarray
+
+    @property
+    def width(self) -> int:
+        """Columns (rows) in the block."""
+        return len(self.column)
+
+    def offsets(self) -> np.ndarray:
+        """``(2, width, n)``: the point's offset from each of the block's columns' (rows')
+        tactors, in pitches: ``dx`` and ``dy``, computed as ``fx - k`` for the column
+        ``floor(x - 0.5) + k``."""
+        return self.f[:, None, :] - self.column
+
+    def squares(self) -> np.ndarray:
+        """``(2, width, n)``: the squares of :meth:`offsets` (computed in place)."""
+        out = self.offsets()
+        return np.square(out, out=out)
+
+
+def block(xy, tol, radius: float, strict: bool) -> Split:
+    """The candidate tactors of points ``xy`` (``(2, n)``) as a block: every column of the
+    plan with every row (a superset of :attr:`Plan.pairs`: the others lie beyond the radius),
+    the shared slot (``Plan.far``) on the point's side, so the columns are consecutive."""
     p = plan(radius, strict)
     column = _block_offsets(radius, strict)
     base, f = cell_split(xy - 0.5, tol)
     if p.far is None:
-        if column[0, 0] != 0.0:
-            base += column[0, 0]
-        return base, f[:, None, :] - column
+        if p.fixed[0] != 0:
+            base += p.fixed[0]
+        return Split(base, f, column)
     right = f >= 0.5  # the shared slot is the block's last column, not its first
     base += right
-    base += column[0, 0]
+    base -= p.far
     f -= right  # exact (f >= 0.5 there); then f - k is computed as the plan's fx - (k + 1)
-    return base, f[:, None, :] - column
+    return Split(base, f, column)
 
 
-def squared_distances(offsets):
-    """``(width * width, n)``: ``dx^2 + dy^2`` of every candidate, rows outer."""
-    sq = np.square(offsets)
-    a, n = sq.shape[1:]
-    return outer(np.add, sq[1], sq[0], np.empty((a * a, n)))
+def squared_distances(squares):
+    """``(width * width, n)``: ``dx^2 + dy^2`` of every candidate, rows outer, from
+    :meth:`Split.squares`."""
+    a, n = squares.shape[1:]
+    return outer(np.add, squares[1], squares[0], np.empty((a * a, n)))
 
 
 def unsettled(key, lo: float, hi: float, below_hi=None, below_lo=None):
@@ -149,7 +175,7 @@ def unsettled(key, lo: float, hi: float, below_hi=None, below_lo=None):
     return np.flatnonzero(below_hi ^ below_lo)  # (key < lo implies key < hi)
 
 
-def settle(values, found, offsets, radius: float, strict: bool, weight, weight1=None) -> None:
+def settle(values, found, split: Split, radius: float, strict: bool, weight, weight1=None):
     """Decide again, in place, the candidates at flat indices ``found`` (within
     :data:`MARGIN` of the edge) as the methods define them: ``weight`` (of an array; ``weight1``
     of a float, the same operations) of ``hypot(dx, dy)`` within the radius, 0 beyond.
@@ -160,15 +186,17 @@ def settle(values, found, offsets, radius: float, strict: bool, weight, weight1=
     """
     flat = values.reshape(-1)
     if weight1 is None or len(found) > 16:
-        flat[found] = exact(offsets, radius, strict, weight)(found)
+        flat[found] = exact(split.offsets(), radius, strict, weight)(found)
         return
-    a, n = offsets.shape[1:]
-    dx, dy = offsets[0].reshape(-1), offsets[1].reshape(-1)
+    n = split.f.shape[1]
+    fx, fy = split.f
+    ks = split.column[:, 0].tolist()
+    a = len(ks)
     hypot = np.hypot
     for k in found.tolist():
         slot, point = divmod(k, n)
         row, col = divmod(slot, a)
-        d = float(hypot(dx[col * n + point], dy[row * n + point]))
+        d = float(hypot(float(fx[point]) - ks[col], float(fy[point]) - ks[row]))
         flat[k] = weight1(d) if (d < radius if strict else d <= radius) else 0.0
 
 

@@ -73,8 +73,8 @@ def sample_cells(shape, xy, t, tol, sigma=0.5):
     """
     k = -0.5 / (sigma * sigma)
     reach = radius(sigma)
-    origin, offsets = _radial.block(xy, tol, reach, False)
-    e = np.square(offsets)
+    split = _radial.block(xy, tol, reach, False)
+    e = split.squares()
     e *= k
     ex, ey = np.exp(e, out=e)
     a, n = ex.shape
@@ -84,8 +84,8 @@ def sample_cells(shape, xy, t, tol, sigma=0.5):
     found = _radial.unsettled(w, lo, hi, below)
     np.putmask(w, below, 0.0)
     if found is not None:
-        _radial.settle(w, found, offsets, reach, False, _exact_weight(k))
-    return Block(origin, w, a, a)
+        _radial.settle(w, found, split, reach, False, _exact_weight(k))
+    return Block(split.origin, w, a, a)
 
 
 @functools.lru_cache(maxsize=64)

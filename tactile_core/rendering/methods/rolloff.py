@@ -102,8 +102,8 @@ def sample_cells(shape, xy, t, tol, r=1.0, curve="smoothstep"):
     ``sqrt(dx^2 + dy^2)``; a tactor within :data:`~._radial.MARGIN` (relative) of ``r`` is
     decided as ``hypot(dx, dy) < r`` decides."""
     inv = 1.0 / r
-    origin, offsets = _radial.block(xy, tol, r, True)
-    u = np.sqrt(_radial.squared_distances(offsets))
+    split = _radial.block(xy, tol, r, True)
+    u = np.sqrt(_radial.squared_distances(split.squares()))
     if inv != 1.0:
         u *= inv
     np.subtract(1.0, u, out=u)  # 1 - d / r: within MARGIN of 0 at the edge
@@ -113,8 +113,8 @@ def sample_cells(shape, xy, t, tol, r=1.0, curve="smoothstep"):
     np.maximum(u, 0.0, out=u)  # 0 beyond r (within the margin: decided below)
     values = _CURVES_OVER[curve](u)
     if found is not None:
-        _radial.settle(values, found, offsets, r, True, _exact_weight(r, curve), _weight1(r, curve))
-    return Block(origin, values, offsets.shape[1], offsets.shape[1])
+        _radial.settle(values, found, split, r, True, _exact_weight(r, curve), _weight1(r, curve))
+    return Block(split.origin, values, split.width, split.width)
 
 
 @functools.lru_cache(maxsize=64)

@@ -58,15 +58,15 @@ def sample_cells(shape, xy, t, tol, r=1.0):
     """:func:`sample` in the renderer's batch form (:class:`~._cells.Block`): within ``r`` by
     ``dx^2 + dy^2 < r^2``, and as ``hypot(dx, dy) < r`` decides within
     :data:`~._radial.MARGIN` of the edge."""
-    origin, offsets = _radial.block(xy, tol, r, True)
-    d2 = _radial.squared_distances(offsets)
+    split = _radial.block(xy, tol, r, True)
+    d2 = _radial.squared_distances(split.squares())
     lo, hi = r * r * (1.0 - _radial.MARGIN), r * r * (1.0 + _radial.MARGIN)
     inside = d2 < lo
     found = _radial.unsettled(d2, lo, hi, below_lo=inside)
     values = inside.astype(np.float64)
     if found is not None:
-        _radial.settle(values, found, offsets, r, True, np.ones_like, _one)
-    return Block(origin, values, offsets.shape[1], offsets.shape[1])
+        _radial.settle(values, found, split, r, True, np.ones_like, _one)
+    return Block(split.origin, values, split.width, split.width)
 
 
 def sample1(shape, x, y, t, tol, r=1.0):
