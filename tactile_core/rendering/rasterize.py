@@ -153,17 +153,22 @@ def scatter_cells(cells, n: int, grid: Grid) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=64)
-def _block_tables(grid: Grid, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
+def _block_tables(grid: Grid, width: int, height: int, flip: bool = False):
     """Per axis, from a block's first cell plus the block's size (clipped to the table) to
     the index parts (:func:`_index_tables`) of the block's cells along that axis.
 
     Columns: ``table[i, c + width]`` is the part of column ``c + i``, for ``c`` in
     ``[-width, cols]``; beyond that range every cell of the block is outside the grid, and so
-    are the table's first and last entries, where the clipped lookups land.
+    are the table's first and last entries, where the clipped lookups land. With ``flip``
+    (2 x 2 blocks), ``table[i, 2 (c + 2) + f]`` is the part of column ``c + (i xor f)``.
     """
     out = []
     for size, step, span in ((grid.cols, 1, width), (grid.rows, grid.cols, height)):
-        first = np.arange(-span, size + 1)[None, :] + np.arange(span)[:, None]  # cells
+        if flip:
+            m = np.arange(2 * (size + span + 1))
+            first = (m // 2 - span)[None, :] + (np.arange(span)[:, None] ^ (m % 2)[None, :])
+        else:
+            first = np.arange(-span, size + 1)[None, :] + np.arange(span)[:, None]  # cells
         table = np.where((first >= 0) & (first < size), first * step, _OFF_GRID)
         table = np.ascontiguousarray(table, dtype=np.intp)
         table.flags.writeable = False
@@ -175,17 +180,17 @@ def _scatter_block(block: Block, n: int, grid: Grid) -> np.ndarray:
     """:func:`scatter_cells` for a :class:`~.methods._cells.Block`: each axis's index parts
     from one lookup of the block's first cell, then every cell in one write."""
     width, height = block.width, block.height
-    col_table, row_table = _block_tables(grid, width, height)
+    col_table, row_table = _block_tables(grid, width, height, block.flip)
     first = block.origin.astype(np.intp)
     if width == height:
-        first += width
+        first += 2 * width if block.flip else width
     else:
         first[0] += width
         first[1] += height
     cols = col_table.take(first[0], axis=1, mode="clip")
     rows = row_table.take(first[1], axis=1, mode="clip")
     rows += _offsets(n, grid.size)
-    index = outer(np.add, rows, cols, np.empty((width * height, n), dtype=np.intp))
+    index = outer(np.add, rows, cols, np.empty((len(block.values), n), dtype=np.intp))
     np.maximum(index, -1, out=index)
     del first, cols, rows  # (the frames are allocated last: a smaller peak of memory)
     flat = np.zeros(n * grid.size + 1)

@@ -83,24 +83,36 @@ class Block(NamedTuple):
     ----------
     origin : ndarray of float64, shape (2, n)
         The block's lower-left cell of each point: column (``origin[0]``) and row (whole
-        numbers, possibly outside the grid).
-    values : ndarray of float64, shape (width * height, n)
-        Intensity of each cell of the block, in [0, 1], rows outer: value ``j * width + i`` is
-        cell ``(origin[0] + i, origin[1] + j)``. No two name one tactor, so the renderer writes
-        them (cells outside the grid are dropped).
+        numbers, possibly outside the grid). With ``flip``, twice that plus a flag (0 or 1)
+        that reverses the order of the block's two columns (rows).
+    values : ndarray of float64, shape (k, n)
+        Intensity of the block's first ``k`` cells (the others are off), in [0, 1], rows outer:
+        value ``j * width + i`` is cell ``(origin[0] + i, origin[1] + j)`` (with ``flip``,
+        ``i`` and ``j`` reversed where the flags say). No two name one tactor, so the renderer
+        writes them (cells outside the grid are dropped).
     width, height : int
-        The block's size in columns and rows.
+        The block's size in columns and rows (2 x 2 with ``flip``).
+    flip : bool
+        ``origin`` carries the flags: a 2 x 2 block whose first cell per axis is the one the
+        method chose (PK's nearest tactor), so that the cell left out comes last.
     """
 
     origin: np.ndarray
     values: np.ndarray
     width: int
     height: int
+    flip: bool = False
 
     def cells(self) -> Cells:
         """The same candidates as :class:`Cells` (every column with every row, rows outer)."""
-        cols = self.origin[0] + np.arange(self.width, dtype=np.float64)[:, None]
-        rows = self.origin[1] + np.arange(self.height, dtype=np.float64)[:, None]
+        cols = np.arange(self.width, dtype=np.float64)[:, None]
+        rows = np.arange(self.height, dtype=np.float64)[:, None]
+        if not self.flip:
+            return Cells(self.origin[0] + cols, self.origin[1] + rows, self.values)
+        first = np.floor(self.origin / 2.0)
+        flag = self.origin - 2.0 * first
+        cols = first[0] + np.abs(cols - flag[0])  # i, or 1 - i where flagged
+        rows = first[1] + np.abs(rows - flag[1])
         return Cells(cols, rows, self.values)
 
     def entries(self) -> list:
