@@ -15,7 +15,7 @@ import pytest
 
 import tactile_core as tc
 
-from .emulator_support import CLI, stream
+from .emulator_support import CLI, Emulator, stream
 from .helpers import align
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
@@ -154,6 +154,19 @@ def test_normal_interpreter_exit_sends_all_off(emulator):
     report, log = emu.finish()
     assert log[:-1, 2:].any() and not log[-1, 2:].any()
     assert report["watchdog_trips"] == 0
+
+
+def test_emulate_realtime_receives_at_real_time_priority_or_says_why(tmp_path):
+    emu = Emulator(tmp_path, "--realtime", "--plain")
+    try:
+        policy = os.sched_getscheduler(emu.proc.pid)  # set before the path was printed
+    finally:
+        emu.finish()
+    if "receiving at real-time priority (SCHED_FIFO 20)" in emu.errors:
+        assert policy == os.SCHED_FIFO
+    else:
+        assert policy != os.SCHED_FIFO
+        assert "real-time priority" in emu.errors  # (not permitted / not available: why)
 
 
 def test_stream_to_a_missing_device_says_so():

@@ -95,6 +95,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--json", default=None, help="write the report to this JSON file")
     p.add_argument(
+        "--realtime",
+        action="store_true",
+        help="receive at real-time priority (Linux; rtprio or root), as an array's own "
+        "processor would: what it logs is then the host's timing, not its own waits",
+    )
+    p.add_argument(
         "--close-after",
         type=number,
         default=None,
