@@ -32,9 +32,11 @@ def _offscreen_app():
 
 
 RECEIVERS = {
-    "array": "the emulator at real-time priority on the stream's core (as the array's own "
-    "processor: it never waits for the host)",
-    "ordinary": "the emulator as an ordinary process (a third process on the two cores)",
+    "array": "standing in for the array's own processor, which never waits for the host: at "
+    "real-time priority on the stream's core, on a local TCP port (`--socket --realtime`: "
+    "loopback delivers each write in the writer's context, where a pseudo-terminal hands the "
+    "bytes to a kernel worker that waits whenever the GUI paints)",
+    "ordinary": "an ordinary process on a pseudo-terminal (a third process on the two cores)",
 }
 """How the benchmark's ``tactile emulate`` receives (see :func:`gui_table`)."""
 
@@ -48,7 +50,7 @@ def _emulator(tmpdir, rate_hz: float, name: str, receiver: str):
         return _EmulatorProcess(tmpdir, rate_hz, name)
     cores = own_core()
     return _EmulatorProcess(
-        tmpdir, rate_hz, name, realtime=True, cpus=None if cores is None else cores[0]
+        tmpdir, rate_hz, name, realtime=True, cpus=None if cores is None else cores[0], socket=True
     )
 
 

@@ -22,7 +22,7 @@ class Emulator:
             text=True,
         )
         self.path = self.proc.stdout.readline().strip()
-        assert self.path.startswith("/dev/"), self.proc.stderr.read()
+        assert self.path.startswith(("/dev/", "socket://")), self.proc.stderr.read()
         self.output = ""
         self.errors = ""
 

@@ -156,6 +156,26 @@ def test_normal_interpreter_exit_sends_all_off(emulator):
     assert report["watchdog_trips"] == 0
 
 
+def test_emulate_on_a_socket_receives_every_frame_and_the_next_client(emulator, tmp_path):
+    emu = emulator("--socket", "--rate", "100")
+    assert emu.path.startswith("socket://127.0.0.1:")
+    sent = []
+    for run in range(2):  # one client after another, as a line replugged
+        record = tmp_path / f"sent{run}.npz"
+        proc = stream(
+            emu.path, "--shape", "line:0.5,1.84,4.5,4.16", "--method", "AS", "--rate", "100",
+            "--seconds", "0.5", "--lead-ms", "0", "--record", str(record),
+        )  # fmt: skip
+        assert proc.returncode == 0, proc.stderr
+        with np.load(record) as frames:
+            sent.append(len(frames["seq"]))
+    report, log = emu.finish()
+    assert report["bad_frames"] == {k: 0 for k in report["bad_frames"]}
+    assert report["frames"] == sum(sent) == len(log)  # every frame of both clients decoded
+    answered = [event for _, event in report["events"] if event.startswith("answered")]
+    assert len(answered) >= 2 and not log[-1, 2:].any()  # each client's hello; all off at the end
+
+
 def test_emulate_realtime_receives_at_real_time_priority_or_says_why(tmp_path):
     emu = Emulator(tmp_path, "--realtime", "--plain")
     try:

@@ -16,11 +16,13 @@ from ._common import GAMMA, MU, SCENES, Table
 class _EmulatorProcess:
     """``tactile emulate`` in a subprocess, for the device benchmark. ``plain``: a format 2
     array without scheduled frames, so that what it receives shows the host's own timing.
-    ``realtime``: it receives at real-time priority (``--realtime``), and ``cpus``: it runs on
-    those cores only, as the array's own processor would never wait for the host's."""
+    ``realtime``: it receives at real-time priority (``--realtime``), ``cpus``: it runs on
+    those cores only, and ``socket``: on a local TCP port (``--socket``, no kernel worker
+    between the host's write and its read), as the array's own processor would never wait
+    for the host's."""
 
     def __init__(self, tmpdir, rate_hz, name, plain: bool = True, realtime: bool = False,
-                 cpus=None):  # fmt: skip
+                 cpus=None, socket: bool = False):  # fmt: skip
         import os
         import subprocess
         import sys
@@ -31,6 +33,7 @@ class _EmulatorProcess:
         cmd += ["--json", str(self.report), "--log", str(self.log)]
         cmd += ["--plain"] if plain else []
         cmd += ["--realtime"] if realtime else []
+        cmd += ["--socket"] if socket else []
         self.proc = subprocess.Popen(
             cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True
         )

@@ -188,7 +188,7 @@ def cmd_emulate(args) -> int:
     emulator = Emulator(
         profile, expected_rate_hz=args.rate, scheduled=not args.plain, keep_frames=keep
     )
-    path = emulator.open()
+    path = emulator.open_socket() if args.socket else emulator.open()
     print(path, flush=True)
     print(
         f"emulating {profile.name} ({profile.grid.cols} x {profile.grid.rows}, "
