@@ -33,9 +33,10 @@ def _offscreen_app():
 
 RECEIVERS = {
     "array": "standing in for the array's own processor, which never waits for the host: at "
-    "real-time priority on the stream's core, on a local TCP port (`--socket --realtime`: "
-    "loopback delivers each write in the writer's context, where a pseudo-terminal hands the "
-    "bytes to a kernel worker that waits whenever the GUI paints)",
+    "real-time priority on the GUI's core (it preempts the GUI, and leaves the stream's core to "
+    "the stream), on a local TCP port (`--socket --realtime`: loopback delivers each write in "
+    "the writer's context, where a pseudo-terminal hands the bytes to a kernel worker that "
+    "waits whenever the GUI paints)",
     "ordinary": "an ordinary process on a pseudo-terminal (a third process on the two cores)",
 }
 """How the benchmark's ``tactile emulate`` receives (see :func:`gui_table`)."""
@@ -50,7 +51,7 @@ def _emulator(tmpdir, rate_hz: float, name: str, receiver: str):
         return _EmulatorProcess(tmpdir, rate_hz, name)
     cores = own_core()
     return _EmulatorProcess(
-        tmpdir, rate_hz, name, realtime=True, cpus=None if cores is None else cores[0], socket=True
+        tmpdir, rate_hz, name, realtime=True, cpus=None if cores is None else cores[1], socket=True
     )
 
 
