@@ -196,7 +196,10 @@ def settle(values, found, split: Split, radius: float, strict: bool, weight, wei
     for k in found.tolist():
         slot, point = divmod(k, n)
         row, col = divmod(slot, a)
-        d = float(hypot(float(fx[point]) - ks[col], float(fy[point]) - ks[row]))
+        dx, dy = float(fx[point]) - ks[col], float(fy[point]) - ks[row]
+        # hypot(x, 0) is |x| exactly (C99 F.10.4.3): the common case, a shape through tactor
+        # centres putting a neighbour at exactly the radius
+        d = abs(dx) if dy == 0.0 else abs(dy) if dx == 0.0 else float(hypot(dx, dy))
         flat[k] = weight1(d) if (d < radius if strict else d <= radius) else 0.0
 
 

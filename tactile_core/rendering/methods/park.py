@@ -142,18 +142,17 @@ def sample_cells(shape, xy, t, tol, blend=0.0):
     np.square(sq, out=sq)
     d = outer(np.add, sq[1], sq[0], np.empty((3, n)))
     np.sqrt(d, out=d)
-    on = None
-    if not d[0].all():  # on a tactor's centre (only there is a distance 0): it alone, at 1
-        on = np.flatnonzero(d[0] == 0.0)
+    on = not d[0].all()  # a point on a tactor's centre (only there is a distance 0)
+    if on:
         np.maximum(d[0], 1e-300, out=d[0])
     w = np.divide(1.0, d, out=d)
     total = w[0] + w[1]
     total += w[2]
     w /= total
     values = np.sqrt(w, out=w)
-    if on is not None:
-        values[:, on] = 0.0
-        values[0, on] = 1.0
+    if on:  # there the centre's tactor is at 1 (1e300 / (1e300 + 2)), the others ~1e-150: off
+        # (elsewhere none is below ~1e-7: a point within the snap tolerance of a centre is on it)
+        np.putmask(values, values < 1e-100, 0.0)
     cr *= 2.0
     cr += near  # the block's first cell per axis, flagged where it is the upper one
     return Block(cr, values, 2, 2, flip=True)
