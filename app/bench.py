@@ -31,18 +31,43 @@ def _offscreen_app():
         yield app, tmpdir
 
 
-def _cli_row(tmpdir, seconds: float, rate_hz: float) -> list:
+RECEIVERS = {
+    "array": "standing in for the array's own processor, which never waits for the host: at "
+    "real-time priority on the GUI's core (it preempts the GUI, and leaves the stream's core to "
+    "the stream), on a local TCP port (`--socket --realtime`: loopback delivers each write in "
+    "the writer's context, where a pseudo-terminal hands the bytes to a kernel worker that "
+    "waits whenever the GUI paints)",
+    "ordinary": "an ordinary process on a pseudo-terminal (a third process on the two cores)",
+}
+"""How the benchmark's ``tactile emulate`` receives (see :func:`gui_table`)."""
+
+
+def _emulator(tmpdir, rate_hz: float, name: str, receiver: str):
+    """``tactile emulate`` for a row, receiving as ``receiver`` says (:data:`RECEIVERS`)."""
+    from tactile_core.bench import _EmulatorProcess
+    from tactile_core.device.process import own_core
+
+    if receiver == "ordinary":
+        return _EmulatorProcess(tmpdir, rate_hz, name)
+    cores = own_core()
+    return _EmulatorProcess(
+        tmpdir, rate_hz, name, realtime=True, cpus=None if cores is None else cores[1], socket=True
+    )
+
+
+def _cli_row(tmpdir, seconds: float, rate_hz: float, receiver: str, realtime: bool) -> list:
     """The same measurement for ``tactile stream`` (no GUI), the yardstick of the tuner's."""
     import subprocess
     import sys
 
-    from tactile_core.bench import GAMMA, MU, _EmulatorProcess
+    from tactile_core.bench import GAMMA, MU
 
-    emu = _EmulatorProcess(tmpdir, rate_hz, "gui-cli")
+    emu = _emulator(tmpdir, rate_hz, f"gui-cli-{receiver}-{realtime}", receiver)
     proc = subprocess.run(
         [sys.executable, "-m", "tactile_core.cli", "stream", "--device", emu.path,
          "--shape", "circle:2.5,3,2", "--method", "AS", "--mu", str(MU), "--gamma", str(GAMMA),
-         "--rate", str(rate_hz), "--filter", "box", "--dither", "--seconds", str(seconds + 0.5)],
+         "--rate", str(rate_hz), "--filter", "box", "--dither", "--seconds", str(seconds + 0.5),
+         *(["--realtime"] if realtime else [])],
         capture_output=True, text=True, timeout=seconds + 60,
     )  # fmt: skip
     report, log = emu.finish()
@@ -52,6 +77,7 @@ def _cli_row(tmpdir, seconds: float, rate_hz: float) -> list:
     sender = proc.stdout.split("interval error:")[1].split("\n")[0].strip()
     p50, p99 = (float(x.split()[1]) for x in sender.split(","))
     return [
+        "`tactile stream --realtime`, no GUI" if realtime else
         "`tactile stream`, no GUI (the yardstick)",
         "-",
         "-",
@@ -61,19 +87,26 @@ def _cli_row(tmpdir, seconds: float, rate_hz: float) -> list:
         "-",
         "-",
         f"{report['seq_gaps'] + report['bad_frames']['crc']}",
-    ]
+    ]  # fmt: skip
 
 
-def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
-    """Rows: display refresh and stream statistics with the tuner running, per situation."""
+def gui_table(seconds: float = 10.0, rate_hz: float = 300.0, receiver: str = "array"):
+    """Rows: display refresh and stream statistics with the tuner running, per situation.
+
+    ``receiver``: how ``tactile emulate`` receives (:data:`RECEIVERS`): ``"array"`` (the
+    default) at real-time priority on the stream's core, as an array's own processor that
+    never waits for the host; ``"ordinary"`` as an ordinary third process on the two cores,
+    waiting whenever the GUI paints.
+    """
     from PySide6 import QtCore
 
     import tactile_core as tc
-    from tactile_core.bench import GAMMA, MU, Table, _EmulatorProcess
+    from tactile_core.bench import GAMMA, MU, Table
 
     rows = []
     with _offscreen_app() as (app, tmpdir):
-        rows.append(_cli_row(tmpdir, seconds, rate_hz))
+        rows.append(_cli_row(tmpdir, seconds, rate_hz, receiver, realtime=False))
+        rows.append(_cli_row(tmpdir, seconds, rate_hz, receiver, realtime=True))
         from .window import MainWindow
 
         situations = (
@@ -85,7 +118,7 @@ def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
             ("Tune tab, mu slider dragged, stream as a thread", False, False),
         )
         for situation, process, realtime in situations:
-            emu = _EmulatorProcess(tmpdir, rate_hz, f"gui-{len(rows)}")
+            emu = _emulator(tmpdir, rate_hz, f"gui-{receiver}-{len(rows)}", receiver)
             window = MainWindow(
                 device_url=emu.path, restore=False, process=process, realtime=realtime
             )
@@ -155,14 +188,16 @@ def gui_table(seconds: float = 10.0, rate_hz: float = 300.0):
         "a second reach the streamer. The stream runs in its own process unless the row says "
         "'as a thread' (the streamer in the GUI's process, sharing its interpreter lock). "
         "Sender: intervals between writes in the streaming process; emulator: between receipts "
-        "in `tactile emulate`, itself an ordinary process competing with the GUI for the two "
-        "cores. The tuner asks for real-time priority for the stream by default (SCHED_FIFO; "
-        "`--no-realtime` does not). The "
+        f"in `tactile emulate`, {RECEIVERS[receiver]}. The tuner asks for real-time priority "
+        "for the stream by default (SCHED_FIFO 10; `--no-realtime` does not). The "
         "emulator is a format 2 array without scheduled frames (`--plain`), so what it receives "
         "is the host's own timing: what an array that cannot schedule gets. The stream process "
         "runs on a core of its own (the GUI on the other)."
     )
-    return Table("The tuner while streaming", headers, rows, notes)
+    title = "The tuner while streaming"
+    if receiver != "array":
+        title += f" ({receiver} receiver)"
+    return Table(title, headers, rows, notes)
 
 
 def _latencies(report, log, marks) -> np.ndarray:
@@ -243,7 +278,8 @@ def gui_latency_table(rate_hz: float = 300.0, changes: int = 30):
 def run(quick: bool = False, out=print) -> list:
     """The GUI's benchmark tables (``tactile bench --part gui`` and ``tactile-tuner --bench``),
     printed as Markdown; returns them."""
-    tables = [gui_table(seconds=3.0 if quick else 10.0), gui_latency_table()]
+    seconds = 3.0 if quick else 10.0
+    tables = [gui_table(seconds), gui_table(seconds, receiver="ordinary"), gui_latency_table()]
     for table in tables:
         out(table.markdown())
         out("")

@@ -22,8 +22,9 @@ class Emulator:
             text=True,
         )
         self.path = self.proc.stdout.readline().strip()
-        assert self.path.startswith("/dev/"), self.proc.stderr.read()
+        assert self.path.startswith(("/dev/", "socket://")), self.proc.stderr.read()
         self.output = ""
+        self.errors = ""
 
     def finish(self, *, ends_itself=False):
         """Stop the emulator (Ctrl-C) and read its report and log. ``ends_itself``: it stops on
@@ -31,8 +32,8 @@ class Emulator:
         signal that could land after its handlers are gone."""
         if not ends_itself and self.proc.poll() is None:
             self.proc.send_signal(signal.SIGINT)
-        out, _ = self.proc.communicate(timeout=30)
-        self.output = out
+        out, err = self.proc.communicate(timeout=30)
+        self.output, self.errors = out, err
         assert self.proc.returncode == 0
         report = json.loads(self.report_path.read_text())
         rows = self.log_path.read_text().splitlines()[1:]

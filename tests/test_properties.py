@@ -269,3 +269,28 @@ def test_as_matches_the_textbook_overlap_with_every_cell(shape):
     np.testing.assert_allclose(
         tc.render(shape, "AS", t), dense_area_sampling(shape, t, GRID), atol=1e-12
     )
+
+
+@pytest.mark.parametrize(
+    "spec", ["CT", "MM", "AS", "IM", "EN", "PK", "PK:blend=0.2", "RO", "RO:r=1.5", "GS",
+             "GS:sigma=0.3", "VRCH"],
+)  # fmt: skip
+def test_sample_protocol_form_equals_the_batch_render(spec):
+    # ``sample`` (the protocol's entries, as plug-ins return them) and ``render`` (the built-in
+    # methods' batch form: blocks, flipped blocks, table entries) give the same frames,
+    # through points on tactor centres, cell edges and corners, and anywhere.
+    from tactile_core.rendering.methods import get_method
+    from tactile_core.rendering.rasterize import scatter
+
+    method = get_method(spec)
+    rng = np.random.default_rng(7)
+    t = np.concatenate([np.linspace(0.0, 1.0, 257), rng.random(300)])
+    for shape in (
+        tc.Circle((2.5, 3.0), 2.0),
+        tc.Square((2.5, 3.5), 4.0),
+        tc.Line((-1.0, 0.5), (6.0, 5.5)),
+        tc.Polyline(((0.5, 0.5), (2.5, 4.5), (4.5, 0.5)), closed=True),
+    ):
+        x, y = shape.xy(t)
+        frames = scatter(method.sample(shape, x, y, t, shape.snap_tol), len(t), tc.Grid())
+        np.testing.assert_array_equal(frames, tc.render(shape, spec, t))

@@ -15,7 +15,7 @@ import pytest
 
 import tactile_core as tc
 
-from .emulator_support import CLI, stream
+from .emulator_support import CLI, Emulator, stream
 from .helpers import align
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
@@ -154,6 +154,39 @@ def test_normal_interpreter_exit_sends_all_off(emulator):
     report, log = emu.finish()
     assert log[:-1, 2:].any() and not log[-1, 2:].any()
     assert report["watchdog_trips"] == 0
+
+
+def test_emulate_on_a_socket_receives_every_frame_and_the_next_client(emulator, tmp_path):
+    emu = emulator("--socket", "--rate", "100")
+    assert emu.path.startswith("socket://127.0.0.1:")
+    sent = []
+    for run in range(2):  # one client after another, as a line replugged
+        record = tmp_path / f"sent{run}.npz"
+        proc = stream(
+            emu.path, "--shape", "line:0.5,1.84,4.5,4.16", "--method", "AS", "--rate", "100",
+            "--seconds", "0.5", "--lead-ms", "0", "--record", str(record),
+        )  # fmt: skip
+        assert proc.returncode == 0, proc.stderr
+        with np.load(record) as frames:
+            sent.append(len(frames["seq"]))
+    report, log = emu.finish()
+    assert report["bad_frames"] == {k: 0 for k in report["bad_frames"]}
+    assert report["frames"] == sum(sent) == len(log)  # every frame of both clients decoded
+    answered = [event for _, event in report["events"] if event.startswith("answered")]
+    assert len(answered) >= 2 and not log[-1, 2:].any()  # each client's hello; all off at the end
+
+
+def test_emulate_realtime_receives_at_real_time_priority_or_says_why(tmp_path):
+    emu = Emulator(tmp_path, "--realtime", "--plain")
+    try:
+        policy = os.sched_getscheduler(emu.proc.pid)  # set before the path was printed
+    finally:
+        emu.finish()
+    if "receiving at real-time priority (SCHED_FIFO 20)" in emu.errors:
+        assert policy == os.SCHED_FIFO
+    else:
+        assert policy != os.SCHED_FIFO
+        assert "real-time priority" in emu.errors  # (not permitted / not available: why)
 
 
 def test_stream_to_a_missing_device_says_so():

@@ -19,7 +19,7 @@ from ._accuracy import _frame_metrics as _frame_metrics
 from ._accuracy import _reference as _reference
 from ._accuracy import accuracy_table
 from ._audio import audio_table
-from ._batch import batch_table, dense_area_sampling, naive_area_sampling
+from ._batch import batch_table, dense_area_sampling, naive_area_sampling, ratio_table
 from ._common import FILTERS, GAMMA, MU, RATES_HZ, SCENES, Table, best_time
 from ._common import _cycling as _cycling
 from ._device import _Busy as _Busy
@@ -54,6 +54,7 @@ __all__ = [
     "methods_table",
     "naive_area_sampling",
     "quest_table",
+    "ratio_table",
     "run",
     "staircase_table",
     "tuning_table",
@@ -75,6 +76,7 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
     if part in ("core", "all"):
         sizes = (2000, 20_000) if quick else (2000, 100_000)
         show(batch_table(sizes))
+        show(ratio_table(repeat=10 if quick else 40))
         show(live_table())
         show(accuracy_table(quick=quick))
     if part in ("methods", "all"):

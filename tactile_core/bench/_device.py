@@ -15,9 +15,15 @@ from ._common import GAMMA, MU, SCENES, Table
 
 class _EmulatorProcess:
     """``tactile emulate`` in a subprocess, for the device benchmark. ``plain``: a format 2
-    array without scheduled frames, so that what it receives shows the host's own timing."""
+    array without scheduled frames, so that what it receives shows the host's own timing.
+    ``realtime``: it receives at real-time priority (``--realtime``), ``cpus``: it runs on
+    those cores only, and ``socket``: on a local TCP port (``--socket``, no kernel worker
+    between the host's write and its read), as the array's own processor would never wait
+    for the host's."""
 
-    def __init__(self, tmpdir, rate_hz, name, plain: bool = True):
+    def __init__(self, tmpdir, rate_hz, name, plain: bool = True, realtime: bool = False,
+                 cpus=None, socket: bool = False):  # fmt: skip
+        import os
         import subprocess
         import sys
 
@@ -26,9 +32,16 @@ class _EmulatorProcess:
         cmd = [sys.executable, "-m", "tactile_core.cli", "emulate", "--rate", str(rate_hz)]
         cmd += ["--json", str(self.report), "--log", str(self.log)]
         cmd += ["--plain"] if plain else []
+        cmd += ["--realtime"] if realtime else []
+        cmd += ["--socket"] if socket else []
         self.proc = subprocess.Popen(
             cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True
         )
+        if cpus is not None:
+            try:
+                os.sched_setaffinity(self.proc.pid, cpus)
+            except (AttributeError, OSError):
+                pass
         self.path = self.proc.stdout.readline().strip()
 
     def finish(self):

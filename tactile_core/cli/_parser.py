@@ -97,7 +97,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_export_parser(sub)
 
-    p = sub.add_parser("emulate", help="run the device emulator on a pseudo-terminal")
+    p = sub.add_parser(
+        "emulate", help="run the device emulator on a pseudo-terminal (or a local TCP port)"
+    )
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
     p.add_argument("--rate", type=number, default=None, help="nominal rate for the interval error")
     p.add_argument(
@@ -117,6 +119,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="a format 2 array without scheduled frames (timed frames are dropped as unknown)",
     )
     p.add_argument("--json", default=None, help="write the report to this JSON file")
+    p.add_argument(
+        "--realtime",
+        action="store_true",
+        help="receive at real-time priority (Linux; rtprio or root), as an array's own "
+        "processor would: what it logs is then the host's timing, not its own waits",
+    )
+    p.add_argument(
+        "--socket",
+        action="store_true",
+        help="listen on a local TCP port instead of a pseudo-terminal; the first line is then "
+        "its socket:// URL (loopback delivers in the writer's context, with no kernel worker "
+        "between)",
+    )
     p.add_argument(
         "--close-after",
         type=number,

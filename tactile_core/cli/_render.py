@@ -230,6 +230,10 @@ def cmd_stream(args) -> int:
     return 0 if stats.errors == 0 and not unsaved else 1
 
 
+EMULATOR_PRIORITY = 20
+"""SCHED_FIFO priority of ``tactile emulate --realtime`` (the stream's output thread has 10)."""
+
+
 def cmd_emulate(args) -> int:
     """Run the device emulator on a pseudo-terminal until stopped."""
     from ..device.emulator import KEEP_FRAMES, Emulator
@@ -251,10 +255,21 @@ def cmd_emulate(args) -> int:
     keep = KEEP_FRAMES if args.keep_frames is None else args.keep_frames
     if not 1 <= keep <= 1 << 31:
         raise UsageError(f"--keep-frames must be within [1, 2147483648], got {keep}")
+    if args.realtime:  # before the path is printed: a caller that reads it finds it set
+        from ..device._stream_plan import _raise_priority
+
+        # Above a host stream's output thread (10): an array's own processor never waits
+        # for the host.
+        why_not = _raise_priority(EMULATOR_PRIORITY)
+        print(
+            f"tactile emulate: {why_not}" if why_not else
+            f"tactile emulate: receiving at real-time priority (SCHED_FIFO {EMULATOR_PRIORITY})",
+            file=sys.stderr, flush=True,
+        )  # fmt: skip
     emulator = Emulator(
         profile, expected_rate_hz=args.rate, scheduled=not args.plain, keep_frames=keep
     )
-    path = emulator.open()
+    path = emulator.open_socket() if args.socket else emulator.open()
     print(path, flush=True)
     print(
         f"emulating {profile.name} ({profile.layout.describe()}, "

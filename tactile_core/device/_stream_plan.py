@@ -31,15 +31,16 @@ def _reduce_timer_slack() -> None:
             pass
 
 
-def _raise_priority() -> str:
-    """Try to give the calling thread real-time priority (SCHED_FIFO 10); say what happened.
+def _raise_priority(priority: int = 10) -> str:
+    """Try to give the calling thread real-time priority (SCHED_FIFO ``priority``, 10 for the
+    output thread); say what happened (empty when granted).
 
     Linux grants it to root or to users with an ``rtprio`` limit (``ulimit -r``, or
     ``/etc/security/limits.conf``). The output thread sleeps most of each frame and spins at most
     ``spin_s``, so it cannot starve the machine.
     """
     try:
-        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(10))
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(priority))
     except AttributeError:
         return "real-time priority is not available on this system"
     except PermissionError:

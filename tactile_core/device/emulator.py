@@ -1,7 +1,8 @@
 """A device emulator on a pseudo-terminal: what an array would receive, measured.
 
 ``tactile emulate`` opens a pseudo-terminal, prints the path of its device end on the first
-line, and then behaves as the reference firmware does (:class:`~.array.ArrayModel`):
+line (or, with ``--socket``, listens on a local TCP port and prints its ``socket://`` URL), and
+then behaves as the reference firmware does (:class:`~.array.ArrayModel`):
 it applies valid frames, answers hello with its info and query with its counters, turns
 everything off when no valid frame has arrived for 250 ms (the watchdog, counted when it turns
 something off), and counts dropped messages by reason; it also counts gaps in the sequence
@@ -20,6 +21,7 @@ from __future__ import annotations
 
 import os
 import select
+import socket
 import time
 import tty
 from collections import deque
@@ -58,6 +60,8 @@ class Emulator:
         self.model = ArrayModel(self.profile, scheduled=scheduled)
         self.reader = self.model.reader
         self.master = self.slave = None
+        self.listener = None  # the listening socket in socket mode (:meth:`open_socket`)
+        self._client = None  # its client's socket
         self.path = None
         self.log = FrameLog(self.profile.channels, keep_frames)
         """Each valid frame: its monotonic time (received, or due if timed), seq, levels in
@@ -85,6 +89,38 @@ class Emulator:
         self.model.epoch = self.started  # the emulated array's clock starts now
         return self.path
 
+    def open_socket(self, host: str = "127.0.0.1", port: int = 0) -> str:
+        """Listen on a TCP port instead of a pseudo-terminal; return the ``socket://`` URL a
+        client opens. One client at a time; when it goes, the next one may connect.
+
+        Loopback delivers a write in the writer's own context, where a pseudo-terminal hands
+        the bytes to a kernel worker that any busy process on the machine can keep waiting:
+        over a socket the emulator sees the host's timing as a separate device would.
+        """
+        listener = socket.create_server((host, port))
+        listener.setblocking(False)
+        self.listener = listener
+        self.path = f"socket://{host}:{listener.getsockname()[1]}"
+        self.started = time.monotonic()
+        self.model.epoch = self.started
+        return self.path
+
+    def _accept(self) -> None:
+        try:
+            client, _ = self.listener.accept()
+        except (BlockingIOError, OSError):
+            return
+        client.setblocking(False)
+        client.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self._client = client  # (kept: closing the object would close the descriptor)
+        self.master = client.fileno()
+
+    def _drop_client(self) -> None:
+        client, self._client = self._client, None
+        self.master = None
+        if client is not None:
+            client.close()
+
     def close(self) -> None:
         """Close both ends: a client writing then gets an I/O error. The array's own timing
         (timed frames, the watchdog) is brought up to date first."""
@@ -92,6 +128,11 @@ class Emulator:
             now = time.monotonic()
             self._log(self.model.advance(now), now)
             self._watchdog(now)
+        if self.listener is not None:
+            self._drop_client()
+            self.listener.close()
+            self.listener = None
+            return
         for fd in (self.master, self.slave):
             if fd is not None:
                 try:
@@ -152,7 +193,7 @@ class Emulator:
         ``close_after`` closes the pseudo-terminal after that many seconds (for testing how a
         client copes with a device that goes away) and ends the run.
         """
-        if self.master is None:
+        if self.master is None and self.listener is None:
             self.open()
         end = None if seconds is None else self.started + seconds
         close_at = None if close_after is None else self.started + close_after
@@ -168,7 +209,13 @@ class Emulator:
             due = self.model.due()
             if due is not None:  # wake exactly when the watchdog or a timed frame is due
                 timeout = min(timeout, max(due - now, 0.0))
-            ready, _, _ = select.select([self.master], [], [], timeout)
+            if self.listener is not None and self.master is None:
+                ready, _, _ = select.select([self.listener], [], [], timeout)
+                if ready:
+                    self._accept()
+                ready = []
+            else:
+                ready, _, _ = select.select([self.master], [], [], timeout)
             now = time.monotonic()
             if ready:
                 try:
@@ -177,7 +224,13 @@ class Emulator:
                     data = b""
                 except OSError:  # no client has the device end open (EIO): keep listening
                     data = b""
-                    time.sleep(0.005)
+                    if self.listener is not None:
+                        self._drop_client()
+                    else:
+                        time.sleep(0.005)
+                else:
+                    if not data and self.listener is not None:  # the client went
+                        self._drop_client()
                 if data:
                     self._receive(data, now)
             now = time.monotonic()

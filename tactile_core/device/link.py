@@ -10,6 +10,7 @@ open in another program"); no other exception escapes a link.
 from __future__ import annotations
 
 import errno
+import socket
 import threading
 import time
 
@@ -92,6 +93,10 @@ class SerialLink:
                 except (ValueError, serial.SerialException):
                     pass
             port.open()
+            sock = getattr(port, "_socket", None)  # socket:// URLs
+            if sock is not None:
+                # Frames are small and due now: no waiting for the last one's acknowledgement.
+                sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         except (serial.SerialException, OSError, ValueError) as exc:
             raise LinkError(_explain(exc, self.url)) from None
         self._port = port

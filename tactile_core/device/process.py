@@ -40,6 +40,7 @@ from .streamer import Onset, StreamStats
 _CHILDREN: weakref.WeakSet = weakref.WeakSet()
 CHILD_MODULE = "tactile_core.device.process"
 """The stream process's entry module (``python -m``) unless a caller names another."""
+
 PROCESS_SUPPORTED = os.name == "posix"
 """Child-process streaming needs inherited pipe descriptors (POSIX); elsewhere threads."""
 

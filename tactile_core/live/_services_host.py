@@ -121,8 +121,9 @@ class ServicesHost:
             return
         self.server = server
         if self.switch_interval_s is not None:
-            self._saved_switch = sys.getswitchinterval()
-            sys.setswitchinterval(self.switch_interval_s)
+            self._saved_switch = sys.getswitchinterval()  # never longer than it is (the
+            # tuner's stream process already runs at 50 us)
+            sys.setswitchinterval(min(self.switch_interval_s, self._saved_switch))
         self.send(("osc-started", tuple(server.address)))
         self._quit = threading.Event()
         self._publisher = threading.Thread(target=self._publish, args=(server, self._quit),

@@ -161,7 +161,7 @@ def cell_split(x, tol):
         return index, np.where(frac < tol, 0.0, frac)
     np.floor(index, out=index)
     frac = x - index
-    frac[frac < tol] = 0.0
+    np.putmask(frac, frac < tol, 0.0)
     return index, frac
 
 

@@ -10,7 +10,7 @@ from .._shared import validate as _validate
 from .geometry import SNAP_REL, Grid
 from .layout import Layout
 from .methods import METHODS, get_method
-from .methods._cells import ZIP, outer
+from .methods._cells import ZIP, Block, Indexed, outer
 from .methods._layout import layout_sampler
 from .shapes import Shape
 
@@ -102,6 +102,14 @@ def _index_part(cells, table: np.ndarray, *, bounded: bool = False):
     return table.take(index, mode="clip")
 
 
+@functools.lru_cache(maxsize=4)
+def _offsets(n: int, size: int) -> np.ndarray:
+    """Each sample's offset into the frames' flat buffer (read-only, kept for a few sizes)."""
+    out = np.arange(0, n * size, size, dtype=np.intp)
+    out.flags.writeable = False
+    return out
+
+
 def _new_buffer(n: int, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
     """Zeroed frames as one flat buffer with a spare slot at its end (where cells outside the
     grid go), and each sample's offset into it."""
@@ -141,7 +149,12 @@ def scatter(entries, n: int, grid: Grid) -> np.ndarray:
 def scatter_cells(cells, n: int, grid: Grid) -> np.ndarray:
     """:func:`scatter` for the batch form of the built-in methods (:mod:`.methods._cells`):
     every candidate in one pass. Candidates of one sample never name one tactor twice, so they
-    are written, not added."""
+    are written, not added. A :class:`~.methods._cells.Block` goes through
+    :func:`_scatter_block`."""
+    if type(cells) is Block:
+        return _scatter_block(cells, n, grid)
+    if type(cells) is Indexed:
+        return _scatter_indexed(cells, n, grid)
     col_table, row_table = _index_tables(grid)
     flat, base = _new_buffer(n, grid)
     cols = _index_part(cells.cols, col_table, bounded=True)
@@ -168,6 +181,71 @@ def scatter_cells(cells, n: int, grid: Grid) -> np.ndarray:
             flat[index[k]] += values[k]
     else:
         flat[index] = values.reshape(index.shape)
+    return _frames(flat, n, grid)
+
+
+@functools.lru_cache(maxsize=64)
+def _block_tables(grid: Grid, width: int, height: int, flip: bool = False):
+    """Per axis, from a block's first cell plus the block's size (clipped to the table) to
+    the index parts (:func:`_index_tables`) of the block's cells along that axis.
+
+    Columns: ``table[i, c + width]`` is the part of column ``c + i``, for ``c`` in
+    ``[-width, cols]``; beyond that range every cell of the block is outside the grid, and so
+    are the table's first and last entries, where the clipped lookups land. With ``flip``
+    (2 x 2 blocks), ``table[i, 2 (c + 2) + f]`` is the part of column ``c + (i xor f)``.
+    """
+    out = []
+    for size, step, span in ((grid.cols, 1, width), (grid.rows, grid.cols, height)):
+        if flip:
+            m = np.arange(2 * (size + span + 1))
+            first = (m // 2 - span)[None, :] + (np.arange(span)[:, None] ^ (m % 2)[None, :])
+        else:
+            first = np.arange(-span, size + 1)[None, :] + np.arange(span)[:, None]  # cells
+        table = np.where((first >= 0) & (first < size), first * step, _OFF_GRID)
+        table = np.ascontiguousarray(table, dtype=np.intp)
+        table.flags.writeable = False
+        out.append(table)
+    return out[0], out[1]
+
+
+def _scatter_block(block: Block, n: int, grid: Grid) -> np.ndarray:
+    """:func:`scatter_cells` for a :class:`~.methods._cells.Block`: each axis's index parts
+    from one lookup of the block's first cell, then every cell in one write."""
+    width, height = block.width, block.height
+    col_table, row_table = _block_tables(grid, width, height, block.flip)
+    first = block.origin.astype(np.intp)
+    if width == height:
+        first += 2 * width if block.flip else width
+    else:
+        first[0] += width
+        first[1] += height
+    cols = col_table.take(first[0], axis=1, mode="clip")
+    rows = row_table.take(first[1], axis=1, mode="clip")
+    rows += _offsets(n, grid.size)
+    index = outer(np.add, rows, cols, np.empty((len(block.values), n), dtype=np.intp))
+    np.maximum(index, -1, out=index)
+    del first, cols, rows  # (the frames are allocated last: a smaller peak of memory)
+    flat = np.zeros(n * grid.size + 1)
+    flat[index] = block.values
+    return _frames(flat, n, grid)
+
+
+def _scatter_indexed(cells: Indexed, n: int, grid: Grid) -> np.ndarray:
+    """:func:`scatter_cells` for :class:`~.methods._cells.Indexed`: the table's flat indices
+    for this grid (computed once per table and grid), one lookup, every candidate in one
+    write."""
+    table = cells.table
+    parts = table.flat_parts.get(grid)
+    if parts is None:
+        col_table, row_table = _index_tables(grid)
+        parts = _index_part(table.cols, col_table) + _index_part(table.rows, row_table)
+        parts.flags.writeable = False  # (negative, far below -n * size, off the grid)
+        table.flat_parts[grid] = parts
+    index = parts.take(cells.picks)
+    index += _offsets(n, grid.size)
+    np.maximum(index, -1, out=index)  # (off the grid: the spare slot)
+    flat = np.zeros(n * grid.size + 1)
+    flat[index] = cells.values
     return _frames(flat, n, grid)
 
 

@@ -5,9 +5,14 @@ light; the renderer then pays a few numpy calls per entry. The built-in methods 
 entries (AS, EN, PK, RO, GS, VRCH) also define ``sample_cells``, which returns a :class:`Cells`:
 the candidate columns and rows of every point as two small 2-D arrays, the ``(column, row)``
 pairs that make up the candidates, and their values as one ``(k, n)`` array, so that the
-renderer scatters all of them in a handful of calls whatever their number. Their ``sample`` is
-:meth:`Cells.entries` of it, so both forms give the same numbers. Plug-ins are never asked for
-this form (their output goes through the protocol's checks).
+renderer scatters all of them in a handful of calls whatever their number. Methods whose
+candidates are a whole block of cells around each point (AS, EN, RO, GS, VRCH) return a
+:class:`Block` instead: the block's first cell and its values, no candidate arrays at all (the
+renderer finds the block's cells from small per-grid tables). IM, whose tactors come from a
+per-shape table of cells, returns :class:`Indexed`: entries of that :class:`CellTable`, whose
+flat indices the renderer keeps per grid. Their ``sample`` is
+:meth:`Cells.entries` (:meth:`Block.entries`) of it, so both forms give the same numbers.
+Plug-ins are never asked for this form (their output goes through the protocol's checks).
 """
 
 from __future__ import annotations
@@ -70,6 +75,99 @@ class Cells(NamedTuple):
         ]
 
 
+class Block(NamedTuple):
+    """Candidate tactors of ``n`` points that make up a block of ``width x height`` cells
+    around each point, and their intensities.
+
+    Attributes
+    ----------
+    origin : ndarray of float64, shape (2, n)
+        The block's lower-left cell of each point: column (``origin[0]``) and row (whole
+        numbers, possibly outside the grid). With ``flip``, twice that plus a flag (0 or 1)
+        that reverses the order of the block's two columns (rows).
+    values : ndarray of float64, shape (k, n)
+        Intensity of the block's first ``k`` cells (the others are off), in [0, 1], rows outer:
+        value ``j * width + i`` is cell ``(origin[0] + i, origin[1] + j)`` (with ``flip``,
+        ``i`` and ``j`` reversed where the flags say). No two name one tactor, so the renderer
+        writes them (cells outside the grid are dropped).
+    width, height : int
+        The block's size in columns and rows (2 x 2 with ``flip``).
+    flip : bool
+        ``origin`` carries the flags: a 2 x 2 block whose first cell per axis is the one the
+        method chose (PK's nearest tactor), so that the cell left out comes last.
+    """
+
+    origin: np.ndarray
+    values: np.ndarray
+    width: int
+    height: int
+    flip: bool = False
+
+    def cells(self) -> Cells:
+        """The same candidates as :class:`Cells` (every column with every row, rows outer)."""
+        cols = np.arange(self.width, dtype=np.float64)[:, None]
+        rows = np.arange(self.height, dtype=np.float64)[:, None]
+        if not self.flip:
+            return Cells(self.origin[0] + cols, self.origin[1] + rows, self.values)
+        first = np.floor(self.origin / 2.0)
+        flag = self.origin - 2.0 * first
+        cols = first[0] + np.abs(cols - flag[0])  # i, or 1 - i where flagged
+        rows = first[1] + np.abs(rows - flag[1])
+        return Cells(cols, rows, self.values)
+
+    def entries(self) -> list:
+        """The protocol's form: ``[(cols, rows, values), ...]``, one entry per cell."""
+        return self.cells().entries()
+
+
+class CellTable:
+    """Cells a method picks its tactors from, built once (per shape), with their flat indices
+    per grid kept for the renderer.
+
+    Parameters
+    ----------
+    cols, rows : array_like of float
+        Each entry's cell (whole numbers, possibly outside the grid).
+    """
+
+    def __init__(self, cols, rows):
+        self.cols = np.array(cols, dtype=np.float64)
+        self.rows = np.array(rows, dtype=np.float64)
+        self.cols.flags.writeable = self.rows.flags.writeable = False
+        self.flat_parts: dict = {}  # grid -> flat index of each entry, negative off the grid
+
+    def __len__(self) -> int:
+        return len(self.cols)
+
+
+class Indexed(NamedTuple):
+    """Candidate tactors of ``n`` points as entries of a :class:`CellTable`, and their
+    intensities.
+
+    Attributes
+    ----------
+    picks : ndarray of intp, shape (k, n)
+        Each candidate's entry of ``table``.
+    table : CellTable
+    values : ndarray of float64, shape (k, n)
+        Intensity of each candidate, in [0, 1]. No two candidates of one point name one tactor
+        inside the grid, so the renderer writes them (cells outside the grid are dropped).
+    """
+
+    picks: np.ndarray
+    table: CellTable
+    values: np.ndarray
+
+    def cells(self) -> Cells:
+        """The same candidates as :class:`Cells` (column ``i`` with row ``i``)."""
+        table = self.table
+        return Cells(table.cols.take(self.picks), table.rows.take(self.picks), self.values, ZIP)
+
+    def entries(self) -> list:
+        """The protocol's form: ``[(cols, rows, values), ...]``, one entry per candidate."""
+        return self.cells().entries()
+
+
 ZIP = "zip"
 """:attr:`Cells.pairs` for candidates given column by row (``(cols[i], rows[i])``)."""
 
@@ -98,6 +196,9 @@ def outer(op, rows: np.ndarray, cols: np.ndarray, out: np.ndarray) -> np.ndarray
         ``out``.
     """
     a, n = cols.shape
+    if len(out) == a * len(rows):  # every pair: one broadcast operation
+        op(rows[:, None, :], cols[None, :, :], out=out.reshape(len(rows), a, n))
+        return out
     full, rest = divmod(len(out), a)
     op(rows[:full, None, :], cols[None, :, :], out=out[: full * a].reshape(full, a, n))
     if rest:

@@ -11,13 +11,16 @@ when the point is in the left half of its square (``fx < 0.5``), ``j + 1`` other
 default radii that leaves a 2 x 2 block (RO, VRCH) or 8 candidates (GS), at most 4 (RO) or 6
 (GS) of them nonzero.
 
-**The batch path** (:func:`candidates`, :func:`squared_distances`) takes every candidate
-column with every candidate row, computes squared distances per axis and decides "within the
-radius" on ``dx^2 + dy^2`` (GS: on the product of per-axis Gaussians), which is faster than
-``hypot`` on every candidate. A candidate whose deciding number lies within :data:`MARGIN`
-(relative) of its edge is decided again exactly as ``hypot`` decides (:func:`settle`), so the
-tactors lit are those of ``hypot(dx, dy) < radius`` to the last bit; the values differ from
-``hypot``'s by rounding (1e-16). The scalar path (:func:`sample1`) visits only the pairs of
+**The batch path** (:func:`block`, :func:`squared_distances`) takes every candidate column
+with every candidate row: consecutive columns (the shared slot on the point's side), so they
+make a block of cells the renderer scatters from the block's first cell
+(:class:`~._cells.Block`; GS's 3 x 3 block holds the pair of shared slots too, beyond the
+radius). It computes squared distances per axis and decides "within the radius" on
+``dx^2 + dy^2`` (GS: on the product of per-axis Gaussians), which is faster than ``hypot`` on
+every candidate. A candidate whose deciding number lies within :data:`MARGIN` (relative) of its
+edge is decided again exactly as ``hypot`` decides (:func:`settle`), so the tactors lit are
+those of ``hypot(dx, dy) < radius`` to the last bit; the values differ from ``hypot``'s by
+rounding (1e-16). The scalar path (:func:`sample1`) visits only the pairs of
 :attr:`Plan.pairs` and uses ``math.hypot``, as it always has.
 """
 
@@ -30,6 +33,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..geometry import cell_split, cell_split1
+from ._cells import outer
 
 MARGIN = 1e-9
 """Relative distance from a decision's edge within which the batch and exact scalar paths
@@ -60,8 +64,9 @@ class Plan(NamedTuple):
         ``(column slot, row slot)`` pairs whose nearest possible distance is within the radius
         (slots: ``fixed`` in order, then the shared one); the scalar path visits only these.
     leading : int
-        How many pairs, rows outer, the batch path computes: up to the last one in ``pairs``
-        (the pairs after it, such as the two shared slots together, are never in reach).
+        How many pairs, rows outer, in the plan's order (fixed slots, then the shared one) are
+        needed: up to the last one in ``pairs`` (the pairs after it, such as the two shared
+        slots together, are never in reach).
     """
 
     fixed: tuple
@@ -85,67 +90,123 @@ def plan(radius: float, strict: bool) -> Plan:
 
 
 @functools.lru_cache(maxsize=64)
-def _fixed_column(fixed: tuple) -> np.ndarray:
-    column = np.array(fixed, dtype=np.float64)[:, None]
+def _block_offsets(radius: float, strict: bool) -> np.ndarray:
+    """The block's columns' offsets from ``floor(x - 0.5)``, as a column (``(width, 1)``):
+    the plan's, with the shared slot first (its side for ``fx < 0.5``)."""
+    p = plan(radius, strict)
+    first = p.fixed[0] if p.far is None else -p.far
+    width = len(p.fixed) + (p.far is not None)
+    column = np.arange(first, first + width, dtype=np.float64)[:, None]
     column.flags.writeable = False
     return column
 
 
-def candidates(xy, tol, radius: float, strict: bool):
-    """The candidate tactors of points ``xy`` (``(2, n)``): every pair of a candidate column
-    and row (a superset of :attr:`Plan.pairs`: the others lie beyond the radius).
+class Split(NamedTuple):
+    """Points placed in their blocks of candidate cells (:func:`block`).
 
-    Returns
-    -------
-    cells : ndarray of float64, shape (2, a, n)
-        Candidate columns (``cells[0]``) and rows (``cells[1]``).
-    offsets : ndarray of float64, shape (2, a, n)
-        The point's offset from each candidate column's (row's) tactor, in pitches: ``dx``
-        and ``dy``.
+    Attributes
+    ----------
+    origin : ndarray of float64, shape (2, n)
+        The block's first column (``origin[0]``) and row.
+    f : ndarray of float64, shape (2, n)
+        The point's offset from the block's first cell's tactor, less the plan's first offset:
+        the offset from column ``j`` of the block is ``f - column[j]``.
+    column : ndarray of float64, shape (width, 1)
+        The offsets of the block's columns (rows) that ``f`` is measured against.
     """
+
+    origin: np.ndarray
+    f: np.ndarray
+    column: np.ndarray
+
+    @property
+    def width(self) -> int:
+        """Columns (rows) in the block."""
+        return len(self.column)
+
+    def offsets(self) -> np.ndarray:
+        """``(2, width, n)``: the point's offset from each of the block's columns' (rows')
+        tactors, in pitches: ``dx`` and ``dy``, computed as ``fx - k`` for the column
+        ``floor(x - 0.5) + k``."""
+        return self.f[:, None, :] - self.column
+
+    def squares(self) -> np.ndarray:
+        """``(2, width, n)``: the squares of :meth:`offsets` (computed in place)."""
+        out = self.offsets()
+        return np.square(out, out=out)
+
+
+def block(xy, tol, radius: float, strict: bool) -> Split:
+    """The candidate tactors of points ``xy`` (``(2, n)``) as a block: every column of the
+    plan with every row (a superset of :attr:`Plan.pairs`: the others lie beyond the radius),
+    the shared slot (``Plan.far``) on the point's side, so the columns are consecutive."""
     p = plan(radius, strict)
+    column = _block_offsets(radius, strict)
     base, f = cell_split(xy - 0.5, tol)
-    fixed = _fixed_column(p.fixed)
     if p.far is None:
-        off = fixed
-    else:
-        off = np.empty((2, len(p.fixed) + 1, f.shape[1]))
-        off[:, :-1] = fixed
-        off[:, -1] = p.far + 1.0
-        np.copyto(off[:, -1], -float(p.far), where=f < 0.5)
-    return base[:, None, :] + off, f[:, None, :] - off
+        if p.fixed[0] != 0:
+            base += p.fixed[0]
+        return Split(base, f, column)
+    right = f >= 0.5  # the shared slot is the block's last column, not its first
+    base += right
+    base -= p.far
+    f -= right  # exact (f >= 0.5 there); then f - k is computed as the plan's fx - (k + 1)
+    return Split(base, f, column)
 
 
-def squared_distances(offsets):
-    """``(a, a, n)``: ``dx^2 + dy^2`` of every candidate, rows outer."""
-    sq = np.square(offsets)
-    return sq[1][:, None, :] + sq[0][None, :, :]
+def squared_distances(squares):
+    """``(width * width, n)``: ``dx^2 + dy^2`` of every candidate, rows outer, from
+    :meth:`Split.squares`."""
+    a, n = squares.shape[1:]
+    return outer(np.add, squares[1], squares[0], np.empty((a * a, n)))
 
 
-def unsettled(key, lo: float, hi: float, below_hi=None):
+def unsettled(key, lo: float, hi: float, below_hi=None, below_lo=None):
     """Flat indices of the candidates whose ``key`` lies in ``[lo, hi)`` (within
     :data:`MARGIN` of a decision's edge), or None when there are none (the common case, found
-    by counting). ``below_hi``: ``key < hi`` if the caller has it."""
+    by counting). ``below_hi``, ``below_lo``: ``key < hi``, ``key < lo`` if the caller has
+    them."""
     if below_hi is None:
         below_hi = key < hi
-    below_lo = key < lo
+    if below_lo is None:
+        below_lo = key < lo
     if np.count_nonzero(below_lo) == np.count_nonzero(below_hi):
         return None
     return np.flatnonzero(below_hi ^ below_lo)  # (key < lo implies key < hi)
 
 
-def settle(values, key, lo: float, hi: float, exact) -> None:
-    """Decide again, in place, the candidates whose ``key`` lies in ``[lo, hi)``: their values
-    become ``exact(flat indices)``."""
-    found = unsettled(key, lo, hi)
-    if found is not None:
-        values.reshape(-1)[found] = exact(found)
+def settle(values, found, split: Split, radius: float, strict: bool, weight, weight1=None):
+    """Decide again, in place, the candidates at flat indices ``found`` (within
+    :data:`MARGIN` of the edge) as the methods define them: ``weight`` (of an array; ``weight1``
+    of a float, the same operations) of ``hypot(dx, dy)`` within the radius, 0 beyond.
+
+    A few candidates (a shape through tactor centres puts neighbours at exactly the radius)
+    are decided one by one with ``weight1`` where the method has one: numpy's ``hypot`` of two
+    floats is the array's, and ``weight1`` takes the same float operations as ``weight``.
+    """
+    flat = values.reshape(-1)
+    if weight1 is None or len(found) > 16:
+        flat[found] = exact(split.offsets(), radius, strict, weight)(found)
+        return
+    n = split.f.shape[1]
+    fx, fy = split.f
+    ks = split.column[:, 0].tolist()
+    a = len(ks)
+    hypot = np.hypot
+    for k in found.tolist():
+        slot, point = divmod(k, n)
+        row, col = divmod(slot, a)
+        dx, dy = float(fx[point]) - ks[col], float(fy[point]) - ks[row]
+        # hypot(x, 0) is |x| exactly (C99 F.10.4.3): the common case, a shape through tactor
+        # centres putting a neighbour at exactly the radius
+        d = abs(dx) if dy == 0.0 else abs(dy) if dx == 0.0 else float(hypot(dx, dy))
+        flat[k] = weight1(d) if (d < radius if strict else d <= radius) else 0.0
 
 
 def exact(offsets, radius: float, strict: bool, weight):
     """``exact(found)`` for :func:`settle`: the weights of candidates at flat indices ``found``
-    of an ``(a, a, n)`` array as the methods define them, ``weight(hypot(dx, dy))`` within the
-    radius and 0 beyond."""
+    of a ``(width * width, n)`` array as the methods define them, ``weight(hypot(dx, dy))``
+    within the radius and 0 beyond."""
 
     dx, dy = offsets
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry import cell_split, cell_split1
-from ._cells import PAIR, Cells, stack_points
+from ._cells import Block, stack_points
 
 NAME = "AS"
 TITLE = "area sampling"
@@ -39,18 +39,20 @@ def sample(shape, x, y, t, tol):
 
 
 def sample_cells(shape, xy, t, tol):
-    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Block`), for the points
     ``xy`` (``(2, n)``: x, then y).
 
-    Columns ``c, c + 1`` and rows ``r, r + 1`` of the box's lower-left cell; the areas are the
-    products of the widths ``(1 - fx, fx)`` and ``(1 - fy, fy)``, rows outer.
+    The 2 x 2 block of columns ``c, c + 1`` and rows ``r, r + 1`` from the box's lower-left
+    cell; the areas are the products of the widths ``(1 - fx, fx)`` and ``(1 - fy, fy)``, rows
+    outer.
     """
     cr, f = cell_split(xy - 0.5, tol)
-    widths = np.empty((2, 2, f.shape[1]))  # [axis, (1 - f, f), point]
+    n = f.shape[1]
+    widths = np.empty((2, 2, n))  # [axis, (1 - f, f), point]
     np.subtract(1.0, f, out=widths[:, 0])
     widths[:, 1] = f
-    cells = cr[:, None, :] + PAIR
-    return Cells(cells[0], cells[1], widths[1][:, None, :] * widths[0][None, :, :])
+    values = np.multiply(widths[1][:, None, :], widths[0][None, :, :], out=np.empty((2, 2, n)))
+    return Block(cr, values.reshape(4, n), 2, 2)
 
 
 def sample1(shape, x, y, t, tol):

@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from . import _radial
-from ._cells import Cells, outer, stack_points
+from ._cells import Block, outer, stack_points
 
 NAME = "GS"
 TITLE = "Gaussian spread (this project)"
@@ -64,27 +64,33 @@ def sample(shape, x, y, t, tol, sigma=0.5):
 
 
 def sample_cells(shape, xy, t, tol, sigma=0.5):
-    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`).
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Block`).
 
     The weight is the product of per-axis Gaussians, ``exp(k dx^2) exp(k dy^2)`` with
-    ``k = -1 / (2 sigma^2)``, cut below :data:`CUTOFF`; a weight within
-    :data:`~._radial.MARGIN` of the cut is decided as ``exp(k hypot(dx, dy)^2)`` decides.
+    ``k = -1 / (2 sigma^2)``: one exponential per column and row of the block, not per
+    tactor. It is cut below :data:`CUTOFF`; a weight within :data:`~._radial.MARGIN` of the
+    cut is decided as ``exp(k hypot(dx, dy)^2)`` decides.
     """
     k = -0.5 / (sigma * sigma)
     reach = radius(sigma)
-    cells, offsets = _radial.candidates(xy, tol, reach, False)
-    e = np.square(offsets)
+    split = _radial.block(xy, tol, reach, False)
+    e = split.squares()
     e *= k
     ex, ey = np.exp(e, out=e)
-    w = outer(np.multiply, ey, ex, np.empty((_radial.plan(reach, False).leading, ex.shape[1])))
+    a, n = ex.shape
+    w = outer(np.multiply, ey, ex, np.empty((a * a, n)))
     lo, hi = CUTOFF * (1.0 - _radial.MARGIN), CUTOFF * (1.0 + _radial.MARGIN)
     below = w < hi
     found = _radial.unsettled(w, lo, hi, below)
     np.putmask(w, below, 0.0)
     if found is not None:
-        exact = _radial.exact(offsets, reach, False, lambda d: _cut(np.exp(k * d * d)))
-        w.reshape(-1)[found] = exact(found)
-    return Cells(cells[0], cells[1], w)
+        _radial.settle(w, found, split, reach, False, _exact_weight(k))
+    return Block(split.origin, w, a, a)
+
+
+@functools.lru_cache(maxsize=64)
+def _exact_weight(k: float):
+    return lambda d: _cut(np.exp(k * d * d))
 
 
 def _cut(w):

@@ -34,8 +34,8 @@ import math
 
 import numpy as np
 
-from ..geometry import SNAP_REL, Pieces, cell_floor, cell_split, cell_split1
-from ._cells import PAIR, ZIP, Cells, stack_points
+from ..geometry import SNAP_REL, Pieces, cell_floor, cell_split, cell_split1, clamp
+from ._cells import PAIR, ZIP, Cells, CellTable, Indexed, stack_points
 from .midpoint import lookup, on_stroke, tactor_of_cell, to_cells
 
 NAME = "IM"
@@ -251,9 +251,13 @@ def sample(shape, x, y, t, tol):
 
 
 def sample_cells(shape, xy, t, tol):
-    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
-    ``xy`` (``(2, n)``): two candidates per point, added up (in a hand-over both may name one
-    tactor)."""
+    """:func:`sample` in the renderer's batch form, for the points ``xy`` (``(2, n)``): two
+    candidates per point, entries of the shape's :class:`PieceTable` (:class:`~._cells.Indexed`);
+    for a shape whose strokes span too many cells to tabulate, :class:`~._cells.Cells` added up
+    (in a hand-over both may name one tactor)."""
+    table = piece_table(shape)
+    if table is not None:
+        return table.sample(xy, t, tol)
     cols, rows, values = _stroke_cells(shape, xy, t, tol)
     keys = keyframes_of(shape)
     if keys is not None:
@@ -266,6 +270,99 @@ def sample_cells(shape, xy, t, tol):
             np.copyto(values[1], w, where=across)
             np.subtract(1.0, w, out=values[0], where=across)
     return Cells(cols, rows, values, ZIP, add=True)
+
+
+class PieceTable:
+    """Everything IM's batch path needs about a shape, per piece of the trace: the pieces
+    where neither the stroke nor the keyframe segment changes, so one lookup of ``t`` finds
+    both (the strokes' and the keyframes' lookups agree with it: both take a point at a break
+    into the later piece).
+
+    Per piece, ``params`` holds the stroke's ``axis, lo, hi, first, last`` (as
+    :class:`~tactile_core.rendering.shapes.Strokes`), its offset into MM's table of cells
+    (:func:`~.midpoint.lookup`), and the segment's hand-over flag, ``t0``, ``t1``, width and the
+    two keyframes' entries of ``cells`` (MM's cells, then the keyframes', then one cell off every
+    grid). A hand-over between two keyframes on one tactor lights it at 1 from the first entry
+    (``t1`` and the width infinite, so ``w = 0``) and sends the second nowhere.
+    """
+
+    def __init__(self, shape, table, keys: Keyframes | None):
+        strokes = shape.strokes
+        points = {0.0}
+        for run in strokes.runs():
+            points.update((run.t_in % 1.0, run.t_out % 1.0))
+        if keys is not None:
+            points.update(v for v in keys.t.tolist() if 0.0 < v < 1.0)
+        points = sorted(v for v in points if 0.0 <= v < 1.0)
+        ends = [*points[1:], 1.0]
+        base = len(table.cols)
+        cols, rows = [*table.cols.tolist()], [*table.rows.tolist()]
+        if keys is not None:
+            cols += keys.cols.tolist()
+            rows += keys.rows.tolist()
+        nowhere = len(cols)
+        self.cells = CellTable([*cols, -1.0], [*rows, -1.0])
+        columns = []
+        for start, end in zip(points, ends):
+            mid = 0.5 * (start + end)
+            stroke = strokes.locate1(mid)
+            row = strokes.rows1[stroke]
+            column = [*row[:5], float(table.offset[stroke]), 0.0, 0.0, np.inf, np.inf, 0.0, 0.0]
+            if keys is not None:
+                j = min(max(bisect.bisect_right(keys._t1, mid) - 1, 0), len(keys._handover1) - 1)
+                t0, t1 = keys._t1[j], keys._t1[j + 1]
+                same = keys._cells1[j] == keys._cells1[j + 1]
+                if keys._handover1[j]:
+                    column[6:] = [1.0, t0, np.inf if same else t1,
+                                  np.inf if same or t1 <= t0 else t1 - t0,
+                                  base + j, nowhere if same else base + j + 1]  # fmt: skip
+            columns.append(column)
+        self.params = np.array(columns, dtype=np.float64).T.copy()
+        self.params.flags.writeable = False
+        self.pieces = Pieces(points, len(points) - 1) if len(points) > 1 else None
+        self.any_handover = bool(self.params[6].any())
+
+    def sample(self, xy, t, tol) -> Indexed:
+        """The candidates of the points ``xy`` at ``t`` (see :func:`sample_cells`)."""
+        if self.pieces is None:
+            p = self.params  # one piece: its column broadcasts
+        else:
+            p = self.params.take(self.pieces.of(t), axis=1)
+        u = clamp(np.where(p[0] == 0.0, xy[0], xy[1]), p[1], p[2])
+        k, w = cell_split(u - 0.5, tol)  # w: share of cell k + 1
+        # Between a stroke's end and its end cell's centre, the end tactor keeps everything:
+        # w = 1 before the first centre (k < first), w = 0 after the last (k + 1 > last).
+        np.putmask(w, k < p[3], 1.0)
+        np.putmask(w, k >= p[4], 0.0)
+        picks = np.empty((2, len(w)))
+        np.add(k, p[5], out=picks[0])  # MM's cells of major cells k and k + 1
+        np.add(picks[0], 1.0, out=picks[1])
+        if self.any_handover:
+            across = p[6] != 0.0
+            if across.any():
+                d0 = t - p[7]
+                h = d0 / p[9]
+                # Within _T_TOL of the segment's end w is 1, of its start 0.
+                np.putmask(h, p[8] - t <= _T_TOL, 1.0)
+                np.putmask(h, d0 <= _T_TOL, 0.0)
+                np.copyto(w, clamp(h, 0.0, 1.0), where=across)
+                np.copyto(picks, p[10:12], where=across)
+        values = np.empty((2, len(w)))
+        np.subtract(1.0, w, out=values[0])
+        values[1] = w
+        return Indexed(picks.astype(np.intp), self.cells, values)
+
+
+def piece_table(shape) -> PieceTable | None:
+    """The shape's :class:`PieceTable`, built once and kept with its strokes; None when its
+    strokes span too many cells for MM's table (:data:`~.midpoint.MAX_LOOKUP`)."""
+    strokes = shape.strokes
+    try:
+        return strokes.im_pieces
+    except AttributeError:
+        table = lookup(strokes)
+        strokes.im_pieces = None if table is None else PieceTable(shape, table, keyframes_of(shape))
+        return strokes.im_pieces
 
 
 def sample1(shape, x, y, t, tol):

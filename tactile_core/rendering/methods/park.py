@@ -39,7 +39,7 @@ import math
 import numpy as np
 
 from ..geometry import cell_split, cell_split1
-from ._cells import Cells, outer, stack_points
+from ._cells import Block, Cells, outer, stack_points
 
 NAME = "PK"
 TITLE = "inverse distance, 3 tactors (Park 2016)"
@@ -121,37 +121,41 @@ def sample(shape, x, y, t, tol, blend=0.0):
 
 
 def sample_cells(shape, xy, t, tol, blend=0.0):
-    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`), for the points
-    ``xy`` (``(2, n)``): per axis the nearest corner of the square of centres around each point
-    and the other one, and of their pairs the first three, rows outer: (nearest, nearest),
-    (other, nearest) and (nearest, other), which leaves out the corner opposite the nearest
-    (with ``blend``: every tactor a crossfade may light). Distances are
-    ``sqrt(dx^2 + dy^2)``."""
+    """:func:`sample` in the renderer's batch form, for the points ``xy`` (``(2, n)``): per
+    axis the nearest corner of the square of centres around each point and the other one, and
+    of their pairs the first three, rows outer: (nearest, nearest), (other, nearest) and
+    (nearest, other), which leaves out the corner opposite the nearest (a flipped 2 x 2
+    :class:`~._cells.Block`; with ``blend``: every tactor a crossfade may light, as
+    :class:`~._cells.Cells`). Distances are ``sqrt(dx^2 + dy^2)``."""
     cr, f = cell_split(xy - 0.5, tol)
     if blend > 0.0:
         return _blended_cells(cr[0], cr[1], f[0], f[1], blend)
+    n = f.shape[1]
     # Offsets of the nearest corner (1 from the centre line on: a tie goes upper/right) and
     # of the other one.
-    near_other = np.empty((2, 2, f.shape[1]))
+    near_other = np.empty((2, 2, n))
     near = near_other[:, 0]
     np.multiply(f, 2.0, out=near)
     np.floor(near, out=near)
     np.subtract(1.0, near, out=near_other[:, 1])
-    sq = np.square(f[:, None, :] - near_other)
-    d = outer(np.add, sq[1], sq[0], np.empty((3, f.shape[1])))
+    sq = np.subtract(f[:, None, :], near_other)
+    np.square(sq, out=sq)
+    d = outer(np.add, sq[1], sq[0], np.empty((3, n)))
     np.sqrt(d, out=d)
-    on = np.flatnonzero(d[0] == 0.0)  # on a tactor's centre: it alone, at 1
-    np.maximum(d[0], 1e-300, out=d[0])  # (only there: elsewhere d >= the snap tolerance)
+    on = not d[0].all()  # a point on a tactor's centre (only there is a distance 0)
+    if on:
+        np.maximum(d[0], 1e-300, out=d[0])
     w = np.divide(1.0, d, out=d)
     total = w[0] + w[1]
     total += w[2]
     w /= total
     values = np.sqrt(w, out=w)
-    if on.size:
-        values[:, on] = 0.0
-        values[0, on] = 1.0
-    cells = cr[:, None, :] + near_other
-    return Cells(cells[0], cells[1], values)
+    if on:  # there the centre's tactor is at 1 (1e300 / (1e300 + 2)), the others ~1e-150: off
+        # (elsewhere none is below ~1e-7: a point within the snap tolerance of a centre is on it)
+        np.putmask(values, values < 1e-100, 0.0)
+    cr *= 2.0
+    cr += near  # the block's first cell per axis, flagged where it is the upper one
+    return Block(cr, values, 2, 2, flip=True)
 
 
 def _blended_cells(c, r, fx, fy, blend):

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..geometry import clamp
 from . import _radial
-from ._cells import Cells, stack_points
+from ._cells import Block, stack_points
 
 NAME = "RO"
 TITLE = "roll-off (Syntacts)"
@@ -60,6 +60,18 @@ def linear(x):
 CURVES = {"smoothstep": smoothstep, "linear": linear}
 
 
+def _smoothstep_over(x: np.ndarray) -> np.ndarray:
+    """:func:`smoothstep` of an array, computed over ``x`` (same operations, same numbers)."""
+    out = np.square(x)
+    np.multiply(x, -2.0, out=x)
+    x += 3.0  # 3 - 2x, as rounded once
+    out *= x
+    return out
+
+
+_CURVES_OVER = {"smoothstep": _smoothstep_over, "linear": linear}
+
+
 def sample(shape, x, y, t, tol, r=1.0, curve="smoothstep"):
     """Tactors within ``r`` of the points ``(x, y)`` and their roll-off gains.
 
@@ -86,21 +98,31 @@ def sample(shape, x, y, t, tol, r=1.0, curve="smoothstep"):
 
 
 def sample_cells(shape, xy, t, tol, r=1.0, curve="smoothstep"):
-    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`): distances from
-    ``dx^2 + dy^2``; a tactor within :data:`~._radial.MARGIN` of ``r`` is decided as
-    ``hypot(dx, dy) < r`` decides."""
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Block`): distances
+    ``sqrt(dx^2 + dy^2)``; a tactor within :data:`~._radial.MARGIN` (relative) of ``r`` is
+    decided as ``hypot(dx, dy) < r`` decides."""
+    inv = 1.0 / r
+    split = _radial.block(xy, tol, r, True)
+    u = np.sqrt(_radial.squared_distances(split.squares()))
+    if inv != 1.0:
+        u *= inv
+    np.subtract(1.0, u, out=u)  # 1 - d / r: within MARGIN of 0 at the edge
+    edge = np.abs(u)
+    found = np.flatnonzero(edge < _radial.MARGIN) if edge.min() < _radial.MARGIN else None
+    del edge
+    np.maximum(u, 0.0, out=u)  # 0 beyond r (within the margin: decided below)
+    values = _CURVES_OVER[curve](u)
+    if found is not None:
+        _radial.settle(values, found, split, r, True, _exact_weight(r, curve), _weight1(r, curve))
+    return Block(split.origin, values, split.width, split.width)
+
+
+@functools.lru_cache(maxsize=64)
+def _exact_weight(r: float, curve: str):
+    """The batch path's weight of exact distances (arrays), built once per parameter set."""
     inv = 1.0 / r
     s = CURVES[curve]
-    cells, offsets = _radial.candidates(xy, tol, r, True)
-    d2 = _radial.squared_distances(offsets)
-    u = np.sqrt(d2)
-    u *= -inv
-    u += 1.0
-    values = s(np.maximum(u, 0.0, out=u))  # 0 beyond r (but within the margin: settled)
-    exact = _radial.exact(offsets, r, True, lambda d: s(clamp(1.0 - d * inv, 0.0, 1.0)))
-    _radial.settle(values, d2, r * r * (1.0 - _radial.MARGIN), r * r * (1.0 + _radial.MARGIN),
-                   exact)  # fmt: skip
-    return Cells(cells[0], cells[1], values)
+    return lambda d: s(clamp(1.0 - d * inv, 0.0, 1.0))
 
 
 def sample1(shape, x, y, t, tol, r=1.0, curve="smoothstep"):

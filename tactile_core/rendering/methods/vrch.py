@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _radial
-from ._cells import Cells, stack_points
+from ._cells import Block, stack_points
 
 NAME = "VRCH"
 TITLE = "every tactor within r (VRCH-Server, one contact)"
@@ -55,15 +55,18 @@ def sample(shape, x, y, t, tol, r=1.0):
 
 
 def sample_cells(shape, xy, t, tol, r=1.0):
-    """:func:`sample` in the renderer's batch form (:class:`~._cells.Cells`): within ``r`` by
+    """:func:`sample` in the renderer's batch form (:class:`~._cells.Block`): within ``r`` by
     ``dx^2 + dy^2 < r^2``, and as ``hypot(dx, dy) < r`` decides within
     :data:`~._radial.MARGIN` of the edge."""
-    cells, offsets = _radial.candidates(xy, tol, r, True)
-    d2 = _radial.squared_distances(offsets)
+    split = _radial.block(xy, tol, r, True)
+    d2 = _radial.squared_distances(split.squares())
     lo, hi = r * r * (1.0 - _radial.MARGIN), r * r * (1.0 + _radial.MARGIN)
-    values = (d2 < lo).astype(np.float64)
-    _radial.settle(values, d2, lo, hi, _radial.exact(offsets, r, True, np.ones_like))
-    return Cells(cells[0], cells[1], values)
+    inside = d2 < lo
+    found = _radial.unsettled(d2, lo, hi, below_lo=inside)
+    values = inside.astype(np.float64)
+    if found is not None:
+        _radial.settle(values, found, split, r, True, np.ones_like, _one)
+    return Block(split.origin, values, split.width, split.width)
 
 
 def sample1(shape, x, y, t, tol, r=1.0):

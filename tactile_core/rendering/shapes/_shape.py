@@ -95,8 +95,10 @@ class Shape:
 
 
 def _column(point) -> np.ndarray:
-    """A point as a ``(2, 1)`` column, to broadcast against ``(2, n)`` rows."""
-    return np.array(point, dtype=np.float64).reshape(2, 1)
+    """A point as a read-only ``(2, 1)`` column, to broadcast against ``(2, n)`` rows."""
+    column = np.array(point, dtype=np.float64).reshape(2, 1)
+    column.flags.writeable = False
+    return column
 
 
 def _fmt(*values: float) -> str:
@@ -137,10 +139,14 @@ class Line(Shape):
         return s * x0 + t * x1, s * y0 + t * y1
 
     def xy_rows(self, t):
-        s = 1.0 - t
-        out = s * _column(self.p0)
-        out += t * _column(self.p1)
+        p0, p1 = self._columns
+        out = (1.0 - t) * p0
+        out += t * p1
         return out
+
+    @cached_property
+    def _columns(self) -> tuple[np.ndarray, np.ndarray]:
+        return _column(self.p0), _column(self.p1)
 
     def point(self, t):
         (x0, y0), (x1, y1) = self.p0, self.p1
@@ -211,8 +217,12 @@ class Circle(Shape):
         np.cos(angle, out=out[0])
         np.sin(angle, out=out[1])
         out *= self.radius
-        out += _column(self.center)
+        out += self._center_column
         return out
+
+    @cached_property
+    def _center_column(self) -> np.ndarray:
+        return _column(self.center)
 
     def point(self, t):
         cx, cy = self.center
