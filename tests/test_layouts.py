@@ -259,3 +259,11 @@ def test_pk_blend_is_refused_on_layouts():
 def test_bad_layouts_are_refused_naming_the_field(positions, kwargs, words):
     with pytest.raises(ValueError, match=words):
         Layout(positions, **kwargs)
+
+
+def test_free_points_beyond_the_coordinate_bound_are_refused():
+    # 1e300 reached a float -> int cast (a RuntimeWarning, an error under -W error)
+    for grid in (tc.Grid(), BELT):
+        with pytest.raises(ValueError, match="x and y must be coordinates within 1e\\+06"):
+            tc.render_xy("RO", 1e300, 0.0, grid=grid)
+    assert tc.render_xy("AS", [1e6, -1e6], 0.5).sum() == 0.0  # at the bound: off the array

@@ -447,6 +447,11 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     shape = x.shape
     if not (np.isfinite(x).all() and np.isfinite(y).all()):
         raise ValueError("x and y must be finite coordinates")
+    if x.size and max(np.abs(x).max(), np.abs(y).max()) > _validate.MAX_COORD:
+        raise ValueError(
+            f"x and y must be coordinates within {_validate.MAX_COORD:g} grid units of the origin, "
+            f"got {max(np.abs(x).max(), np.abs(y).max()):g}"
+        )
     x, y = x.reshape(-1), y.reshape(-1)
     _check_size(x.size, grid)
     tol = SNAP_REL * np.maximum(np.maximum(np.abs(x), np.abs(y)), 1.0)
