@@ -4,7 +4,7 @@ Timings are the minimum over repeated runs (the least disturbed by other process
 ``time.perf_counter`` around many calls; they are reported, never asserted in tests.
 
 Inside, one module per part: ``_common`` (scenes, timer, :class:`Table`), ``_batch`` and
-``_live`` (the rendering cost), ``_accuracy`` (speed against accuracy), ``_device`` (the link
+``_live`` (the rendering cost), ``_layouts`` (on actuators anywhere), ``_accuracy`` (speed against accuracy), ``_device`` (the link
 into the emulator), ``_audio`` (the audio callback's cost per block), ``_methods``,
 ``_staircase``, ``_tuning`` and ``_validation`` (the tuning against other observers, QUEST+);
 :func:`run` picks the parts.
@@ -25,6 +25,7 @@ from ._common import _cycling as _cycling
 from ._device import _Busy as _Busy
 from ._device import _EmulatorProcess as _EmulatorProcess
 from ._device import device_tables
+from ._layouts import layouts_table
 from ._link import link_table
 from ._live import live_table
 from ._methods import methods_table, winners_table
@@ -49,6 +50,7 @@ __all__ = [
     "dense_area_sampling",
     "device_tables",
     "fit_table",
+    "layouts_table",
     "link_table",
     "live_table",
     "methods_table",
@@ -78,6 +80,7 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
         show(batch_table(sizes))
         show(ratio_table(repeat=10 if quick else 40))
         show(live_table())
+        show(layouts_table())
         show(accuracy_table(quick=quick))
     if part in ("methods", "all"):
         from ..rendering.methods import method_names

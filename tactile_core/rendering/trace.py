@@ -481,6 +481,14 @@ class LiveFrames:
     def _compute_layout(self, start: float) -> tuple:
         """:meth:`compute` on a layout that is not a grid."""
         trace, shape, entries1 = self.trace, self.trace.shape, self._layout.entries1
+        if len(self._offsets) == 1:  # point sampling: no sums across sub-samples
+            t = trace.parameter1(start + self._offsets[0])
+            if t is None:
+                return ()
+            mu, gamma, gain = self.mu, self.gamma, self.gain
+            return tuple(
+                (i, correct1(v, mu, gamma, gain)) for i, v in layout_entries(shape, entries1, t)
+            )
         acc: dict[int, float] = {}
         for offset in self._offsets:
             t = trace.parameter1(start + offset)

@@ -249,7 +249,11 @@ def _ba(layout):
         index, weight = cells.weights(x, y, tol)
         out = np.zeros((len(index), size + 1))  # slot ``size``: unused (-1)
         rows = np.arange(len(index))[:, None]
-        np.add.at(out, (rows, np.where(index >= 0, index, size)), weight)
+        slots = np.where(index >= 0, index, size)
+        if cells.repeats:  # an actuator twice in one cell: add
+            np.add.at(out, (rows, slots), weight)
+        else:  # one slot per actuator (unused slots all write 0 to the spare)
+            out[rows, slots] = weight
         return out[:, :size]
 
     if not cells.repeats:
