@@ -30,7 +30,9 @@ def layouts_table(rate_hz: float = 300.0, samples: int = 2000) -> Table:
         for method in LAYOUT_METHODS:
             live = LiveFrames(trace, method, Sampling(rate_hz), MU, GAMMA, layout)
             scalar = best_time(_cycling(live.compute, live.cycle))
-            batch = best_time(lambda m=method: render(shape, m, t, grid=layout), repeat=5)
+            batch = best_time(
+                lambda m=method, s=shape, t=t, g=layout: render(s, m, t, grid=g), repeat=5
+            )
             rows.append([name, layout.size, method, f"{scalar * 1e6:.2f}",
                          f"{batch / samples * 1e6:.3f}"])  # fmt: skip
     return Table(
