@@ -5,8 +5,9 @@ Timings are the minimum over repeated runs (the least disturbed by other process
 
 Inside, one module per part: ``_common`` (scenes, timer, :class:`Table`), ``_batch`` and
 ``_live`` (the rendering cost), ``_layouts`` (on actuators anywhere), ``_accuracy`` (speed
-against accuracy), ``_device`` (the link into the emulator), ``_audio`` (the audio callback's cost per block), ``_methods``,
-``_staircase``, ``_tuning`` and ``_validation`` (the tuning against other observers, QUEST+);
+against accuracy), ``_device`` (the link into the emulator), ``_audio`` (the audio callback's
+cost per block), ``_methods``, ``_staircase``, ``_tuning`` and ``_validation`` (the tuning
+against other observers, QUEST+);
 :func:`run` picks the parts.
 """
 
