@@ -89,10 +89,14 @@ def _render_profile(args, wav: bool):
         grid = profile.grid
         for name, value in (("cols", grid.cols), ("rows", grid.rows)):
             given = getattr(args, name)
+            if given is not None and not profile.is_grid:  # its actuators, not a grid's cells
+                raise UsageError(f"--{name} applies to a grid; the profile {profile.name} is a "
+                                 f"layout of {profile.channels} actuators")  # fmt: skip
             if given is not None and given != value:
                 raise UsageError(f"--{name} {given} disagrees with the profile {profile.name}'s "
                                  f"{grid.cols} x {grid.rows} grid")  # fmt: skip
-            setattr(args, name, value)
+            if profile.is_grid:  # a layout's channel strip (up to 255 x 1) is not --cols
+                setattr(args, name, value)
     args.cols = 5 if args.cols is None else args.cols
     args.rows = 6 if args.rows is None else args.rows
     return profile

@@ -111,6 +111,10 @@ class Layout:
                 f"layout names must be {n} strings of 1-32 characters (one per actuator), got "
                 f"{_validate.shown(self.names)}"
             )
+        for i, name in enumerate(names):
+            problem = name_problem(name)
+            if problem:
+                raise ValueError(f"layout names[{i}] {problem}")
         if len(set(names)) != n:
             twice = sorted({s for s in names if names.count(s) > 1})
             raise ValueError(f"layout names must differ, got {twice[0]!r} twice")
@@ -270,6 +274,29 @@ def _positions(positions) -> np.ndarray:
             f"{_validate.MAX_COORD:g}, got {_validate.shown(tuple(pts[i].tolist()))}"
         )
     return pts
+
+
+def name_problem(name) -> str:
+    """What is wrong with an actuator's name ("" if nothing): 1-32 printable characters, no
+    comma or double quote, no space at either end.
+
+    Names head the columns of ``tactile render``'s CSV and the recorder's, and label LSL's
+    channels: a newline, comma or quote in one gave a header with the wrong number of columns.
+
+    >>> name_problem("front-left")
+    ''
+    >>> name_problem("a,b")
+    "must not hold a comma or a double quote, got 'a,b'"
+    """
+    if not isinstance(name, str) or not 0 < len(name) <= 32:
+        return f"must be 1-32 characters, got {_validate.shown(name)}"
+    if not name.isprintable():
+        return f"must be printable characters (no tab, newline or control), got {name!r}"
+    if "," in name or '"' in name:
+        return f"must not hold a comma or a double quote, got {name!r}"
+    if name != name.strip():
+        return f"must not start or end with a space, got {name!r}"
+    return ""
 
 
 def _groups(groups, n: int) -> tuple:
