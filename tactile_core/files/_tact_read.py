@@ -168,7 +168,10 @@ class _Reader:
                 self.fail(field, f"must be a number, got {_validate.shown(value)}")
         if not _validate.is_number(value):
             self.fail(field, f"must be a number, got {_kind(value)} {_validate.shown(value)}")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:  # a JSON integer of hundreds of digits
+            value = float("inf")
         if not lo <= value <= hi:
             self.fail(field, f"must be within [{lo:g}, {hi:g}], got {value:g}")
         return value
