@@ -217,6 +217,8 @@ class LiveController(QtCore.QObject):
             self._post(str(payload))
         elif kind == "lsl-opened":
             self.lsl_status = f"{payload['source_id']}-markers"
+            if payload.get("note"):  # another program on this machine has the usual id
+                self._post(payload["note"])
         elif kind == "lsl-failed":
             self.lsl_markers, self.lsl_status = False, "off"
             self.error_raised.emit(f"Lab Streaming Layer: {payload}")

@@ -172,15 +172,22 @@ def cmd_stream(args) -> int:
         check_output(args.record, (".csv", ".npz"), "--record")
     stop = threading.Event()
     _install_stop_handlers(stop)
+    from ..live import LslError
+    from ._serve import lsl_outlets
+
+    try:
+        lsl = lsl_outlets(args, profile, scene.rate_hz)
+    except LslError as exc:
+        print(f"tactile stream: error: {exc}", file=sys.stderr)
+        return 1
     try:
         link = open_link(args.device, profile)
     except LinkError as exc:
         print(f"tactile stream: {exc}", file=sys.stderr)
+        if lsl is not None:
+            lsl.close()
         return 1
     recorder = Recorder(profile.array) if args.record else None
-    from ._serve import lsl_outlets
-
-    lsl = lsl_outlets(args, profile, scene.rate_hz)
     streamer = Streamer(
         link,
         profile,

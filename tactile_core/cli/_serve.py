@@ -121,12 +121,18 @@ def add_serve_parser(sub) -> None:
 
 
 def lsl_outlets(args, profile, rate_hz: float):
-    """The LSL outlets ``--lsl`` / ``--lsl-levels`` ask for, or None."""
+    """The LSL outlets ``--lsl`` / ``--lsl-levels`` ask for, or None; opened before the device
+    so that outlets that cannot open (:class:`~tactile_core.live.LslError`, which the command
+    reports) never leave a device half-started. A source id taken by another program on this
+    machine is said on standard error."""
     if not (getattr(args, "lsl", False) or getattr(args, "lsl_levels", False)):
         return None
     from ..live import LslOutlets
 
-    return LslOutlets(profile, rate_hz=rate_hz, markers=True, levels=args.lsl_levels)
+    outlets = LslOutlets(profile, rate_hz=rate_hz, markers=True, levels=args.lsl_levels)
+    if outlets.note:
+        print(f"tactile {args.command}: {outlets.note}", file=sys.stderr, flush=True)
+    return outlets
 
 
 def _plain(data: dict) -> dict:
@@ -170,17 +176,23 @@ def cmd_serve(args) -> int:
     """Serve OSC until stopped; all off on every way out; print the counters."""
     from ..device.link import LinkError, open_link
     from ..device.streamer import Streamer
-    from ..live import OscServer
+    from ..live import LslError, OscServer
 
     profile, scene = _check(args)
     stop = threading.Event()
     _install_stop_handlers(stop)
     try:
+        lsl = lsl_outlets(args, profile, scene.rate_hz)
+    except LslError as exc:
+        print(f"tactile serve: error: {exc}", file=sys.stderr)
+        return 1
+    try:
         link = open_link(args.device, profile)
     except LinkError as exc:
         print(f"tactile serve: {exc}", file=sys.stderr)
+        if lsl is not None:
+            lsl.close()
         return 1
-    lsl = None
     streamer = Streamer(
         link,
         profile,
@@ -201,7 +213,6 @@ def cmd_serve(args) -> int:
         max_rate_hz=args.max_rate,
     )
     try:
-        lsl = lsl_outlets(args, profile, scene.rate_hz)
         if lsl is not None:
             lsl.attach(streamer)
         streamer.start()
