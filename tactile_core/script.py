@@ -31,6 +31,7 @@ from ._shared import validate as _validate
 from .device.link import open_link
 from .device.profile import DeviceProfile, load_profile
 from .device.streamer import Streamer
+from .rendering.points import TIMEOUT_RANGE_S as POINT_TIMEOUT_RANGE_S
 from .rendering.points import LivePoints, free_method
 from .rendering.scene import Scene
 from .rendering.shapes import Shape, parse_shape
@@ -78,13 +79,19 @@ class Presentation:
         """Block until the stimulus has played (or ``timeout_s`` passed); return it.
 
         ``RuntimeError`` if no frame went out within :data:`START_TIMEOUT_S` (the stream
-        stopped: its status says why). Ctrl-C here turns the array off, then propagates.
+        stopped: its status says why). A presentation cut short before its first frame (another
+        ``play``, ``all_off``, ``close``) returns at once, ``interrupted``. Ctrl-C here turns the
+        array off, then propagates.
         """
         try:
-            if not self.started.wait(START_TIMEOUT_S):
-                stats = self._array.streamer.stats
-                raise RuntimeError(f"no frame went out within {START_TIMEOUT_S:g} s: "
-                                   f"[{stats.state}] {stats.status}")  # fmt: skip
+            deadline = time.monotonic() + START_TIMEOUT_S
+            while not (self.started.is_set() or self.done.is_set()):
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    stats = self._array.streamer.stats
+                    raise RuntimeError(f"no frame went out within {START_TIMEOUT_S:g} s: "
+                                       f"[{stats.state}] {stats.status}")  # fmt: skip
+                self.started.wait(min(left, 0.01))
             self.done.wait(timeout_s)
         except KeyboardInterrupt:
             self._array.all_off()
@@ -162,8 +169,7 @@ class Array:
         Presentation
             With the first frame's time once it went out.
         """
-        if self._closed.is_set():
-            raise ValueError("the array is closed")
+        self._check_open()
         if isinstance(shape, str):
             shape = parse_shape(shape)
         kind = {"shape": shape} if isinstance(shape, Shape) else {"source": shape}
@@ -184,6 +190,7 @@ class Array:
         """Put a live point at ``(x, y)`` (grid units) with ``intensity``; it stays until
         :meth:`release` (or, with ``point_timeout_s``, until not refreshed for that long).
         ``method`` must render free points (not MM or IM)."""
+        self._check_open()
         spec = free_method(method).spec
         self.points.set(point_id, x, y, intensity)
         scene = self.streamer.scene
@@ -196,6 +203,10 @@ class Array:
                 self._finish_current()
             self.streamer.set_scene(Scene(method=method, mu=mu, gamma=gamma, rate_hz=self.rate_hz,
                                           source=self.points, marker="script-points"))  # fmt: skip
+
+    def _check_open(self) -> None:
+        if self._closed.is_set():
+            raise ValueError("the array is closed: open_array(...) again to present more")
 
     def release(self, point_id: str | None = None) -> None:
         """Release one live point (None: all)."""
@@ -228,6 +239,7 @@ class Array:
                     pass
 
     def __enter__(self) -> Array:
+        self._check_open()
         return self
 
     def __exit__(self, *exc) -> None:
@@ -306,6 +318,9 @@ def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_m
     if not isinstance(profile, DeviceProfile):
         profile = load_profile(profile)
     lead = _validate.in_range("lead_ms", lead_ms, 0.0, 500.0) / 1e3
+    _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
+    if point_timeout_s is not None:  # named as the caller wrote it, before anything opens
+        _validate.in_range("point_timeout_s", point_timeout_s, *POINT_TIMEOUT_RANGE_S)
     link = open_link(url, profile)
     try:
         array = Array(link, profile, rate_hz=rate_hz, lead_s=lead, lsl=lsl,

@@ -1,0 +1,144 @@
+"""The live features broken as an operator would break them (LSL outlets that cannot open or
+share a source id, the scripting API used wrongly, OSC senders that dodge the rate limit): each
+is refused with one line naming what was wrong, or handled, and nothing is left running."""
+
+import threading
+import time
+import uuid
+
+import pylsl
+import pytest
+
+import tactile_core as tc
+from tactile_core.cli import main as cli
+from tactile_core.device.profile import ProfileError, default_profile
+from tactile_core.live import LslError, LslOutlets
+
+
+def run_cli(capsys, *argv):
+    try:
+        code = cli([str(a) for a in argv])
+    except SystemExit as exc:
+        code = exc.code
+    out = capsys.readouterr()
+    assert "Traceback" not in out.err
+    return code, out.err
+
+
+def stream_threads():
+    return [t.name for t in threading.enumerate() if t.name.startswith("tactile-")]
+
+
+@pytest.fixture
+def outlets_refused(monkeypatch):
+    """liblsl that cannot open an outlet (no free port, no network interface)."""
+
+    def refuse(*args, **kwargs):
+        raise RuntimeError("could not create stream outlet.")
+
+    monkeypatch.setattr(pylsl, "StreamOutlet", refuse)
+
+
+# --- Lab Streaming Layer -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["stream", "--shape", "circle:2.5,3,2", "--method", "AS", "--seconds", "5"],
+        ["serve", "--osc-port", "0", "--seconds", "5", "--status-s", "0"],
+    ],
+)
+def test_lsl_that_cannot_open_an_outlet_is_one_line_and_exit_1(capsys, outlets_refused, argv):
+    """Was a traceback ending in pylsl's 'could not create stream outlet.'; now the command
+    says so before it opens the device, and nothing streams."""
+    code, err = run_cli(capsys, *argv, "--device", "sim", "--lsl")
+    assert code == 1
+    assert f"tactile {argv[0]}: error: Lab Streaming Layer: cannot open the outlets" in err
+    assert "could not create stream outlet" in err and "[streaming]" not in err
+    assert stream_threads() == []
+
+
+def test_open_array_with_lsl_that_cannot_open_names_lsl_and_leaves_nothing_open(outlets_refused):
+    with pytest.raises(LslError, match="Lab Streaming Layer: cannot open the outlets"):
+        tc.open_array("sim", lsl=True)
+    assert stream_threads() == []
+
+
+def test_lsl_outlets_of_one_source_id_at_once_get_their_own():
+    """Two `tactile serve --lsl` of one profile opened two streams with one source id, which a
+    recorder finds a lost stream again by: the second is now SID-2, and says why."""
+    sid = f"tactile-test-{uuid.uuid4().hex[:8]}"
+    profile = default_profile()
+    first = LslOutlets(profile, source_id=sid)
+    try:
+        second = LslOutlets(profile, source_id=sid)
+        try:
+            assert (first.source_id, second.source_id) == (sid, f"{sid}-2")
+            assert (
+                first.note == "" and f"sends {sid}" in second.note and "-2-markers" in second.note
+            )
+            found = pylsl.resolve_bypred(f"starts-with(source_id, '{sid}')", 2, 20)
+            assert sorted(s.source_id() for s in found) == [f"{sid}-2-markers", f"{sid}-markers"]
+        finally:
+            second.close()
+    finally:
+        first.close()
+    again = LslOutlets(profile, source_id=sid)  # closed: the id is free again
+    try:
+        assert again.source_id == sid and again.note == ""
+    finally:
+        again.close()
+
+
+def test_cli_lsl_says_when_its_source_id_is_taken(capsys):
+    held = LslOutlets(default_profile())  # the id tactile stream --lsl would take
+    try:
+        code, err = run_cli(capsys, "stream", "--device", "sim", "--shape", "circle:2.5,3,2",
+                            "--method", "AS", "--seconds", "0.2", "--lsl")  # fmt: skip
+    finally:
+        held.close()
+    assert code == 0
+    assert "tactile stream: LSL: another program on this machine (process " in err
+    assert "sends tactile-palm-5x6; these outlets are tactile-palm-5x6-" in err
+
+
+# --- the scripting API -------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("cut", ["all_off", "play"])
+def test_waiting_for_a_presentation_cut_short_before_its_first_frame_returns_at_once(cut):
+    """wait() waited 5 s, then raised 'no frame went out' with the stream's status, for a
+    presentation that was only replaced or turned off before its first frame."""
+    with tc.open_array("sim") as array:
+        shown = array.play("circle:2.5,3,2", duration_s=1.0, wait=False)
+        if cut == "all_off":
+            array.all_off()
+        else:
+            array.play("line:0.5,0.5,4.5,5.5", duration_s=0.05, wait=False)
+        start = time.monotonic()
+        assert shown.wait() is shown
+        assert time.monotonic() - start < 2.0  # not the 5 s start timeout
+        assert shown.interrupted and shown.done.is_set()
+
+
+def test_a_closed_array_refuses_points_as_it_refuses_play():
+    """point() after close() did nothing and said nothing: the script believed a point on."""
+    array = tc.open_array("sim")
+    array.close()
+    array.close()  # twice: nothing happens
+    for call in (lambda: array.point(2.5, 3.0), lambda: array.play("circle:2.5,3,2"),
+                 array.__enter__):  # fmt: skip
+        with pytest.raises(ValueError, match="the array is closed"):
+            call()
+    array.release()  # harmless: all is off already
+    array.all_off()
+    assert not array.streamer.running
+
+
+def test_open_array_names_its_own_arguments():
+    with pytest.raises(ProfileError, match="device profile must be a name, a path"):
+        tc.open_array("sim", profile=5)
+    with pytest.raises(ValueError, match=r"^point_timeout_s must be within"):
+        tc.open_array("sim", point_timeout_s=-1)
+    assert stream_threads() == []
