@@ -15,13 +15,16 @@ from tactile_core.device.profile import ProfileError, default_profile
 from tactile_core.live import LslError, LslOutlets
 
 
-def run_cli(capsys, *argv):
+def run_cli(capsys, *argv, stdout=None):
+    """``(status, standard error)``; standard output appended to ``stdout`` if given."""
     try:
         code = cli([str(a) for a in argv])
     except SystemExit as exc:
         code = exc.code
     out = capsys.readouterr()
     assert "Traceback" not in out.err
+    if stdout is not None:
+        stdout.append(out.out)
     return code, out.err
 
 
@@ -142,3 +145,48 @@ def test_open_array_names_its_own_arguments():
     with pytest.raises(ValueError, match=r"^point_timeout_s must be within"):
         tc.open_array("sim", point_timeout_s=-1)
     assert stream_threads() == []
+
+
+# --- OSC ---------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("address", ["/tactile/offset", "/tactile/release_everything"])
+def test_serve_flood_guard_reads_only_the_exact_off_and_release_addresses(address):
+    """Every datagram starting with the bytes '/tactile/off' or '/tactile/release' was read
+    whatever the rate: a flood of '/tactile/offset' went round the limit."""
+    from pythonosc.osc_message_builder import OscMessageBuilder
+
+    from .serve_support import ServerRig
+
+    with ServerRig(max_rate_hz=100.0) as rig:  # a bucket of 5 messages
+        sock = rig.client._sock
+        junk = OscMessageBuilder(address).build().dgram
+        for _ in range(200):
+            sock.sendto(junk, rig.server.address)
+        sock.sendto(OscMessageBuilder("/tactile/off").build().dgram, rig.server.address)
+        rig.wait_count("controls", 1)
+        s = rig.server.stats
+        assert s.flood_dropped > 100
+        assert s.unknown + s.flood_dropped == s.datagrams - 1
+
+
+def test_serve_prints_an_ipv6_address_as_a_url(capsys):
+    """The first line was osc://::1:9100, which no URL parser splits into host and port."""
+    import socket
+
+    try:
+        with socket.socket(socket.AF_INET6, socket.SOCK_DGRAM) as probe:
+            probe.bind(("::1", 0))
+    except OSError:
+        pytest.skip("no IPv6 loopback on this machine")
+    out = []
+    code, _ = run_cli(capsys, "serve", "--device", "sim", "--host", "::1", "--osc-port", "0",
+                      "--seconds", "0.1", "--status-s", "0", stdout=out)  # fmt: skip
+    assert code == 0
+    first = out[0].splitlines()[0]
+    assert first.startswith("osc://[::1]:") and int(first.rsplit(":", 1)[1]) > 0
+
+
+def test_serve_refuses_an_empty_host(capsys):
+    code, err = run_cli(capsys, "serve", "--device", "sim", "--host", "", "--osc-port", "0")
+    assert code == 2 and "--host" in err and "Name or service" not in err

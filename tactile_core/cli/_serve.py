@@ -164,6 +164,9 @@ def _check(args):
         raise UsageError(f"--status-s must be 0 or within [0.1, 3600], got {args.status_s:g}")
     if not 1.0 <= args.max_rate <= 1e7:
         raise UsageError(f"--max-rate must be within [1, 10000000], got {args.max_rate:g}")
+    if not args.host.strip():
+        raise UsageError("--host must be an address or a host name (127.0.0.1: this machine "
+                         "only), got ''")  # fmt: skip
     if not 0 <= args.osc_port <= 65535:
         raise UsageError(f"--osc-port must be within [0, 65535], got {args.osc_port}")
     args.seconds = _seconds(args.seconds)
@@ -222,10 +225,11 @@ def cmd_serve(args) -> int:
             print(f"tactile serve: {exc}", file=sys.stderr)
             return 1
         host, port = server.address
-        print(f"osc://{host}:{port}", flush=True)
+        where = f"[{host}]:{port}" if ":" in host else f"{host}:{port}"  # IPv6 in brackets
+        print(f"osc://{where}", flush=True)
         print(
             f"serving {profile.name} ({scene.method}, mu={scene.mu:g}, gamma={scene.gamma:g})"
-            f" to {link.description} on udp {host}:{port}; Ctrl-C to end",
+            f" to {link.description} on udp {where}; Ctrl-C to end",
             file=sys.stderr,
             flush=True,
         )

@@ -41,7 +41,8 @@ DEFAULT_PORT = 9100
 """The UDP port ``tactile serve`` listens on unless told otherwise."""
 MAX_MESSAGES = 256
 """Most messages read from one datagram (a bundle); the rest are counted as dropped."""
-_ALWAYS_READ = (b"/tactile/off", b"/tactile/release")
+_ALWAYS_READ = (b"/tactile/off\x00", b"/tactile/release\x00")
+"""The addresses read whatever the rate, with the NUL that ends them: '/tactile/offset' is not."""
 _SO_RXQ_OVFL = getattr(socket, "SO_RXQ_OVFL", 40 if sys.platform.startswith("linux") else None)
 
 SWITCH_INTERVAL_S = 0.0001
