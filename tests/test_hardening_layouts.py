@@ -159,3 +159,19 @@ def test_render_ended_by_a_signal_leaves_no_temporary_file(tmp_path, signame):
     assert proc.returncode == 128 + getattr(signal, signame), err
     assert "Traceback" not in err and "tactile render: ended by" in err
     assert sorted(os.listdir(tmp_path)) == []
+
+
+@pytest.mark.parametrize(
+    "device, said",
+    [
+        ("", "the device URL is empty"),
+        ("/dev/" + "x" * 100_000, "longer than 1024 characters"),
+        ("audio:" + "x" * 100_000, "longer than 1024 characters"),
+    ],
+)
+def test_stream_device_urls_empty_or_huge_are_one_short_line(capsys, device, said):
+    """'--device ""' said 'no such port:  (is the device plugged in?)'; a 100,000-character
+    URL came back three times in a 300 KB error line."""
+    code, line = run_cli(capsys, "stream", "--device", device, "--shape", "circle:2.5,3,2",
+                         "--method", "AS", "--seconds", "0.1")  # fmt: skip
+    assert code == 1 and said in line and len(line) < 300
