@@ -190,3 +190,14 @@ def test_serve_prints_an_ipv6_address_as_a_url(capsys):
 def test_serve_refuses_an_empty_host(capsys):
     code, err = run_cli(capsys, "serve", "--device", "sim", "--host", "", "--osc-port", "0")
     assert code == 2 and "--host" in err and "Name or service" not in err
+
+
+def test_serve_on_a_layout_profile_starts_with_its_default_method(capsys):
+    """`tactile serve --profile belt-8` refused its own default method (AS needs a grid); the
+    default is now BA there, AS's weights for any layout, as the tuner falls back to."""
+    code, err = run_cli(capsys, "serve", "--device", "sim", "--profile", "belt-8",
+                        "--osc-port", "0", "--seconds", "0.1", "--status-s", "0")  # fmt: skip
+    assert code == 0 and "serving belt-8 (BA," in err
+    code, err = run_cli(capsys, "serve", "--device", "sim", "--profile", "belt-8",
+                        "--method", "AS", "--osc-port", "0")  # fmt: skip
+    assert code == 2 and "method AS cannot render on this layout" in err

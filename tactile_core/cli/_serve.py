@@ -69,10 +69,11 @@ def add_serve_parser(sub) -> None:
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
     p.add_argument(
         "--method",
-        default="AS",
+        default=None,
         metavar="M",
         help="a method that renders free points (not MM or IM): CT, AS, EN, PK, RO, "
-        "GS, VRCH, BA or a plug-in (default AS)",
+        "GS, VRCH, BA or a plug-in (default AS; BA, AS's weights for any layout, on a "
+        "profile that is not a grid)",
     )
     p.add_argument("--mu", type=number, default=0.0, help="threshold in [0, 1] (default 0)")
     p.add_argument("--gamma", type=number, default=1.0, help="gamma > 0 (default 1)")
@@ -152,6 +153,8 @@ def _check(args):
         profile = load_profile(args.profile)
     except ProfileError as exc:
         raise UsageError(str(exc)) from None
+    if args.method is None:  # AS, or its generalisation where AS needs the grid it lacks
+        args.method = "AS" if profile.is_grid else "BA"
     method = free_method(args.method).spec
     check_renders(method, profile.target)
     mu, gamma = check_correction(args.mu, args.gamma)
