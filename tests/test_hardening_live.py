@@ -201,3 +201,18 @@ def test_serve_on_a_layout_profile_starts_with_its_default_method(capsys):
     code, err = run_cli(capsys, "serve", "--device", "sim", "--profile", "belt-8",
                         "--method", "AS", "--osc-port", "0")  # fmt: skip
     assert code == 2 and "method AS cannot render on this layout" in err
+
+
+def test_serve_summary_escapes_what_a_sender_wrote_for_the_terminal():
+    """A sender's method name (or address) went raw into the summary printed on the operator's
+    terminal: ESC sequences in one could clear it or retitle it."""
+    from .serve_support import ServerRig
+
+    with ServerRig() as rig:
+        rig.send("/tactile/method", "\x1b[2J\x1b]0;owned\x07")
+        rig.wait_count("refused", 1)
+        rig.send("/\x1b[31mred", 1.0)
+        rig.wait_count("unknown", 1)
+        summary = rig.server.stats.summary()
+    assert "\x1b" not in summary and "\x07" not in summary
+    assert "last problem: unknown address /\\x1b[31mred" in summary

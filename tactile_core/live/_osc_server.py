@@ -53,6 +53,12 @@ under a flood of messages the frame thread waits at most this long for it (measu
 5.9-7.1 ms at 0.5 ms)."""
 
 
+def _printable(text: str) -> str:
+    """``text`` with what a terminal would act on escaped: a sender's address or method name
+    reaches the summary printed on the operator's terminal, and ESC [ 2 J in one cleared it."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
 class OscServer(AddressSpace):
     """Points and commands over OSC (UDP), fed to a stream: ``tactile serve`` and the tuner.
 
@@ -309,7 +315,7 @@ class OscServer(AddressSpace):
 
     def _problem_of(self, kind: str, text: str) -> None:
         self._n[kind] += 1
-        self._problem = text
+        self._problem = text if text.isprintable() else _printable(text)
 
     def _receive(self) -> None:
         sock, n, clock = self._sock, self._n, self.clock
