@@ -175,3 +175,23 @@ def test_stream_device_urls_empty_or_huge_are_one_short_line(capsys, device, sai
     code, line = run_cli(capsys, "stream", "--device", device, "--shape", "circle:2.5,3,2",
                          "--method", "AS", "--seconds", "0.1")  # fmt: skip
     assert code == 1 and said in line and len(line) < 300
+
+
+@pytest.mark.parametrize("where", ["modes", "layouts"])
+def test_tact_position_names_that_a_terminal_would_act_on_are_refused(tmp_path, where):
+    """Position names are printed ('not played: VestBack'): a file's ESC sequences in one went
+    raw to the terminal of whoever rendered it."""
+    evil = "\x1b[2J\x1b]0;owned\x07"
+    doc = ts.document(ts.effect({"VestFront": ts.path_mode(
+        [ts.point(0.1, 0.5, 1, 0), ts.point(0.9, 0.5, 1, 500)])}))  # fmt: skip
+    if where == "modes":
+        modes = doc["project"]["tracks"][0]["effects"][0]["modes"]
+        modes[evil] = modes["VestFront"]
+    else:
+        layouts = doc["project"]["layout"]["layouts"]
+        layouts[evil] = layouts["VestFront"]
+    path = tmp_path / "evil.tact"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(TactError, match="a position's name is 1-64 printable") as caught:
+        read_tact(path)
+    assert "\x1b" not in str(caught.value)
