@@ -59,6 +59,8 @@ class Presentation:
         The first frame's sequence number on the wire.
     interrupted : bool
         True when it was cut short.
+    failed : str
+        Why the stream stopped while it waited or played (the device went away), else "".
     """
 
     def __init__(self, scene: Scene, array: Array):
@@ -68,6 +70,7 @@ class Presentation:
         self.first_frame_s: float | None = None
         self.seq: int | None = None
         self.interrupted = False
+        self.failed = ""
         self._array = array
 
     @property
@@ -79,9 +82,10 @@ class Presentation:
         """Block until the stimulus has played (or ``timeout_s`` passed); return it.
 
         ``RuntimeError`` if no frame went out within :data:`START_TIMEOUT_S` (the stream
-        stopped: its status says why). A presentation cut short before its first frame (another
-        ``play``, ``all_off``, ``close``) returns at once, ``interrupted``. Ctrl-C here turns the
-        array off, then propagates.
+        stopped: its status says why), or at once when the stream stops before the stimulus
+        has played (the device went away: :attr:`failed`). A presentation cut short before its
+        first frame (another ``play``, ``all_off``, ``close``) returns at once, ``interrupted``.
+        Ctrl-C here turns the array off, then propagates.
         """
         try:
             deadline = time.monotonic() + START_TIMEOUT_S
@@ -93,6 +97,9 @@ class Presentation:
                                        f"[{stats.state}] {stats.status}")  # fmt: skip
                 self.started.wait(min(left, 0.01))
             self.done.wait(timeout_s)
+            if self.failed:
+                raise RuntimeError(f"the stream stopped before the stimulus had played: "
+                                   f"{self.failed}")  # fmt: skip
         except KeyboardInterrupt:
             self._array.all_off()
             raise
@@ -113,7 +120,9 @@ class Array:
         self.profile = profile
         self.rate_hz = _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
         self.points = LivePoints(timeout_s=point_timeout_s)
-        self.streamer = Streamer(link, profile, lead_s=lead_s, on_onset=[self._on_onset])
+        self.streamer = Streamer(link, profile, lead_s=lead_s, on_onset=[self._on_onset],
+                                 on_status=self._on_stream_status)  # fmt: skip
+        self._lost = ""  # the stream's last status once it stopped on its own
         self.lsl = None
         self._lock = threading.Lock()
         self._waiting: dict[int, Presentation] = {}
@@ -207,6 +216,8 @@ class Array:
     def _check_open(self) -> None:
         if self._closed.is_set():
             raise ValueError("the array is closed: open_array(...) again to present more")
+        if self._lost:  # nothing would go out: say so now, not after START_TIMEOUT_S
+            raise RuntimeError(f"the stream has stopped: {self._lost}")
 
     def release(self, point_id: str | None = None) -> None:
         """Release one live point (None: all)."""
@@ -269,14 +280,27 @@ class Array:
         presentation.started.set()
         self._wake.set()
 
+    def _on_stream_status(self, stats) -> None:
+        """The output thread: the stream stopped on its own (a device that went away)."""
+        if stats.state in ("stopped", "failed", "refused") and not self._closed.is_set():
+            self._lost = f"[{stats.state}] {stats.status}"
+            self._wake.set()
+
     def _keep(self) -> None:
-        """Mark presentations done when their time is up."""
+        """Mark presentations done when their time is up (failed, when the stream stopped)."""
         while not self._closed.is_set():
             with self._lock:
                 now = time.perf_counter()
                 while self._due and self._due[0][0] <= now:
                     _, _, presentation = heapq.heappop(self._due)
                     presentation.done.set()
+                if self._lost:
+                    pending = [p for _, _, p in self._due] + list(self._waiting.values())
+                    self._due, self._waiting, self._current = [], {}, None
+                    for presentation in pending:
+                        presentation.failed = self._lost
+                        presentation.interrupted = True
+                        presentation.done.set()
                 wait = self._due[0][0] - now if self._due else 1.0
             self._wake.wait(min(wait, 1.0))
             self._wake.clear()

@@ -216,3 +216,27 @@ def test_serve_summary_escapes_what_a_sender_wrote_for_the_terminal():
         summary = rig.server.stats.summary()
     assert "\x1b" not in summary and "\x07" not in summary
     assert "last problem: unknown address /\\x1b[31mred" in summary
+
+
+def test_a_device_lost_while_a_presentation_plays_fails_its_wait_and_the_next_play():
+    """wait() returned as if the stimulus had played when the device went away under it (a
+    trial recorded as presented), and the next play() waited 5 s before saying why."""
+    from tactile_core.device.link import LinkError
+
+    with tc.open_array("sim") as array:
+        shown = array.play("circle:2.5,3,2", duration_s=30.0, wait=False)
+        assert shown.started.wait(5)
+
+        def unplugged(data):
+            raise LinkError("device disconnected: sim (unplugged in a test)")
+
+        array.link.write = unplugged
+        start = time.monotonic()
+        with pytest.raises(RuntimeError, match="stopped before the stimulus had played.*unplug"):
+            shown.wait()
+        assert shown.interrupted and "unplugged" in shown.failed
+        with pytest.raises(RuntimeError, match="the stream has stopped: .*unplugged"):
+            array.play("line:0.5,0.5,4.5,5.5", duration_s=0.1)
+        with pytest.raises(RuntimeError, match="the stream has stopped"):
+            array.point(2.5, 3.0)
+        assert time.monotonic() - start < 4.0  # at once, not after the 5 s start timeout
