@@ -186,8 +186,8 @@ class LslOutlets:
         """Why the source id is not the one asked for ("" when it is)."""
         if self.source_id != wanted:
             by = f" (process {holder})" if holder else ""
-            self.note = (f"LSL: another program on this machine{by} sends {wanted}; these "
-                         f"outlets are {self.source_id}-markers and -levels")  # fmt: skip
+            self.note = (f"LSL: another program on this machine{by} sends {wanted}; this "
+                         f"one's source id is {self.source_id}")  # fmt: skip
         try:
             self._open(pylsl, markers, levels, rate_hz)
         except Exception as exc:  # liblsl: no free port, no network interface, ...
