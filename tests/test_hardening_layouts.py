@@ -195,3 +195,17 @@ def test_tact_position_names_that_a_terminal_would_act_on_are_refused(tmp_path, 
     with pytest.raises(TactError, match="a position's name is 1-64 printable") as caught:
         read_tact(path)
     assert "\x1b" not in str(caught.value)
+
+
+def test_profile_groups_are_bounded_and_printable():
+    """10,000 groups fit a 1 MiB profile and took the tuner 50 s to draw (a box and a label
+    each, in every view); a group name is a label, so no control characters either."""
+    data = copy.deepcopy(BELT)
+    data["layout"]["groups"] = {f"g{k}": [0] for k in range(65)}
+    with pytest.raises(ProfileError, match="layout groups: at most 64, got 65"):
+        profile_from_dict(data, "belt.json")
+    data["layout"]["groups"] = {f"g{k}": [0] for k in range(64)}
+    assert len(profile_from_dict(data, "belt.json").layout.groups) == 64
+    data["layout"]["groups"] = {"front\x1b[2J": [0]}
+    with pytest.raises(ProfileError, match="group names must be 1-32 printable"):
+        profile_from_dict(data, "belt.json")

@@ -26,6 +26,9 @@ from ._grid import Grid
 
 MAX_ACTUATORS = 1024
 """Most actuators of a layout (a device profile allows at most 255: one byte on the wire)."""
+MAX_GROUPS = 64
+"""Most groups of a layout (a vest's sides and panels, a sleeve's rings: a handful). 10,000
+groups, which a 1 MiB profile holds, took the tuner 50 s to draw."""
 MIN_SPACING = 1e-6
 """Closest two actuators may be, in layout units (closer is a duplicate)."""
 AXES = ("x", "y")
@@ -303,9 +306,12 @@ def _groups(groups, n: int) -> tuple:
     items = groups.items() if isinstance(groups, dict) else groups
     out = []
     try:
+        if len(items) > MAX_GROUPS:  # each is outlined and labelled in every view of the tuner
+            raise ValueError(f"layout groups: at most {MAX_GROUPS}, got {len(items)}")
         for name, members in items:
-            if not isinstance(name, str) or not 0 < len(name) <= 32:
-                raise ValueError(f"layout group names must be 1-32 characters, got {name!r}")
+            if not isinstance(name, str) or not 0 < len(name) <= 32 or not name.isprintable():
+                raise ValueError(f"layout group names must be 1-32 printable characters, got "
+                                 f"{_validate.shown(name)}")  # fmt: skip
             idx = tuple(_validate.integer(f"layout group {name}", m, 0, n - 1) for m in members)
             if len(set(idx)) != len(idx):
                 raise ValueError(f"layout group {name} lists an actuator twice")
