@@ -209,3 +209,11 @@ def test_profile_groups_are_bounded_and_printable():
     data["layout"]["groups"] = {"front\x1b[2J": [0]}
     with pytest.raises(ProfileError, match="group names must be 1-32 printable"):
         profile_from_dict(data, "belt.json")
+
+
+def test_profile_version_of_hundreds_of_digits_is_shown_cut():
+    data = copy.deepcopy(BELT)
+    data["version"] = 10**400
+    with pytest.raises(ProfileError, match="newer than this software reads") as caught:
+        profile_from_dict(data, "belt.json")
+    assert len(str(caught.value)) < 200

@@ -111,7 +111,8 @@ def profile_fields(data, source: str = "profile") -> dict:
     version = _integer(_field(data, "version", source), "version", source, 1)
     if version > VERSION:
         raise ProfileError(
-            f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
+            f"{source}: field 'version' is {_validate.shown(version)}, newer than this software "
+            f"reads ({VERSION})"
         )
     name = _field(data, "name", source, required=False, default=Path(source).stem)
     if not isinstance(name, str) or not NAME.fullmatch(name):
