@@ -2,6 +2,7 @@
 share a source id, the scripting API used wrongly, OSC senders that dodge the rate limit): each
 is refused with one line naming what was wrong, or handled, and nothing is left running."""
 
+import os
 import threading
 import time
 import uuid
@@ -240,3 +241,21 @@ def test_a_device_lost_while_a_presentation_plays_fails_its_wait_and_the_next_pl
         with pytest.raises(RuntimeError, match="the stream has stopped"):
             array.point(2.5, 3.0)
         assert time.monotonic() - start < 4.0  # at once, not after the 5 s start timeout
+
+
+def test_lsl_source_id_locks_only_in_a_private_folder(tmp_path, monkeypatch):
+    """The locks live in a folder of this user's own: in a shared /tmp another user could have
+    made it first, or linked a lock file to one of this user's files, which a claim truncated."""
+    from tactile_core.live._lsl import claim_source_id
+
+    monkeypatch.setenv("XDG_RUNTIME_DIR", str(tmp_path))
+    sid = f"tactile-test-{uuid.uuid4().hex[:8]}"
+    claimed, lock, _ = claim_source_id(sid)
+    assert claimed == sid and lock is not None
+    os.close(lock)
+    folder = tmp_path / f"tactile-tuner-{os.getuid()}"
+    folder.chmod(0o777)  # as if someone else could write there: no locks, the id as given
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me")
+    assert claim_source_id(sid) == (sid, None, "")
+    assert victim.read_text() == "keep me"

@@ -25,6 +25,7 @@ import hashlib
 import json
 import math
 import os
+import stat
 import tempfile
 import time
 
@@ -51,11 +52,22 @@ def _pylsl():
     return pylsl
 
 
-def _lock_folder():
+def _lock_folder() -> str:
+    """``$XDG_RUNTIME_DIR/tactile-tuner-UID/lsl`` (the temporary folder without it), created
+    private; ``OSError`` unless both folders are this user's own, not symbolic links and not
+    writable by others (in a shared /tmp another user could have made them, or linked a lock
+    file to one of this user's files)."""
     base = os.environ.get("XDG_RUNTIME_DIR") or tempfile.gettempdir()
-    uid = os.getuid() if hasattr(os, "getuid") else 0
-    folder = os.path.join(base, f"tactile-tuner-{uid}", "lsl")
-    os.makedirs(folder, mode=0o700, exist_ok=True)
+    uid = os.getuid()
+    mine = os.path.join(base, f"tactile-tuner-{uid}")
+    for folder in (mine, os.path.join(mine, "lsl")):
+        try:
+            os.mkdir(folder, 0o700)
+        except FileExistsError:
+            pass
+        info = os.lstat(folder)
+        if not stat.S_ISDIR(info.st_mode) or info.st_uid != uid or info.st_mode & 0o022:
+            raise OSError(f"{folder} is not a private folder of this user")
     return folder
 
 
@@ -75,7 +87,7 @@ def claim_source_id(source_id: str) -> tuple[str, int | None, str]:
         import fcntl
 
         folder = _lock_folder()
-    except (ImportError, OSError):  # no flock (Windows), no writable folder: as given
+    except (ImportError, OSError, AttributeError):  # no flock or getuid (Windows), no folder
         return source_id, None, ""
     holder = ""
     for k in range(1, MAX_SAME_ID + 1):
@@ -83,7 +95,8 @@ def claim_source_id(source_id: str) -> tuple[str, int | None, str]:
         name = hashlib.sha256(claimed.encode("utf-8", "replace")).hexdigest()[:24]
         path = os.path.join(folder, f"{name}.lock")
         try:
-            fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o600)
+            flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0) | os.O_NOFOLLOW
+            fd = os.open(path, flags, 0o600)
         except OSError:
             return source_id, None, ""
         try:
