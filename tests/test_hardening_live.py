@@ -259,3 +259,21 @@ def test_lsl_source_id_locks_only_in_a_private_folder(tmp_path, monkeypatch):
     victim.write_text("keep me")
     assert claim_source_id(sid) == (sid, None, "")
     assert victim.read_text() == "keep me"
+
+
+def test_serve_json_that_cannot_be_written_names_the_file(capsys, tmp_path, monkeypatch):
+    """A full disk at the end said 'tactile serve: error: No space left on device', naming no
+    file; the counters printed above it stand."""
+    import errno
+
+    from tactile_core.cli import _serve
+
+    def full(path, data):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(_serve, "write_json_atomic", full)
+    out = []
+    code, err = run_cli(capsys, "serve", "--device", "sim", "--osc-port", "0", "--seconds",
+                        "0.1", "--status-s", "0", "--json", tmp_path / "c.json", stdout=out)  # fmt: skip
+    assert code == 1 and f"cannot write --json {tmp_path / 'c.json'}: No space left" in err
+    assert "served " in out[0]

@@ -246,9 +246,14 @@ def cmd_serve(args) -> int:
     print(served.summary())
     print(stats.summary())
     if args.json:
-        write_json_atomic(
-            args.json, {"serve": served.to_dict(), "stream": _plain(dataclasses.asdict(stats))}
-        )
+        try:
+            write_json_atomic(
+                args.json, {"serve": served.to_dict(), "stream": _plain(dataclasses.asdict(stats))}
+            )
+        except OSError as exc:  # a full disk: the counters above stand, the file does not
+            print(f"tactile serve: cannot write --json {args.json}: {exc.strerror or exc}",
+                  file=sys.stderr)  # fmt: skip
+            return 1
     if stats.state == "failed":
         print(f"tactile serve: {stats.status}", file=sys.stderr)
         print(streamer.failure_traceback, file=sys.stderr, end="")
