@@ -273,7 +273,8 @@ def test_serve_json_that_cannot_be_written_names_the_file(capsys, tmp_path, monk
 
     monkeypatch.setattr(_serve, "write_json_atomic", full)
     out = []
-    code, err = run_cli(capsys, "serve", "--device", "sim", "--osc-port", "0", "--seconds",
-                        "0.1", "--status-s", "0", "--json", tmp_path / "c.json", stdout=out)  # fmt: skip
+    json_path = tmp_path / "c.json"
+    code, err = run_cli(capsys, "serve", "--device", "sim", "--osc-port", "0", "--seconds", "0.1",
+                        "--status-s", "0", "--json", json_path, stdout=out)  # fmt: skip
     assert code == 1 and f"cannot write --json {tmp_path / 'c.json'}: No space left" in err
     assert "served " in out[0]
