@@ -217,9 +217,13 @@ class LiveController(QtCore.QObject):
             self._post(str(payload))
         elif kind == "lsl-opened":
             self.lsl_status = f"{payload['source_id']}-markers"
+            if payload.get("note"):  # another program on this machine has the usual id
+                self._post(payload["note"])
         elif kind == "lsl-failed":
             self.lsl_markers, self.lsl_status = False, "off"
-            self.error_raised.emit(f"Lab Streaming Layer: {payload}")
+            said = str(payload)  # an LslError names LSL itself
+            lsl = "" if said.startswith("Lab Streaming Layer") else "Lab Streaming Layer: "
+            self.error_raised.emit(f"{lsl}{said}")
         elif kind == "lsl-closed":
             self.lsl_status = "off"
         elif kind == "error":

@@ -31,6 +31,7 @@ from ._shared import validate as _validate
 from .device.link import open_link
 from .device.profile import DeviceProfile, load_profile
 from .device.streamer import Streamer
+from .rendering.points import TIMEOUT_RANGE_S as POINT_TIMEOUT_RANGE_S
 from .rendering.points import LivePoints, free_method
 from .rendering.scene import Scene
 from .rendering.shapes import Shape, parse_shape
@@ -58,6 +59,8 @@ class Presentation:
         The first frame's sequence number on the wire.
     interrupted : bool
         True when it was cut short.
+    failed : str
+        Why the stream stopped while it waited or played (the device went away), else "".
     """
 
     def __init__(self, scene: Scene, array: Array):
@@ -67,6 +70,7 @@ class Presentation:
         self.first_frame_s: float | None = None
         self.seq: int | None = None
         self.interrupted = False
+        self.failed = ""
         self._array = array
 
     @property
@@ -78,14 +82,24 @@ class Presentation:
         """Block until the stimulus has played (or ``timeout_s`` passed); return it.
 
         ``RuntimeError`` if no frame went out within :data:`START_TIMEOUT_S` (the stream
-        stopped: its status says why). Ctrl-C here turns the array off, then propagates.
+        stopped: its status says why), or at once when the stream stops before the stimulus
+        has played (the device went away: :attr:`failed`). A presentation cut short before its
+        first frame (another ``play``, ``all_off``, ``close``) returns at once, ``interrupted``.
+        Ctrl-C here turns the array off, then propagates.
         """
         try:
-            if not self.started.wait(START_TIMEOUT_S):
-                stats = self._array.streamer.stats
-                raise RuntimeError(f"no frame went out within {START_TIMEOUT_S:g} s: "
-                                   f"[{stats.state}] {stats.status}")  # fmt: skip
+            deadline = time.monotonic() + START_TIMEOUT_S
+            while not (self.started.is_set() or self.done.is_set()):
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    stats = self._array.streamer.stats
+                    raise RuntimeError(f"no frame went out within {START_TIMEOUT_S:g} s: "
+                                       f"[{stats.state}] {stats.status}")  # fmt: skip
+                self.started.wait(min(left, 0.01))
             self.done.wait(timeout_s)
+            if self.failed:
+                raise RuntimeError(f"the stream stopped before the stimulus had played: "
+                                   f"{self.failed}")  # fmt: skip
         except KeyboardInterrupt:
             self._array.all_off()
             raise
@@ -106,7 +120,9 @@ class Array:
         self.profile = profile
         self.rate_hz = _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
         self.points = LivePoints(timeout_s=point_timeout_s)
-        self.streamer = Streamer(link, profile, lead_s=lead_s, on_onset=[self._on_onset])
+        self.streamer = Streamer(link, profile, lead_s=lead_s, on_onset=[self._on_onset],
+                                 on_status=self._on_stream_status)  # fmt: skip
+        self._lost = ""  # the stream's last status once it stopped on its own
         self.lsl = None
         self._lock = threading.Lock()
         self._waiting: dict[int, Presentation] = {}
@@ -162,8 +178,7 @@ class Array:
         Presentation
             With the first frame's time once it went out.
         """
-        if self._closed.is_set():
-            raise ValueError("the array is closed")
+        self._check_open()
         if isinstance(shape, str):
             shape = parse_shape(shape)
         kind = {"shape": shape} if isinstance(shape, Shape) else {"source": shape}
@@ -184,6 +199,7 @@ class Array:
         """Put a live point at ``(x, y)`` (grid units) with ``intensity``; it stays until
         :meth:`release` (or, with ``point_timeout_s``, until not refreshed for that long).
         ``method`` must render free points (not MM or IM)."""
+        self._check_open()
         spec = free_method(method).spec
         self.points.set(point_id, x, y, intensity)
         scene = self.streamer.scene
@@ -196,6 +212,12 @@ class Array:
                 self._finish_current()
             self.streamer.set_scene(Scene(method=method, mu=mu, gamma=gamma, rate_hz=self.rate_hz,
                                           source=self.points, marker="script-points"))  # fmt: skip
+
+    def _check_open(self) -> None:
+        if self._closed.is_set():
+            raise ValueError("the array is closed: open_array(...) again to present more")
+        if self._lost:  # nothing would go out: say so now, not after START_TIMEOUT_S
+            raise RuntimeError(f"the stream has stopped: {self._lost}")
 
     def release(self, point_id: str | None = None) -> None:
         """Release one live point (None: all)."""
@@ -228,6 +250,7 @@ class Array:
                     pass
 
     def __enter__(self) -> Array:
+        self._check_open()
         return self
 
     def __exit__(self, *exc) -> None:
@@ -257,14 +280,27 @@ class Array:
         presentation.started.set()
         self._wake.set()
 
+    def _on_stream_status(self, stats) -> None:
+        """The output thread: the stream stopped on its own (a device that went away)."""
+        if stats.state in ("stopped", "failed", "refused") and not self._closed.is_set():
+            self._lost = f"[{stats.state}] {stats.status}"
+            self._wake.set()
+
     def _keep(self) -> None:
-        """Mark presentations done when their time is up."""
+        """Mark presentations done when their time is up (failed, when the stream stopped)."""
         while not self._closed.is_set():
             with self._lock:
                 now = time.perf_counter()
                 while self._due and self._due[0][0] <= now:
                     _, _, presentation = heapq.heappop(self._due)
                     presentation.done.set()
+                if self._lost:
+                    pending = [p for _, _, p in self._due] + list(self._waiting.values())
+                    self._due, self._waiting, self._current = [], {}, None
+                    for presentation in pending:
+                        presentation.failed = self._lost
+                        presentation.interrupted = True
+                        presentation.done.set()
                 wait = self._due[0][0] - now if self._due else 1.0
             self._wake.wait(min(wait, 1.0))
             self._wake.clear()
@@ -306,6 +342,9 @@ def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_m
     if not isinstance(profile, DeviceProfile):
         profile = load_profile(profile)
     lead = _validate.in_range("lead_ms", lead_ms, 0.0, 500.0) / 1e3
+    _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
+    if point_timeout_s is not None:  # named as the caller wrote it, before anything opens
+        _validate.in_range("point_timeout_s", point_timeout_s, *POINT_TIMEOUT_RANGE_S)
     link = open_link(url, profile)
     try:
         array = Array(link, profile, rate_hz=rate_hz, lead_s=lead, lsl=lsl,

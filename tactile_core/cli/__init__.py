@@ -10,10 +10,11 @@ Inside: ``_parser`` builds the parser, ``_render`` holds render, stream and emul
 
 from __future__ import annotations
 
+import signal
 import sys
 
 from .._shared.threads import one_blas_thread
-from ._common import UsageError
+from ._common import Ended, UsageError, ending_signals
 
 # ``_name as _name``: helpers of the module before the split, still importable from here.
 from ._common import _add_scene_arguments as _add_scene_arguments
@@ -47,8 +48,12 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        with one_blas_thread():  # small fits: extra BLAS threads only wait on busy cores
+        with one_blas_thread(), ending_signals():  # small fits: extra BLAS threads only wait
             return args.func(args)
+    except Ended as exc:  # SIGTERM or SIGHUP: cleaned up on the way here, like Ctrl-C
+        name = signal.Signals(exc.signum).name
+        print(f"tactile {args.command}: ended by {name}", file=sys.stderr)
+        return 128 + exc.signum
     except (ValueError, UsageError) as exc:
         print(f"tactile {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import signal
 import threading
 
@@ -96,3 +97,38 @@ def _install_stop_handlers(stop: threading.Event) -> None:
     for name in ("SIGINT", "SIGTERM", "SIGHUP"):
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), handler)
+
+
+class Ended(BaseException):
+    """SIGTERM or SIGHUP ended a command that has no handler of its own: raised in the main
+    thread so that ``finally`` clauses run (a half-written output's temporary file is removed,
+    a stream turns the array off), as Ctrl-C's ``KeyboardInterrupt`` does."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def ending_signals():
+    """SIGTERM and SIGHUP raise :class:`Ended` while the block runs (main thread only); the
+    handlers before it are put back afterwards. A command's own handlers
+    (:func:`_install_stop_handlers`) replace these for the rest of the block."""
+
+    def handler(signum, frame):
+        raise Ended(signum)
+
+    saved = {}
+    if threading.current_thread() is threading.main_thread():
+        for name in ("SIGTERM", "SIGHUP"):
+            if hasattr(signal, name):
+                signum = getattr(signal, name)
+                saved[signum] = signal.signal(signum, handler)
+    saved_int = signal.getsignal(signal.SIGINT) if saved else None
+    try:
+        yield
+    finally:
+        for signum, previous in saved.items():
+            signal.signal(signum, previous)
+        if saved_int is not None:  # a command's stop handler for Ctrl-C goes with the command
+            signal.signal(signal.SIGINT, saved_int)

@@ -89,10 +89,14 @@ def _render_profile(args, wav: bool):
         grid = profile.grid
         for name, value in (("cols", grid.cols), ("rows", grid.rows)):
             given = getattr(args, name)
+            if given is not None and not profile.is_grid:  # its actuators, not a grid's cells
+                raise UsageError(f"--{name} applies to a grid; the profile {profile.name} is a "
+                                 f"layout of {profile.channels} actuators")  # fmt: skip
             if given is not None and given != value:
                 raise UsageError(f"--{name} {given} disagrees with the profile {profile.name}'s "
                                  f"{grid.cols} x {grid.rows} grid")  # fmt: skip
-            setattr(args, name, value)
+            if profile.is_grid:  # a layout's channel strip (up to 255 x 1) is not --cols
+                setattr(args, name, value)
     args.cols = 5 if args.cols is None else args.cols
     args.rows = 6 if args.rows is None else args.rows
     return profile
@@ -168,15 +172,22 @@ def cmd_stream(args) -> int:
         check_output(args.record, (".csv", ".npz"), "--record")
     stop = threading.Event()
     _install_stop_handlers(stop)
+    from ..live import LslError
+    from ._serve import lsl_outlets
+
+    try:
+        lsl = lsl_outlets(args, profile, scene.rate_hz)
+    except LslError as exc:
+        print(f"tactile stream: error: {exc}", file=sys.stderr)
+        return 1
     try:
         link = open_link(args.device, profile)
     except LinkError as exc:
         print(f"tactile stream: {exc}", file=sys.stderr)
+        if lsl is not None:
+            lsl.close()
         return 1
     recorder = Recorder(profile.array) if args.record else None
-    from ._serve import lsl_outlets
-
-    lsl = lsl_outlets(args, profile, scene.rate_hz)
     streamer = Streamer(
         link,
         profile,

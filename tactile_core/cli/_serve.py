@@ -69,10 +69,11 @@ def add_serve_parser(sub) -> None:
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
     p.add_argument(
         "--method",
-        default="AS",
+        default=None,
         metavar="M",
         help="a method that renders free points (not MM or IM): CT, AS, EN, PK, RO, "
-        "GS, VRCH, BA or a plug-in (default AS)",
+        "GS, VRCH, BA or a plug-in (default AS; BA, AS's weights for any layout, on a "
+        "profile that is not a grid)",
     )
     p.add_argument("--mu", type=number, default=0.0, help="threshold in [0, 1] (default 0)")
     p.add_argument("--gamma", type=number, default=1.0, help="gamma > 0 (default 1)")
@@ -121,12 +122,18 @@ def add_serve_parser(sub) -> None:
 
 
 def lsl_outlets(args, profile, rate_hz: float):
-    """The LSL outlets ``--lsl`` / ``--lsl-levels`` ask for, or None."""
+    """The LSL outlets ``--lsl`` / ``--lsl-levels`` ask for, or None; opened before the device
+    so that outlets that cannot open (:class:`~tactile_core.live.LslError`, which the command
+    reports) never leave a device half-started. A source id taken by another program on this
+    machine is said on standard error."""
     if not (getattr(args, "lsl", False) or getattr(args, "lsl_levels", False)):
         return None
     from ..live import LslOutlets
 
-    return LslOutlets(profile, rate_hz=rate_hz, markers=True, levels=args.lsl_levels)
+    outlets = LslOutlets(profile, rate_hz=rate_hz, markers=True, levels=args.lsl_levels)
+    if outlets.note:
+        print(f"tactile {args.command}: {outlets.note}", file=sys.stderr, flush=True)
+    return outlets
 
 
 def _plain(data: dict) -> dict:
@@ -146,6 +153,8 @@ def _check(args):
         profile = load_profile(args.profile)
     except ProfileError as exc:
         raise UsageError(str(exc)) from None
+    if args.method is None:  # AS, or its generalisation where AS needs the grid it lacks
+        args.method = "AS" if profile.is_grid else "BA"
     method = free_method(args.method).spec
     check_renders(method, profile.target)
     mu, gamma = check_correction(args.mu, args.gamma)
@@ -158,6 +167,9 @@ def _check(args):
         raise UsageError(f"--status-s must be 0 or within [0.1, 3600], got {args.status_s:g}")
     if not 1.0 <= args.max_rate <= 1e7:
         raise UsageError(f"--max-rate must be within [1, 10000000], got {args.max_rate:g}")
+    if not args.host.strip():
+        raise UsageError("--host must be an address or a host name (127.0.0.1: this machine "
+                         "only), got ''")  # fmt: skip
     if not 0 <= args.osc_port <= 65535:
         raise UsageError(f"--osc-port must be within [0, 65535], got {args.osc_port}")
     args.seconds = _seconds(args.seconds)
@@ -170,17 +182,23 @@ def cmd_serve(args) -> int:
     """Serve OSC until stopped; all off on every way out; print the counters."""
     from ..device.link import LinkError, open_link
     from ..device.streamer import Streamer
-    from ..live import OscServer
+    from ..live import LslError, OscServer
 
     profile, scene = _check(args)
     stop = threading.Event()
     _install_stop_handlers(stop)
     try:
+        lsl = lsl_outlets(args, profile, scene.rate_hz)
+    except LslError as exc:
+        print(f"tactile serve: error: {exc}", file=sys.stderr)
+        return 1
+    try:
         link = open_link(args.device, profile)
     except LinkError as exc:
         print(f"tactile serve: {exc}", file=sys.stderr)
+        if lsl is not None:
+            lsl.close()
         return 1
-    lsl = None
     streamer = Streamer(
         link,
         profile,
@@ -201,7 +219,6 @@ def cmd_serve(args) -> int:
         max_rate_hz=args.max_rate,
     )
     try:
-        lsl = lsl_outlets(args, profile, scene.rate_hz)
         if lsl is not None:
             lsl.attach(streamer)
         streamer.start()
@@ -211,10 +228,11 @@ def cmd_serve(args) -> int:
             print(f"tactile serve: {exc}", file=sys.stderr)
             return 1
         host, port = server.address
-        print(f"osc://{host}:{port}", flush=True)
+        where = f"[{host}]:{port}" if ":" in host else f"{host}:{port}"  # IPv6 in brackets
+        print(f"osc://{where}", flush=True)
         print(
             f"serving {profile.name} ({scene.method}, mu={scene.mu:g}, gamma={scene.gamma:g})"
-            f" to {link.description} on udp {host}:{port}; Ctrl-C to end",
+            f" to {link.description} on udp {where}; Ctrl-C to end",
             file=sys.stderr,
             flush=True,
         )
@@ -228,9 +246,14 @@ def cmd_serve(args) -> int:
     print(served.summary())
     print(stats.summary())
     if args.json:
-        write_json_atomic(
-            args.json, {"serve": served.to_dict(), "stream": _plain(dataclasses.asdict(stats))}
-        )
+        try:
+            write_json_atomic(
+                args.json, {"serve": served.to_dict(), "stream": _plain(dataclasses.asdict(stats))}
+            )
+        except OSError as exc:  # a full disk: the counters above stand, the file does not
+            print(f"tactile serve: cannot write --json {args.json}: {exc.strerror or exc}",
+                  file=sys.stderr)  # fmt: skip
+            return 1
     if stats.state == "failed":
         print(f"tactile serve: {stats.status}", file=sys.stderr)
         print(streamer.failure_traceback, file=sys.stderr, end="")

@@ -23,7 +23,7 @@ problem.
 from __future__ import annotations
 
 from .._shared import validate as _validate
-from ..rendering.layout import MAX_ACTUATORS, Layout, Wrap
+from ..rendering.layout import MAX_ACTUATORS, Layout, Wrap, name_problem
 
 UNITS = ("mm", "pitch", "normalized")
 MAX_CHANNELS = 255
@@ -121,8 +121,10 @@ def layout_from_json(field, pitch_mm: float, source: str) -> Layout:
         y = _number(y, f"{key}.y", source)
         if units == "normalized" and not (0.0 <= x <= 1.0 and 0.0 <= y <= 1.0):
             raise ValueError(f"{source}: field '{key}' must lie within 0..1 (normalized units)")
-        if name is not None and (not isinstance(name, str) or not 0 < len(name) <= 32):
-            raise ValueError(f"{source}: field '{key}.name' must be 1-32 characters")
+        if name is not None:
+            problem = name_problem(name)
+            if problem:
+                raise ValueError(f"{source}: field '{key}.name' {problem}")
         positions.append((x * scale[0], y * scale[1]))
         names.append(name if name is not None else f"a{i}")
     wrap = None
@@ -151,7 +153,10 @@ def _wrap(field, scale, source) -> Wrap:
     c = _number(field.get("circumference"), "layout.wrap.circumference", source)
     if c <= 0:
         raise ValueError(f"{source}: field 'layout.wrap.circumference' must be > 0, got {c:g}")
-    return Wrap(axis, c * scale[0 if axis == "x" else 1])
+    try:
+        return Wrap(axis, c * scale[0 if axis == "x" else 1])
+    except ValueError as exc:  # beyond the coordinate bound once in pitches
+        raise ValueError(f"{source}: field 'layout.wrap.circumference': {exc}") from None
 
 
 def layout_to_json(layout: Layout, pitch_mm: float) -> dict:

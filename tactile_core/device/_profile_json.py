@@ -23,6 +23,10 @@ NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
 """A profile's name: what presets and sessions refer to it by, and what the firmware reports."""
 MIN_BAUD, MAX_BAUD = 9600, 4_000_000
 """Link speeds a profile may give: at 9600 baud the palm array still gets 25 frames a second."""
+PITCH_RANGE_MM = (0.01, 10_000.0)
+"""Pitches a profile may give: one layout unit, from a 10 um MEMS array to actuators 10 m apart.
+Beyond them millimetre positions turn into numbers no array has (1e308 mm made every actuator a
+'duplicate' at 0; 1e-308 an infinite circumference)."""
 
 
 class ProfileError(ValueError):
@@ -107,7 +111,8 @@ def profile_fields(data, source: str = "profile") -> dict:
     version = _integer(_field(data, "version", source), "version", source, 1)
     if version > VERSION:
         raise ProfileError(
-            f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
+            f"{source}: field 'version' is {_validate.shown(version)}, newer than this software "
+            f"reads ({VERSION})"
         )
     name = _field(data, "name", source, required=False, default=Path(source).stem)
     if not isinstance(name, str) or not NAME.fullmatch(name):
@@ -125,6 +130,11 @@ def profile_fields(data, source: str = "profile") -> dict:
     pitch = _number(_field(data, "pitch_mm", source), "pitch_mm", source)
     if pitch <= 0:
         raise ProfileError(f"{source}: field 'pitch_mm' must be > 0, got {_validate.shown(pitch)}")
+    if not PITCH_RANGE_MM[0] <= pitch <= PITCH_RANGE_MM[1]:
+        raise ProfileError(
+            f"{source}: field 'pitch_mm' must be within [{PITCH_RANGE_MM[0]:g}, "
+            f"{PITCH_RANGE_MM[1]:g}] mm, got {_validate.shown(pitch)}"
+        )
     if data.get("layout") is not None:
         for key in ("columns", "rows"):
             if key in data:

@@ -17,12 +17,16 @@ import time
 import numpy as np
 import serial
 
+from .._shared import validate as _validate
 from ._link_error import LinkError
 from .array import ArrayModel
 from .profile import DeviceProfile, default_profile
 from .wire import HELLO_TIMEOUT_S, Info, MessageReader, encode_hello
 
 SIMULATED_URLS = ("sim", "sim://", "simulated")
+MAX_URL_CHARS = 1024
+"""Longest device URL taken (a port name, a pyserial URL, ``audio:NAME?...``): messages name
+the URL, some of them twice, and a 100,000-character one made a 300 KB error line."""
 
 
 def _explain(exc: BaseException, url: str) -> str:
@@ -296,6 +300,12 @@ def open_link(url: str | None, profile: DeviceProfile | None = None, **kwargs):
     profile = profile or default_profile()
     if url is None or url in SIMULATED_URLS:
         return SimulatedArray(profile)
+    if isinstance(url, str) and not url.strip():
+        raise LinkError("the device URL is empty: give a port (/dev/ttyUSB0, COM3), a pyserial "
+                        "URL, 'sim' or 'audio:'")  # fmt: skip
+    if isinstance(url, str) and len(url) > MAX_URL_CHARS:  # every message below repeats it
+        raise LinkError(f"invalid device URL {_validate.shown(url)}: longer than "
+                        f"{MAX_URL_CHARS} characters")  # fmt: skip
     if is_audio_url(url):
         from .audio import AudioLink
 

@@ -88,6 +88,11 @@ def load_profile(path_or_name=None) -> DeviceProfile:
     """
     if path_or_name is None:
         path_or_name = DEFAULT_PROFILE
+    if not isinstance(path_or_name, (str, os.PathLike)):
+        raise ProfileError(
+            f"device profile must be a name, a path or a DeviceProfile, got "
+            f"{_validate.shown(path_or_name)}"
+        )
     if not str(path_or_name).strip():  # Path('') is '.', the current folder
         raise ProfileError(
             f"device profile: an empty path names no file (got {_validate.shown(path_or_name)}); "
@@ -99,6 +104,15 @@ def load_profile(path_or_name=None) -> DeviceProfile:
             path = asset_path("devices", f"{path_or_name}.json")
         except FileNotFoundError:
             raise ProfileError(f"{path_or_name}: no such profile file or bundled profile") from None
+    if not path.exists() and path.suffix.lower() == ".json" and path.name == str(path_or_name):
+        try:  # belt-8.json for the bundled belt-8: say how it is named
+            asset_path("devices", path.name)
+        except FileNotFoundError:
+            pass
+        else:
+            raise ProfileError(
+                f"{path}: no such file (the bundled profile is named without .json: {path.stem})"
+            )
     data, digest = read_json_digest(path, ProfileError)
     source = str(path)
     profile = profile_from_dict(data, source=source)

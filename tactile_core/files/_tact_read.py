@@ -168,7 +168,10 @@ class _Reader:
                 self.fail(field, f"must be a number, got {_validate.shown(value)}")
         if not _validate.is_number(value):
             self.fail(field, f"must be a number, got {_kind(value)} {_validate.shown(value)}")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:  # a JSON integer of hundreds of digits
+            value = float("inf")
         if not lo <= value <= hi:
             self.fail(field, f"must be within [{lo:g}, {hi:g}], got {value:g}")
         return value
@@ -216,9 +219,19 @@ class _Reader:
             positions=tuple(positions),
         )
 
+    def position(self, name, field: str) -> str:
+        """A device position's name (a key of ``layouts`` or ``modes``): 1-64 printable
+        characters. Names are printed (``not played: VestBack``); a file's escape sequences in
+        one would act on the operator's terminal."""
+        if not (0 < len(name) <= 64 and name.isprintable()):
+            self.fail(field, f"has a position named {_validate.shown(name)}: a position's name is "
+                      "1-64 printable characters (VestFront, ForearmL, ...)")  # fmt: skip
+        return name
+
     def layouts(self, layouts: dict) -> dict:
         out = {}
         for position, motors in layouts.items():
+            position = self.position(position, "layout.layouts")
             field = f"layout.layouts.{position}"
             motors = self.array(motors, field, MAX_LAYOUT)
             table = {}
@@ -248,6 +261,7 @@ class _Reader:
             self.fail(f"{field}.offsetTime", f"ends the effect after {MAX_TIME_MS / 3.6e6:g} h")
         modes = self.object(self.get(effect, "modes", field), f"{field}.modes")
         for position, mode in modes.items():
+            position = self.position(position, f"{field}.modes")
             where = f"{field}.modes.{position}"
             mode = self.object(mode, where)
             kind = self.choice(self.get(mode, "mode", where), f"{where}.mode", MODES)

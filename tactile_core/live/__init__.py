@@ -16,7 +16,7 @@ it (the first frame of each presentation, the levels sent).
 ``docs/serve.md`` documents the address space and the streams.
 """
 
-from ._lsl import LEVELS_NAME, MARKERS_NAME, LslOutlets, lsl_offset_s, marker_text
+from ._lsl import LEVELS_NAME, MARKERS_NAME, LslError, LslOutlets, lsl_offset_s, marker_text
 from ._osc_server import DEFAULT_PORT, SWITCH_INTERVAL_S, OscServer
 from ._osc_wire import Malformed, read_packet
 from ._serve_stats import ServeStats
@@ -29,6 +29,7 @@ __all__ = [
     "MARKERS_NAME",
     "SWITCH_INTERVAL_S",
     "LiveServices",
+    "LslError",
     "LslOutlets",
     "Malformed",
     "OscServer",

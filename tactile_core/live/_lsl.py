@@ -21,9 +21,12 @@ bracketed by two ``perf_counter`` reads, the tightest of 50), and every time is 
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
+import stat
+import tempfile
 import time
 
 from .._version import __version__
@@ -33,12 +36,84 @@ MARKERS_NAME = "tactile-markers"
 LEVELS_NAME = "tactile-levels"
 
 
+MAX_SAME_ID = 99
+"""Most outlets of one source id on this machine at once (``-2`` ... ``-99`` after the first)."""
+
+
+class LslError(RuntimeError):
+    """An outlet that cannot be opened (pylsl missing, liblsl refusing); the message says why."""
+
+
 def _pylsl():
     try:
         import pylsl
-    except ImportError as exc:  # pragma: no cover - a dependency; a broken install says why
-        raise RuntimeError(f"Lab Streaming Layer needs pylsl (pip install pylsl): {exc}") from None
+    except (ImportError, OSError, RuntimeError) as exc:  # a broken install (no liblsl) says why
+        raise LslError(f"Lab Streaming Layer needs pylsl (pip install pylsl): {exc}") from None
     return pylsl
+
+
+def _lock_folder() -> str:
+    """``$XDG_RUNTIME_DIR/tactile-tuner-UID/lsl`` (the temporary folder without it), created
+    private; ``OSError`` unless both folders are this user's own, not symbolic links and not
+    writable by others (in a shared /tmp another user could have made them, or linked a lock
+    file to one of this user's files)."""
+    base = os.environ.get("XDG_RUNTIME_DIR") or tempfile.gettempdir()
+    uid = os.getuid()
+    mine = os.path.join(base, f"tactile-tuner-{uid}")
+    for folder in (mine, os.path.join(mine, "lsl")):
+        try:
+            os.mkdir(folder, 0o700)
+        except FileExistsError:
+            pass
+        info = os.lstat(folder)
+        if not stat.S_ISDIR(info.st_mode) or info.st_uid != uid or info.st_mode & 0o022:
+            raise OSError(f"{folder} is not a private folder of this user")
+    return folder
+
+
+def claim_source_id(source_id: str) -> tuple[str, int | None, str]:
+    """A source id no other outlet of this tool on this machine uses: ``(id, lock, holder)``.
+
+    LSL takes a source id as the key of one stream: a recorder that loses a stream finds it
+    again by its source id, so two outlets sharing one (two ``tactile serve --lsl`` on the same
+    profile) could swap in a recording. The first outlet of ``source_id`` gets it; while it is
+    open the next gets ``source_id-2``, then ``-3``... Each claim is an exclusive ``flock`` on a
+    file in ``$XDG_RUNTIME_DIR/tactile-tuner-UID/lsl`` (the temporary folder without it), which
+    the system releases when the process ends however it ends. ``lock`` is the descriptor to
+    close to release it (None where locks are not available: the id is then taken as given),
+    ``holder`` the process id that holds ``source_id`` when another one was given.
+    """
+    try:
+        import fcntl
+
+        folder = _lock_folder()
+    except (ImportError, OSError, AttributeError):  # no flock or getuid (Windows), no folder
+        return source_id, None, ""
+    holder = ""
+    for k in range(1, MAX_SAME_ID + 1):
+        claimed = source_id if k == 1 else f"{source_id}-{k}"
+        name = hashlib.sha256(claimed.encode("utf-8", "replace")).hexdigest()[:24]
+        path = os.path.join(folder, f"{name}.lock")
+        try:
+            flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0) | os.O_NOFOLLOW
+            fd = os.open(path, flags, 0o600)
+        except OSError:
+            return source_id, None, ""
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            if k == 1:
+                try:
+                    holder = os.pread(fd, 32, 0).decode("ascii", "replace").strip()
+                except OSError:
+                    pass
+            os.close(fd)
+            continue
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        return claimed, fd, holder
+    raise LslError(f"Lab Streaming Layer: {MAX_SAME_ID} outlets named {source_id} are open on "
+                   "this machine already")  # fmt: skip
 
 
 def lsl_offset_s(tries: int = 50) -> float:
@@ -93,6 +168,14 @@ class LslOutlets:
     source_id : str, optional
         LSL's source id, a recording's key to the same stream after a restart
         (``tactile-<profile name>`` by default; the outlets add ``-markers`` and ``-levels``).
+        While another outlet of this tool on this machine has it, ``-2`` (``-3``, ...) is
+        added and :attr:`note` says so (:func:`claim_source_id`).
+
+    Raises
+    ------
+    LslError
+        When an outlet cannot be opened (pylsl missing; liblsl finds no free port or network
+        interface); nothing stays open.
 
     Use :meth:`attach` to feed them from a :class:`~tactile_core.device.Streamer`, or call
     :meth:`onset` and :meth:`push_levels` from a stream's hooks yourself.
@@ -109,12 +192,29 @@ class LslOutlets:
     ):
         pylsl = _pylsl()
         self.profile = profile or default_profile()
-        self.source_id = source_id or f"tactile-{self.profile.name}"
+        self._markers = self._levels = None
+        wanted = source_id or f"tactile-{self.profile.name}"
+        self.source_id, self._lock, holder = claim_source_id(wanted)
+        self.note = ""
+        """Why the source id is not the one asked for ("" when it is)."""
+        if self.source_id != wanted:
+            by = f" (process {holder})" if holder else ""
+            self.note = (f"LSL: another program on this machine{by} sends {wanted}; this "
+                         f"one's source id is {self.source_id}")  # fmt: skip
+        try:
+            self._open(pylsl, markers, levels, rate_hz)
+        except Exception as exc:  # liblsl: no free port, no network interface, ...
+            self.close()
+            raise LslError(
+                f"Lab Streaming Layer: cannot open the outlets of {self.source_id}: {exc} "
+                "(liblsl's messages above say why)"
+            ) from None
+
+    def _open(self, pylsl, markers: bool, levels: bool, rate_hz: float) -> None:
         self.offset_s = lsl_offset_s()
         """LSL clock minus ``time.perf_counter``, added to every time sent."""
         self.markers_sent = 0
         self.levels_sent = 0
-        self._markers = self._levels = None
         if markers:
             info = pylsl.StreamInfo(MARKERS_NAME, "Markers", 1, pylsl.IRREGULAR_RATE,
                                     pylsl.cf_string, f"{self.source_id}-markers")  # fmt: skip
@@ -169,8 +269,11 @@ class LslOutlets:
                 hooks.remove(hook)
 
     def close(self) -> None:
-        """Close the outlets (recorders see the streams end)."""
+        """Close the outlets (recorders see the streams end) and give up the source id."""
         self._markers = self._levels = None
+        lock, self._lock = getattr(self, "_lock", None), None
+        if lock is not None:
+            os.close(lock)
 
     def __enter__(self) -> LslOutlets:
         return self

@@ -41,7 +41,8 @@ DEFAULT_PORT = 9100
 """The UDP port ``tactile serve`` listens on unless told otherwise."""
 MAX_MESSAGES = 256
 """Most messages read from one datagram (a bundle); the rest are counted as dropped."""
-_ALWAYS_READ = (b"/tactile/off", b"/tactile/release")
+_ALWAYS_READ = (b"/tactile/off\x00", b"/tactile/release\x00")
+"""The addresses read whatever the rate, with the NUL that ends them: '/tactile/offset' is not."""
 _SO_RXQ_OVFL = getattr(socket, "SO_RXQ_OVFL", 40 if sys.platform.startswith("linux") else None)
 
 SWITCH_INTERVAL_S = 0.0001
@@ -50,6 +51,12 @@ SWITCH_INTERVAL_S = 0.0001
 under a flood of messages the frame thread waits at most this long for it (measured in
 ``docs/serve.md``: p99 interval error at the array 2.7-3.3 ms during a 50,000 messages/s flood,
 5.9-7.1 ms at 0.5 ms)."""
+
+
+def _printable(text: str) -> str:
+    """``text`` with what a terminal would act on escaped: a sender's address or method name
+    reaches the summary printed on the operator's terminal, and ESC [ 2 J in one cleared it."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 class OscServer(AddressSpace):
@@ -308,7 +315,7 @@ class OscServer(AddressSpace):
 
     def _problem_of(self, kind: str, text: str) -> None:
         self._n[kind] += 1
-        self._problem = text
+        self._problem = text if text.isprintable() else _printable(text)
 
     def _receive(self) -> None:
         sock, n, clock = self._sock, self._n, self.clock

@@ -26,7 +26,8 @@ Events (``send((kind, payload))``, from any thread):
   the fields the sender set, so an owner's change on its way down the pipe is not undone;
 - ``osc-refused`` the reason (the owner's scene cannot drive points: MM, IM);
 - ``osc-stopped`` the final ``ServeStats``;
-- ``lsl-opened`` ``{"levels": bool, "source_id": str}``, ``lsl-failed`` the reason,
+- ``lsl-opened`` ``{"levels": bool, "source_id": str}`` (and ``"note"``, why the source id
+  is not the one asked for, when it is not), ``lsl-failed`` the reason,
   ``lsl-closed`` None.
 """
 
@@ -193,5 +194,7 @@ class ServicesHost:
             self.send(("lsl-failed", str(exc)))
             return
         self.outlets.attach(self.streamer)
-        self.send(("lsl-opened", {"levels": bool(options.get("levels")),
-                                  "source_id": self.outlets.source_id}))  # fmt: skip
+        opened = {"levels": bool(options.get("levels")), "source_id": self.outlets.source_id}
+        if self.outlets.note:  # another program has the source id asked for
+            opened["note"] = self.outlets.note
+        self.send(("lsl-opened", opened))

@@ -26,6 +26,9 @@ from ._grid import Grid
 
 MAX_ACTUATORS = 1024
 """Most actuators of a layout (a device profile allows at most 255: one byte on the wire)."""
+MAX_GROUPS = 64
+"""Most groups of a layout (a vest's sides and panels, a sleeve's rings: a handful). 10,000
+groups, which a 1 MiB profile holds, took the tuner 50 s to draw."""
 MIN_SPACING = 1e-6
 """Closest two actuators may be, in layout units (closer is a duplicate)."""
 AXES = ("x", "y")
@@ -111,6 +114,10 @@ class Layout:
                 f"layout names must be {n} strings of 1-32 characters (one per actuator), got "
                 f"{_validate.shown(self.names)}"
             )
+        for i, name in enumerate(names):
+            problem = name_problem(name)
+            if problem:
+                raise ValueError(f"layout names[{i}] {problem}")
         if len(set(names)) != n:
             twice = sorted({s for s in names if names.count(s) > 1})
             raise ValueError(f"layout names must differ, got {twice[0]!r} twice")
@@ -272,13 +279,39 @@ def _positions(positions) -> np.ndarray:
     return pts
 
 
+def name_problem(name) -> str:
+    """What is wrong with an actuator's name ("" if nothing): 1-32 printable characters, no
+    comma or double quote, no space at either end.
+
+    Names head the columns of ``tactile render``'s CSV and the recorder's, and label LSL's
+    channels: a newline, comma or quote in one gave a header with the wrong number of columns.
+
+    >>> name_problem("front-left")
+    ''
+    >>> name_problem("a,b")
+    "must not hold a comma or a double quote, got 'a,b'"
+    """
+    if not isinstance(name, str) or not 0 < len(name) <= 32:
+        return f"must be 1-32 characters, got {_validate.shown(name)}"
+    if not name.isprintable():
+        return f"must be printable characters (no tab, newline or control), got {name!r}"
+    if "," in name or '"' in name:
+        return f"must not hold a comma or a double quote, got {name!r}"
+    if name != name.strip():
+        return f"must not start or end with a space, got {name!r}"
+    return ""
+
+
 def _groups(groups, n: int) -> tuple:
     items = groups.items() if isinstance(groups, dict) else groups
     out = []
     try:
+        if len(items) > MAX_GROUPS:  # each is outlined and labelled in every view of the tuner
+            raise ValueError(f"layout groups: at most {MAX_GROUPS}, got {len(items)}")
         for name, members in items:
-            if not isinstance(name, str) or not 0 < len(name) <= 32:
-                raise ValueError(f"layout group names must be 1-32 characters, got {name!r}")
+            if not isinstance(name, str) or not 0 < len(name) <= 32 or not name.isprintable():
+                raise ValueError(f"layout group names must be 1-32 printable characters, got "
+                                 f"{_validate.shown(name)}")  # fmt: skip
             idx = tuple(_validate.integer(f"layout group {name}", m, 0, n - 1) for m in members)
             if len(set(idx)) != len(idx):
                 raise ValueError(f"layout group {name} lists an actuator twice")

@@ -54,6 +54,8 @@ DEFAULT_TIMEOUT_S = 0.1
 """A point not refreshed within this long is released (the contract's 100 ms)."""
 MAX_POINTS = 64
 """Most points at once: the cost of a frame stays bounded whatever a sender does."""
+TIMEOUT_RANGE_S = (0.001, 60.0)
+"""Timeouts a points table takes, in seconds."""
 MAX_ID_CHARS = 64
 
 
@@ -88,7 +90,7 @@ class LivePoints:
     def __init__(self, *, timeout_s: float | None = DEFAULT_TIMEOUT_S, interpolate: bool = False,
                  max_points: int = MAX_POINTS, clock=time.perf_counter):  # fmt: skip
         if timeout_s is not None:
-            timeout_s = _validate.in_range("timeout_s", timeout_s, 0.001, 60.0)
+            timeout_s = _validate.in_range("timeout_s", timeout_s, *TIMEOUT_RANGE_S)
         self.timeout_s = timeout_s
         self._limit = math.inf if timeout_s is None else timeout_s
         self.interpolate = _validate.boolean("interpolate", interpolate)
