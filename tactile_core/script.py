@@ -151,7 +151,7 @@ class Array:
 
     # --- presenting ----------------------------------------------------------------------------
 
-    def play(self, shape, method: str = "IM", *, mu: float = 0.33, gamma: float = 0.7,
+    def play(self, shape, method: str | None = None, *, mu: float = 0.33, gamma: float = 0.7,
              duration_s: float = 1.0, gain: float = 1.0, direction: str = "forward",
              wait: bool = True, marker: str = "script") -> Presentation:  # fmt: skip
         """Present ``shape`` once with ``method`` and the correction ``(mu, gamma)``.
@@ -162,8 +162,9 @@ class Array:
             A shape (``tc.Circle(...)``) or its spec (``"circle:2.5,3,2"``); or a frame source
             (any object with ``live(...)``, such as an imported pattern), played for
             ``duration_s``.
-        method : str
-            Any method (the paper's four, the peers, a plug-in; ``"RO:r=1.5"``).
+        method : str, optional
+            Any method that renders on the array (the paper's four, the peers, a plug-in;
+            ``"RO:r=1.5"``); IM by default on a grid, BA on a layout that is not one.
         mu, gamma, gain : float
             The correction and master intensity.
         duration_s : float
@@ -179,6 +180,8 @@ class Array:
             With the first frame's time once it went out.
         """
         self._check_open()
+        if method is None:
+            method = "IM" if self.profile.is_grid else "BA"
         if isinstance(shape, str):
             shape = parse_shape(shape)
         kind = {"shape": shape} if isinstance(shape, Shape) else {"source": shape}
@@ -195,11 +198,14 @@ class Array:
         return presentation.wait() if wait else presentation
 
     def point(self, x: float, y: float, intensity: float = 1.0, *, point_id: str = "",
-              method: str = "AS", mu: float = 0.33, gamma: float = 0.7) -> None:  # fmt: skip
+              method: str | None = None, mu: float = 0.33, gamma: float = 0.7) -> None:  # fmt: skip
         """Put a live point at ``(x, y)`` (grid units) with ``intensity``; it stays until
         :meth:`release` (or, with ``point_timeout_s``, until not refreshed for that long).
-        ``method`` must render free points (not MM or IM)."""
+        ``method`` must render free points (not MM or IM): AS by default on a grid, BA on a
+        layout that is not one."""
         self._check_open()
+        if method is None:
+            method = "AS" if self.profile.is_grid else "BA"
         spec = free_method(method).spec
         self.points.set(point_id, x, y, intensity)
         scene = self.streamer.scene

@@ -165,3 +165,22 @@ def test_experiments_refuse_a_layout_profile(tmp_path):
     session = open_session(tmp_path, "p1", device_profile="belt-8")
     with pytest.raises(ValueError, match="need a grid profile"):
         Experiment1(session, profile=load_profile("belt-8"))
+
+
+def test_tuning_the_correction_on_a_layout_says_it_needs_a_grid(capsys):
+    from tactile_core.cli import main
+
+    code = main(["tune-correction", "--simulate", "--threshold", "0.2", "--exponent", "1",
+                 "--profile", "belt-8"])  # fmt: skip
+    assert code != 0
+    err = capsys.readouterr().err
+    assert "needs a grid of at least 3 x 3" in err and "got a layout: 8 actuators" in err
+
+
+def test_the_scripting_api_defaults_to_a_method_the_layout_renders():
+    # IM (play) and AS (point), the grid's defaults, would be refused on a belt
+    with tc.open_array("sim", profile=load_profile("belt-8")) as array:
+        shown = array.play("line:0,0,8,0", duration_s=0.1)
+        assert shown.scene.method == "BA"
+        array.point(1.0, 0.0)
+        assert array.streamer.scene.method == "BA"

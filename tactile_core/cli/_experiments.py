@@ -84,9 +84,17 @@ def cmd_tune_correction(args) -> int:
             raise UsageError("--simulate and --device exclude each other")
         if args.threshold is None or args.exponent is None:
             raise UsageError("--simulate needs --threshold TH and --exponent K")
+        extra = {}
+        if args.profile is not None:  # the simulated participant feels this array
+            from ..device.profile import ProfileError, load_profile
+
+            try:
+                extra["profile"] = load_profile(args.profile)
+            except ProfileError as exc:
+                raise UsageError(str(exc)) from None
         result = simulate_tuning(
             args.threshold, args.exponent, seed=seed, plan=plan, threshold_sd=args.threshold_sd,
-            weber=args.weber, lapse=args.lapse,
+            weber=args.weber, lapse=args.lapse, **extra,
         )  # fmt: skip
         expected = {"mu": args.threshold, "gamma": 1.0 / (2.0 * args.exponent)}
         return _print_tuning(result, args, {"simulated": True, "expected": expected,

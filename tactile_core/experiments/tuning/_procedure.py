@@ -92,7 +92,7 @@ class CorrectionTuning(Runner):
         self.plan = plan or TuningPlan()
         profile = kwargs.get("profile") or default_profile()
         kwargs["profile"] = profile
-        tactors, self.places = default_layout(profile.grid)
+        tactors, self.places = default_layout(profile.target)
         if self.plan.tactors is not None:
             tactors = tuple((int(c), int(r)) for c, r in self.plan.tactors)
             for c, r in tactors:
