@@ -130,7 +130,6 @@ def _write_wav(args, out, profile, frames, what: str) -> int:
 
 def cmd_stream(args) -> int:
     """Stream a scene to a device without the GUI; print statistics at the end."""
-    from ..device.link import LinkError, open_link
     from ..device.profile import ProfileError, load_profile
     from ..device.recorder import Recorder
     from ..device.streamer import Streamer
@@ -172,21 +171,12 @@ def cmd_stream(args) -> int:
         check_output(args.record, (".csv", ".npz"), "--record")
     stop = threading.Event()
     _install_stop_handlers(stop)
-    from ..live import LslError
-    from ._serve import lsl_outlets
+    from ._serve import open_outputs
 
-    try:
-        lsl = lsl_outlets(args, profile, scene.rate_hz)
-    except LslError as exc:
-        print(f"tactile stream: error: {exc}", file=sys.stderr)
+    opened = open_outputs(args, profile, scene.rate_hz)
+    if opened is None:
         return 1
-    try:
-        link = open_link(args.device, profile)
-    except LinkError as exc:
-        print(f"tactile stream: {exc}", file=sys.stderr)
-        if lsl is not None:
-            lsl.close()
-        return 1
+    lsl, link = opened
     recorder = Recorder(profile.array) if args.record else None
     streamer = Streamer(
         link,

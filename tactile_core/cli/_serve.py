@@ -136,6 +136,27 @@ def lsl_outlets(args, profile, rate_hz: float):
     return outlets
 
 
+def open_outputs(args, profile, rate_hz: float):
+    """The LSL outlets (:func:`lsl_outlets`) and then the device link, for ``tactile stream``
+    and ``serve``: ``(outlets or None, link)``, or None once it has said on standard error why
+    one could not open (the command then exits 1, nothing left open)."""
+    from ..device.link import LinkError, open_link
+    from ..live import LslError
+
+    try:
+        lsl = lsl_outlets(args, profile, rate_hz)
+    except LslError as exc:
+        print(f"tactile {args.command}: error: {exc}", file=sys.stderr)
+        return None
+    try:
+        return lsl, open_link(args.device, profile)
+    except LinkError as exc:
+        print(f"tactile {args.command}: {exc}", file=sys.stderr)
+        if lsl is not None:
+            lsl.close()
+        return None
+
+
 def _plain(data: dict) -> dict:
     return {
         k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in data.items()
@@ -180,25 +201,16 @@ def _check(args):
 
 def cmd_serve(args) -> int:
     """Serve OSC until stopped; all off on every way out; print the counters."""
-    from ..device.link import LinkError, open_link
     from ..device.streamer import Streamer
-    from ..live import LslError, OscServer
+    from ..live import OscServer
 
     profile, scene = _check(args)
     stop = threading.Event()
     _install_stop_handlers(stop)
-    try:
-        lsl = lsl_outlets(args, profile, scene.rate_hz)
-    except LslError as exc:
-        print(f"tactile serve: error: {exc}", file=sys.stderr)
+    opened = open_outputs(args, profile, scene.rate_hz)
+    if opened is None:
         return 1
-    try:
-        link = open_link(args.device, profile)
-    except LinkError as exc:
-        print(f"tactile serve: {exc}", file=sys.stderr)
-        if lsl is not None:
-            lsl.close()
-        return 1
+    lsl, link = opened
     streamer = Streamer(
         link,
         profile,
