@@ -12,6 +12,7 @@ from tactile_core.device.profile import profile_names
 
 from .device import DeviceController
 from .texts import tip
+from .widgets import ElidedLabel
 
 
 class DevicePanel(QtWidgets.QWidget):
@@ -55,9 +56,8 @@ class DevicePanel(QtWidgets.QWidget):
         self.lead_spin.setSuffix(" ms")
         self.lead_spin.setKeyboardTracking(False)  # one reopen when the value is committed
         self.lead_spin.setValue(device.lead_ms)
-        self.status_label = QtWidgets.QLabel("starting")
+        self.status_label = ElidedLabel("starting")  # one line; the whole of it as the tooltip
         self.status_label.setObjectName("status")
-        self.status_label.setWordWrap(True)
         layout.addWidget(QtWidgets.QLabel("device"), 0, 0)
         layout.addWidget(self.port_combo, 0, 1)
         layout.addWidget(self.refresh_button, 0, 2)

@@ -21,6 +21,10 @@ class ElidedLabel(QtWidgets.QLabel):
             QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Preferred
         )
 
+    def setText(self, text: str) -> None:  # Qt override: the tooltip follows the text
+        super().setText(text)
+        self.setToolTip(text)
+
     def minimumSizeHint(self) -> QtCore.QSize:  # Qt override
         return QtCore.QSize(0, super().minimumSizeHint().height())
 

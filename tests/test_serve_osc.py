@@ -122,6 +122,24 @@ def test_serve_method_and_correction_change_the_points_and_refuse_shape_methods(
         assert rig.server.scene.method == "CT" and rig.server.scene.mu == 0.0
 
 
+def test_serve_reports_only_what_a_sender_set_whenever_the_owner_scene_lands():
+    # The tuner's scene reaches the server down a pipe and may land before or after a sender's
+    # messages; a sender's change is reported as the fields its message set (never the
+    # owner's mu or gamma: reporting those would undo the owner's change in the tuner).
+    changes = []
+    with ServerRig(on_tuning=changes.append) as rig:  # scene AS, mu 0.33, gamma 0.7
+        rig.send("/tactile/gamma", 2.0)
+        rig.wait_count("controls", 1)
+        rig.server.set_scene(Scene(method="GS", mu=0.5, gamma=0.7))  # the owner's, late
+        rig.send("/tactile/method", "RO")
+        rig.wait_count("controls", 2)
+        rig.send("/tactile/mu", 0.5)  # what the points' scene already has: nothing to report
+        rig.wait_count("controls", 3)
+        assert changes == [{"gamma": 2.0}, {"method": "RO"}]
+        scene = rig.server.scene
+        assert (scene.method, scene.mu, scene.gamma) == ("RO", 0.5, 0.7)
+
+
 def test_serve_shape_plays_once_then_back_to_points():
     scenes = []  # every scene the server swaps in, in order
     with ServerRig(on_scene=scenes.append) as rig:

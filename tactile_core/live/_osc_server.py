@@ -86,6 +86,11 @@ class OscServer(AddressSpace):
     on_scene : callable, optional
         Called as ``on_scene(scene)`` from the server's threads after it swaps in a scene
         (``/tactile/method``, ``mu``, ``gamma``, ``shape``, ``off``; a shape's end).
+    on_tuning : callable, optional
+        Called as ``on_tuning({field: value})`` with what a sender's ``/tactile/method``,
+        ``mu`` or ``gamma`` changed (only the fields it set that differ from the points'
+        scene then; nothing when none do), decided under the lock that orders scene swaps, so
+        an owner's :meth:`set_scene` is never reported as a sender's change.
     on_warning : callable, optional
         Called with a sentence when listening beyond this machine (default: standard error).
     clock : callable
@@ -95,14 +100,15 @@ class OscServer(AddressSpace):
     def __init__(self, stream, profile: DeviceProfile | None = None, *, scene: Scene | None = None,
                  host: str = "127.0.0.1", port: int = DEFAULT_PORT,
                  timeout_s: float = DEFAULT_TIMEOUT_S, interpolate: bool = False,
-                 max_rate_hz: float = 10_000.0, on_scene=None, on_warning=None,
-                 clock=time.perf_counter):  # fmt: skip
+                 max_rate_hz: float = 10_000.0, on_scene=None, on_tuning=None,
+                 on_warning=None, clock=time.perf_counter):  # fmt: skip
         self.stream = stream
         self.profile = profile or default_profile()
         self.host = host
         self.port = _validate.integer("port", port, 0, 65535)
         self.max_rate_hz = _validate.in_range("max_rate_hz", max_rate_hz, 1.0, 1e7)
         self.on_scene = on_scene
+        self.on_tuning = on_tuning
         self.on_warning = on_warning or (lambda text: print(text, file=sys.stderr, flush=True))
         self.clock = clock
         self.points = LivePoints(timeout_s=timeout_s, interpolate=interpolate, clock=clock)
@@ -263,7 +269,13 @@ class OscServer(AddressSpace):
     def _change(self, **changes) -> None:
         """New method or correction for the points, and for a shape playing."""
         with self._lock:
+            changed = {k: v for k, v in changes.items() if getattr(self._base, k) != v}
             self._base = self._base.replace(**changes)
+            if changed and self.on_tuning is not None:
+                try:
+                    self.on_tuning(changed)
+                except Exception:
+                    pass
             if self._shape is not None:
                 self._shape = self._shape.replace(**changes)
                 self._swap(self._shape)

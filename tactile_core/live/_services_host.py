@@ -23,7 +23,8 @@ Events (``send((kind, payload))``, from any thread):
   driven points ``((id, x, y, intensity), ...)`` (at most :data:`MAX_SHOWN`);
 - ``osc-scene`` ``{field: value}`` with what a sender changed (``method``, ``mu``, ``gamma``:
   ``/tactile/method``, ``/tactile/mu``, ``/tactile/gamma``), never the owner's own changes: only
-  the fields the sender set, so an owner's change on its way down the pipe is not undone;
+  the fields the sender's message set (the server decides them as it applies the message, in
+  order with the owner's scenes), so an owner's change on its way down the pipe is not undone;
 - ``osc-refused`` the reason (the owner's scene cannot drive points: MM, IM);
 - ``osc-stopped`` the final ``ServeStats``;
 - ``lsl-opened`` ``{"levels": bool, "source_id": str}`` (and ``"note"``, why the source id
@@ -43,14 +44,6 @@ STATS_S = 0.1
 """Seconds between two ``osc-stats`` events."""
 MAX_SHOWN = 8
 """Most driven points an ``osc-stats`` event carries (for display)."""
-
-
-TUNING = ("method", "mu", "gamma")
-"""What a sender may change of the owner's scene."""
-
-
-def _tuning(scene) -> tuple:
-    return tuple(getattr(scene, name) for name in TUNING)
 
 
 class ServicesHost:
@@ -78,7 +71,6 @@ class ServicesHost:
         self.send = send
         self.server: OscServer | None = None
         self.outlets: LslOutlets | None = None
-        self._owner = None  # (method, mu, gamma) the owner last set
         self.switch_interval_s = switch_interval_s
         self._saved_switch = None
         self._quit = threading.Event()  # the publisher's, one per server
@@ -112,10 +104,9 @@ class ServicesHost:
         self._stop(say=False)
         scene = options.pop("scene")
         try:
-            server = OscServer(self.streamer, self.profile, scene=scene, on_scene=self._on_scene,
+            server = OscServer(self.streamer, self.profile, scene=scene, on_tuning=self._on_tuning,
                                on_warning=lambda text: self.send(("osc-warning", text)),
                                **options)  # fmt: skip
-            self._owner = _tuning(server.scene)
             server.start()
         except (OSError, ValueError, TypeError) as exc:
             self.send(("osc-failed", str(exc)))
@@ -135,21 +126,14 @@ class ServicesHost:
         server = self.server
         if server is None:
             return
-        previous = self._owner
-        self._owner = _tuning(scene)
         try:
             server.set_scene(scene)
         except ValueError as exc:
-            self._owner = previous
             self.send(("osc-refused", str(exc)))
 
-    def _on_scene(self, scene) -> None:
-        """The server swapped in a scene: tell the owner when a sender changed the tuning."""
-        tuning, owner = _tuning(scene), self._owner
-        if tuning != owner:
-            self._owner = tuning
-            changed = {k: v for k, v, was in zip(TUNING, tuning, owner) if v != was}
-            self.send(("osc-scene", changed))
+    def _on_tuning(self, changed: dict) -> None:
+        """A sender changed the points' method or correction: tell the owner what."""
+        self.send(("osc-scene", changed))
 
     def _stop(self, say: bool = True) -> None:
         server, self.server = self.server, None
