@@ -261,6 +261,37 @@ def test_lsl_source_id_locks_only_in_a_private_folder(tmp_path, monkeypatch):
     assert victim.read_text() == "keep me"
 
 
+def test_lsl_source_id_lock_files_go_with_their_outlets(tmp_path, monkeypatch):
+    """Every claimed id left a lock file behind (192 in the folder after one suite run); a
+    release removes it, and a claim that opened the file as it was being removed opens it
+    anew rather than holding a lock on a file nobody else can see."""
+    import fcntl
+
+    from tactile_core.live._lsl import _same_file, claim_source_id, release_source_id
+
+    monkeypatch.setenv("XDG_RUNTIME_DIR", str(tmp_path))
+    folder = tmp_path / f"tactile-tuner-{os.getuid()}" / "lsl"
+    sid = f"tactile-test-{uuid.uuid4().hex[:8]}"
+    first, lock1, _ = claim_source_id(sid)
+    second, lock2, holder = claim_source_id(sid)
+    assert (first, second, holder) == (sid, f"{sid}-2", str(os.getpid()))
+    assert len(list(folder.iterdir())) == 2
+    (path,) = [p for p in folder.iterdir() if int(p.read_text()) == os.getpid()
+               and os.path.samestat(p.stat(), os.fstat(lock1))]  # fmt: skip
+    late = os.open(path, os.O_RDWR)  # a claim that opened the file just before the release
+    release_source_id(lock1)
+    assert not path.exists()
+    fcntl.flock(late, fcntl.LOCK_EX | fcntl.LOCK_NB)  # it gets the lock of the unlinked file...
+    assert not _same_file(late, str(path))  # ...and sees that it is not the id's file
+    again, lock3, _ = claim_source_id(sid)  # while -2 is held, the first id is free again
+    assert again == sid and path.exists()
+    os.close(late)
+    release_source_id(lock2)
+    release_source_id(lock3)
+    release_source_id(None)
+    assert list(folder.iterdir()) == []
+
+
 def test_serve_json_that_cannot_be_written_names_the_file(capsys, tmp_path, monkeypatch):
     """A full disk at the end said 'tactile serve: error: No space left on device', naming no
     file; the counters printed above it stand."""

@@ -285,6 +285,19 @@ def test_serve_reads_ipv6_loopback_when_asked():
         rig.streamer.stop()
 
 
+@pytest.mark.parametrize(
+    "host, local",
+    [("127.0.0.1", True), ("127.8.9.10", True), ("::1", True), ("::ffff:127.0.0.1", True),
+     ("fe80::1%lo", False), ("0.0.0.0", False), ("::", False), ("192.168.1.5", False),
+     ("::ffff:192.168.1.5", False)],
+)  # fmt: skip
+def test_serve_warns_exactly_for_addresses_beyond_this_machine(host, local):
+    # IPv4 loopback written as IPv6 drew the "beyond this machine" warning (Python < 3.13)
+    from tactile_core.live._osc_server import _loopback
+
+    assert _loopback(host) is local
+
+
 def test_serve_on_a_local_stream_and_refused_by_the_stream_process():
     from pythonosc.udp_client import SimpleUDPClient
 

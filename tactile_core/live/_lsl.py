@@ -71,6 +71,35 @@ def _lock_folder() -> str:
     return folder
 
 
+_CLAIMS: dict = {}
+"""Lock descriptor -> its file, for :func:`release_source_id`."""
+
+
+def _same_file(fd: int, path: str) -> bool:
+    """True if ``path`` still names the file open as ``fd`` (not unlinked or replaced)."""
+    try:
+        mine, there = os.fstat(fd), os.stat(path, follow_symlinks=False)
+    except OSError:
+        return False
+    return (mine.st_dev, mine.st_ino) == (there.st_dev, there.st_ino)
+
+
+def release_source_id(lock: int | None) -> None:
+    """Give up a source id :func:`claim_source_id` returned ``lock`` for: its lock file is
+    removed while still locked (so the folder does not fill with the ids of past outlets),
+    then the lock is released. A claim that opened the file just before checks, once it holds
+    the lock, that the file is still there (:func:`_same_file`) and otherwise opens it anew."""
+    if lock is None:
+        return
+    path = _CLAIMS.pop(lock, None)
+    if path is not None and _same_file(lock, path):
+        try:
+            os.unlink(path)
+        except OSError:
+            pass
+    os.close(lock)
+
+
 def claim_source_id(source_id: str) -> tuple[str, int | None, str]:
     """A source id no other outlet of this tool on this machine uses: ``(id, lock, holder)``.
 
@@ -79,9 +108,10 @@ def claim_source_id(source_id: str) -> tuple[str, int | None, str]:
     profile) could swap in a recording. The first outlet of ``source_id`` gets it; while it is
     open the next gets ``source_id-2``, then ``-3``... Each claim is an exclusive ``flock`` on a
     file in ``$XDG_RUNTIME_DIR/tactile-tuner-UID/lsl`` (the temporary folder without it), which
-    the system releases when the process ends however it ends. ``lock`` is the descriptor to
-    close to release it (None where locks are not available: the id is then taken as given),
-    ``holder`` the process id that holds ``source_id`` when another one was given.
+    the system releases when the process ends however it ends. ``lock`` is the descriptor that
+    holds it (None where locks are not available: the id is then taken as given),
+    ``holder`` the process id that holds ``source_id`` when another one was given. Release
+    it with :func:`release_source_id`.
     """
     try:
         import fcntl
@@ -94,24 +124,28 @@ def claim_source_id(source_id: str) -> tuple[str, int | None, str]:
         claimed = source_id if k == 1 else f"{source_id}-{k}"
         name = hashlib.sha256(claimed.encode("utf-8", "replace")).hexdigest()[:24]
         path = os.path.join(folder, f"{name}.lock")
-        try:
-            flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0) | os.O_NOFOLLOW
-            fd = os.open(path, flags, 0o600)
-        except OSError:
-            return source_id, None, ""
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            if k == 1:
-                try:
-                    holder = os.pread(fd, 32, 0).decode("ascii", "replace").strip()
-                except OSError:
-                    pass
-            os.close(fd)
-            continue
-        os.ftruncate(fd, 0)
-        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
-        return claimed, fd, holder
+        for _ in range(8):  # a lock file its holder removed as we opened it: open it again
+            try:
+                flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0) | os.O_NOFOLLOW
+                fd = os.open(path, flags, 0o600)
+            except OSError:
+                return source_id, None, ""
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                if k == 1:
+                    try:
+                        holder = os.pread(fd, 32, 0).decode("ascii", "replace").strip()
+                    except OSError:
+                        pass
+                os.close(fd)
+                break  # held: the next id
+            if _same_file(fd, path):
+                os.ftruncate(fd, 0)
+                os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+                _CLAIMS[fd] = path
+                return claimed, fd, holder
+            os.close(fd)  # locked a file already unlinked by the one releasing it
     raise LslError(f"Lab Streaming Layer: {MAX_SAME_ID} outlets named {source_id} are open on "
                    "this machine already")  # fmt: skip
 
@@ -272,8 +306,7 @@ class LslOutlets:
         """Close the outlets (recorders see the streams end) and give up the source id."""
         self._markers = self._levels = None
         lock, self._lock = getattr(self, "_lock", None), None
-        if lock is not None:
-            os.close(lock)
+        release_source_id(lock)
 
     def __enter__(self) -> LslOutlets:
         return self

@@ -59,6 +59,14 @@ def _printable(text: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
+def _loopback(host: str) -> bool:
+    """True for an address of this machine only: 127/8, ::1, and IPv4 loopback written as
+    IPv6 (``::ffff:127.0.0.1``, which Python before 3.13 does not call loopback)."""
+    ip = ipaddress.ip_address(host.split("%")[0])
+    mapped = getattr(ip, "ipv4_mapped", None)
+    return (mapped or ip).is_loopback
+
+
 class OscServer(AddressSpace):
     """Points and commands over OSC (UDP), fed to a stream: ``tactile serve`` and the tuner.
 
@@ -318,7 +326,7 @@ class OscServer(AddressSpace):
             raise OSError(f"cannot listen on {where}: {exc.strerror or exc}") from None
         sock.settimeout(0.1)
         self.address = sock.getsockname()[:2]
-        if not ipaddress.ip_address(self.address[0].split("%")[0]).is_loopback:
+        if not _loopback(self.address[0]):
             self.on_warning(
                 f"warning: listening on {self.address[0]}:{self.address[1]}, beyond this "
                 "machine: anyone who can send it UDP drives the array"
