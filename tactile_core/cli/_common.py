@@ -47,8 +47,8 @@ def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None
     )
     paper, peers = ", ".join(METHOD_NAMES), ", ".join(PEER_METHODS)
     p.add_argument("--method", required=True, metavar="M",
-                   help=f"the paper's {paper}, the peers {peers} or a plug-in; parameters as "
-                   "RO:r=1.5 or GS:sigma=0.7")  # fmt: skip
+                   help=f"the paper's {paper}, the peers {peers}, BA (AS's weights on any "
+                   "layout) or a plug-in; parameters as RO:r=1.5 or GS:sigma=0.7")  # fmt: skip
     p.add_argument("--mu", type=number, default=0.0, help="threshold in [0, 1] (default 0)")
     p.add_argument("--gamma", type=number, default=1.0, help="gamma > 0 (default 1)")
     p.add_argument(
