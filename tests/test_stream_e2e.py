@@ -49,7 +49,7 @@ def test_stream_into_the_emulator_end_to_end(emulator, tmp_path):
 
 
 def test_emulator_closing_mid_stream_stops_the_streamer_with_a_message(emulator):
-    emu = emulator("--close-after", "0.6")
+    emu = emulator("--close-after", "0.6")  # 0.6 s after the first frame: mid-stream
     proc = stream(
         emu.path, "--shape", "line:0.5,1.84,4.5,4.16", "--method", "AS", "--seconds", "20"
     )

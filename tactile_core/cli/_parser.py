@@ -136,7 +136,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--close-after",
         type=number,
         default=None,
-        help="close the device after this long (fault test)",
+        help="close the device this long after the first frame arrives (fault test: a device "
+        "that goes away mid-stream)",
     )
     p.set_defaults(func=cmd_emulate)
 

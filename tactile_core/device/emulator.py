@@ -190,17 +190,20 @@ class Emulator:
     def run(self, should_stop, seconds: float | None = None, close_after: float | None = None):
         """Receive until ``should_stop()`` is true or ``seconds`` have passed.
 
-        ``close_after`` closes the pseudo-terminal after that many seconds (for testing how a
-        client copes with a device that goes away) and ends the run.
+        ``close_after`` closes the pseudo-terminal that many seconds after the first frame
+        arrives (for testing how a client copes with a device that goes away mid-stream,
+        however long the client took to start) and ends the run.
         """
         if self.master is None and self.listener is None:
             self.open()
         end = None if seconds is None else self.started + seconds
-        close_at = None if close_after is None else self.started + close_after
+        close_at = None  # close_after from the first frame
         while not should_stop():
             now = time.monotonic()
             if end is not None and now >= end:
                 break
+            if close_at is None and close_after is not None and len(self.log):
+                close_at = now + close_after
             if self.unplugged or (close_at is not None and now >= close_at):
                 self.events.append((now, "closed"))
                 self.close()
