@@ -6,6 +6,8 @@ import socket
 import struct
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 from pythonosc.osc_message_builder import OscMessageBuilder
 
@@ -138,6 +140,42 @@ def test_serve_reports_only_what_a_sender_set_whenever_the_owner_scene_lands():
         assert changes == [{"gamma": 2.0}, {"method": "RO"}]
         scene = rig.server.scene
         assert (scene.method, scene.mu, scene.gamma) == ("RO", 0.5, 0.7)
+
+
+def test_serve_takes_a_32_bit_mu_and_gamma_as_the_decimal_the_sender_wrote():
+    # python-osc sends 0.33 as the float32 0.33000001311302185, which the markers recorded
+    with ServerRig() as rig:
+        rig.send("/tactile/mu", 0.33)
+        rig.send("/tactile/gamma", 0.7)
+        rig.wait_count("controls", 2)
+        assert (rig.server.scene.mu, rig.server.scene.gamma) == (0.33, 0.7)
+        exact = OscMessageBuilder("/tactile/mu")
+        exact.add_arg(0.1, "d")  # a 64-bit argument is taken as it is
+        rig.client.send(exact.build())
+        rig.wait_count("controls", 3)
+        assert rig.server.scene.mu == 0.1
+
+
+@pytest.mark.parametrize(
+    "sent, taken",
+    [(0.33000001311302185, 0.33), (0.699999988079071, 0.7), (0.10000000149011612, 0.1),
+     (2.5, 2.5), (0.3333333432674408, 0.33333334), (0.1, 0.1), (1 / 3, 1 / 3),
+     (math.inf, math.inf), (1e300, 1e300)],
+)  # fmt: skip
+def test_serve_decimal32_by_hand(sent, taken):
+    from tactile_core.live._osc_addresses import decimal32
+
+    assert decimal32(sent) == taken
+
+
+@settings(max_examples=300, derandomize=True, database=None)
+@given(st.floats(width=32, allow_nan=False, allow_infinity=False))
+def test_serve_decimal32_is_the_same_32_bit_float(x):
+    from tactile_core.live._osc_addresses import decimal32
+
+    y = decimal32(x)
+    assert struct.pack(">f", y) == struct.pack(">f", x)
+    assert len(repr(abs(y)).split("e")[0].replace(".", "").strip("0")) <= 9
 
 
 def test_serve_shape_plays_once_then_back_to_points():

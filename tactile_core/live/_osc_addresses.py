@@ -10,6 +10,7 @@ the scene), so the stream's output thread never waits for it.
 from __future__ import annotations
 
 import math
+import struct
 
 from .._shared import validate as _validate
 from .._shared.validate import MAX_COORD
@@ -18,6 +19,41 @@ from ..rendering.points import MAX_ID_CHARS
 
 MAX_SHAPE_S = 3600.0
 """Longest ``/tactile/shape`` duration, in seconds."""
+
+
+_F32 = struct.Struct(">f")
+
+
+def decimal32(value: float) -> float:
+    """``value`` as the shortest decimal that is the same 32-bit float, when it is one (an OSC
+    ``f`` argument: python-osc, Max and Unity send 0.33 as 0.33000001311302185), else as it is.
+
+    Parameters
+    ----------
+    value : float
+
+    Returns
+    -------
+    float
+        ``0.33`` for ``0.33000001311302185``; a value no 32-bit float equals (an OSC ``d``
+        argument such as 0.1) unchanged.
+    """
+    if not math.isfinite(value):
+        return value
+    try:
+        packed = _F32.pack(value)
+    except OverflowError:
+        return value
+    if _F32.unpack(packed)[0] != value:
+        return value
+    for digits in range(1, 10):  # 9 significant digits always round-trip a float32
+        shorter = float(f"{value:.{digits}g}")
+        try:
+            if _F32.pack(shorter) == packed:
+                return shorter
+        except OverflowError:  # rounded up past the largest float32 (3.4028235e38)
+            continue
+    return value
 
 
 def _number(value) -> bool:
@@ -108,19 +144,19 @@ class AddressSpace:
         values = self._numbers(address, args, (1,), "one number")
         if values is None:
             return
-        base = self._base
+        base, value = self._base, decimal32(values[0])
         try:
-            check_correction(values[0] if name == "mu" else base.mu,
-                             values[0] if name == "gamma" else base.gamma)  # fmt: skip
+            check_correction(value if name == "mu" else base.mu,
+                             value if name == "gamma" else base.gamma)  # fmt: skip
         except ValueError as exc:
             return self._problem_of("out_of_range", f"{address}: {exc}")
-        self._change(**{name: values[0]})
+        self._change(**{name: value})
         self._n["controls"] += 1
 
     def _shape_message(self, address: str, args: list, now: float) -> None:
         if len(args) != 2 or not isinstance(args[0], str) or not _number(args[1]):
             return self._problem_of("wrong_type", f"{address} takes SHAPE DURATION_S")
-        duration = float(args[1])
+        duration = decimal32(float(args[1]))
         if not math.isfinite(duration):
             return self._problem_of("non_finite", f"{address}: duration {args[1]!r}")
         if not 0.0 < duration <= MAX_SHAPE_S:
