@@ -28,7 +28,10 @@ def build_parser() -> argparse.ArgumentParser:
     """Command-line options of ``tactile-tuner``."""
     p = argparse.ArgumentParser(prog="tactile-tuner", description=__doc__.splitlines()[0])
     p.add_argument(
-        "--device", metavar="URL", help="port or pyserial URL (default: simulated array)"
+        "--device",
+        metavar="URL",
+        help="a serial port, socket://HOST:PORT (tactile emulate --socket) or another "
+        "pyserial URL, or audio:[NAME] for an audio interface (default: the simulated array)",
     )
     p.add_argument(
         "--profile",

@@ -66,8 +66,10 @@ def test_stream_plays_the_file_then_stops(tmp_path, capsys):
     args = ["stream", "--device", "sim", "--shape", f"tact:{SAMPLE}", "--method", "BA",
             "--profile", "vest-4x5", "--rate", "100", "--record", str(record)]  # fmt: skip
     assert main(args) == 0
-    out = capsys.readouterr().out
+    captured = capsys.readouterr()
+    out = captured.out
     assert "frames applied" in out
+    assert f"playing VestFront of {SAMPLE}\n" in captured.err  # the sample's only position
     table = np.loadtxt(record, delimiter=",", skiprows=1)
     levels = table[:, -20:]
     # the file lasts 1 s at 100 Hz, then the all-off frame: ~100 frames over ~1 s (a loaded
@@ -75,6 +77,21 @@ def test_stream_plays_the_file_then_stops(tmp_path, capsys):
     assert 10 <= len(levels) <= 130
     assert 0.9 <= table[-1, 0] - table[0, 0] <= 1.6
     assert levels[: len(levels) // 2].any() and not levels[-1].any()
+
+
+def test_stream_names_the_positions_it_leaves_out(tmp_path, capsys):
+    # render said "not played: VestBack"; stream said nothing of which position played
+    with open(SAMPLE, encoding="utf-8-sig") as f:
+        data = json.load(f)
+    for track in data["project"]["tracks"]:
+        for effect in track["effects"]:
+            effect["modes"]["VestBack"] = json.loads(json.dumps(effect["modes"]["VestFront"]))
+    both = tmp_path / "both.tact"
+    both.write_text(json.dumps(data))
+    args = ["stream", "--device", "sim", "--shape", f"tact:{both}", "--method", "BA",
+            "--profile", "vest-4x5", "--seconds", "0.1"]  # fmt: skip
+    assert main(args) == 0
+    assert f"playing VestFront of {both}; not played: VestBack" in capsys.readouterr().err
 
 
 def test_export_tact_writes_a_shapes_trace(tmp_path, capsys):

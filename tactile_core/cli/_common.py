@@ -37,6 +37,14 @@ def whole(text: str) -> int:
         raise argparse.ArgumentTypeError(str(exc).removeprefix("the value ")) from None
 
 
+DEVICE_HELP = (
+    "a serial port (/dev/ttyUSB0, COM3), socket://HOST:PORT (tactile emulate --socket) or "
+    "another pyserial URL; audio:[NAME][?channels=N&carrier_hz=F&...] for an audio interface, one "
+    "channel per actuator; 'sim' for the simulated array"
+)
+"""``--device`` of the commands that open one."""
+
+
 def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None:
     p.add_argument(
         "--shape",

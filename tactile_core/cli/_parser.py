@@ -6,7 +6,7 @@ import argparse
 
 from .._version import __version__
 from ..device._stream_talk import DEFAULT_LEAD_MS
-from ._common import _add_scene_arguments, number, whole
+from ._common import DEVICE_HELP, _add_scene_arguments, number, whole
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._render import cmd_emulate, cmd_render, cmd_stream
 from ._serve import add_lsl_arguments, add_serve_parser
@@ -50,7 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--device",
         required=True,
         metavar="URL",
-        help="port or pyserial URL; 'sim' for the simulated array",
+        help=DEVICE_HELP,
     )
     _add_scene_arguments(p, duration=2.0)
     p.add_argument(

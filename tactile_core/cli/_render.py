@@ -14,7 +14,7 @@ from .._shared.outfile import atomic_file, check_output
 from ..rendering.correction import correct
 from ..rendering.rasterize import check_renders, render
 from ._common import UsageError, _install_stop_handlers, _scene, _seconds
-from ._tact import load_tact_arg, render_tact
+from ._tact import load_tact_arg, not_played, render_tact
 
 MAX_RENDER_FRAMES = 1_000_000
 """Most frames ``tactile render`` writes (duration x rate + 1): 240 MB of floats."""
@@ -142,6 +142,9 @@ def cmd_stream(args) -> int:
         raise UsageError(str(exc)) from None
     check_renders(method, profile.target)
     pattern = load_tact_arg(args)
+    if pattern is not None:
+        print(f"playing {pattern.position} of {args.shape[len('tact:') :]}"
+              f"{not_played(pattern)}", file=sys.stderr, flush=True)  # fmt: skip
     if pattern is not None and args.seconds is None:
         args.seconds = max(pattern.duration_s, 0.1)  # the file, then the array off
     scene = Scene(

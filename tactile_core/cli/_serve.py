@@ -15,7 +15,7 @@ from .._shared.outfile import check_output
 from ..device._stream_talk import DEFAULT_LEAD_MS
 from ..live import SWITCH_INTERVAL_S
 from ..rendering.correction import check_correction
-from ._common import UsageError, _install_stop_handlers, _seconds, number, whole
+from ._common import DEVICE_HELP, UsageError, _install_stop_handlers, _seconds, number, whole
 
 
 def add_lsl_arguments(p: argparse.ArgumentParser) -> None:
@@ -64,7 +64,7 @@ def add_serve_parser(sub) -> None:
         "--device",
         required=True,
         metavar="URL",
-        help="port or pyserial URL; 'sim' for the simulated array",
+        help=DEVICE_HELP,
     )
     p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
     p.add_argument(

@@ -67,10 +67,14 @@ def render_tact(args, pattern, method, mu, gamma, target, names, max_frames: int
                            comments="", fmt="%.10g")  # fmt: skip
     except OSError as exc:
         raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
-    skipped = f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""
     print(f"wrote {len(time_s)} frames of {pattern.position} of {args.shape[len(PREFIX) :]} "
-          f"({method}, mu={mu:g}, gamma={gamma:g}) to {out}{skipped}")  # fmt: skip
+          f"({method}, mu={mu:g}, gamma={gamma:g}) to {out}{not_played(pattern)}")  # fmt: skip
     return 0
+
+
+def not_played(pattern) -> str:
+    """``"; not played: VestBack, ..."``: the positions of the file left out ("" if none)."""
+    return f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""
 
 
 def add_export_parser(sub) -> None:
