@@ -99,7 +99,7 @@ def layout_from_json(field, pitch_mm: float, source: str) -> Layout:
             f"{source}: field 'layout.actuators' holds {len(actuators)} actuators, at most "
             f"{MAX_CHANNELS} (one channel each)"
         )
-    positions, names = [], []
+    positions, names, raw = [], [], []
     for i, item in enumerate(actuators):
         key = f"layout.actuators[{i}]"
         if isinstance(item, list) and len(item) == 2:
@@ -125,18 +125,63 @@ def layout_from_json(field, pitch_mm: float, source: str) -> Layout:
             problem = name_problem(name)
             if problem:
                 raise ValueError(f"{source}: field '{key}.name' {problem}")
+        raw.append((x, y))
         positions.append((x * scale[0], y * scale[1]))
         names.append(name if name is not None else f"a{i}")
     wrap = None
     if field.get("wrap") is not None:
         wrap = _wrap(field["wrap"], scale, source)
-    groups = field.get("groups") or {}
-    if not isinstance(groups, dict):
-        raise ValueError(f"{source}: field 'layout.groups' must map names to actuator indices")
+        _check_around(raw, field["wrap"], units, source)
+    groups = _groups(field.get("groups") or {}, len(raw), source)
     try:
         return Layout(positions, names, wrap=wrap, groups=groups)
     except ValueError as exc:
         raise ValueError(f"{source}: field 'layout': {exc}") from None
+
+
+def _check_around(raw: list, wrap: dict, units: str, source: str) -> None:
+    """Every actuator within ``[0, circumference)`` along the wrap, in the profile's units."""
+    index = 0 if wrap["axis"] == "x" else 1
+    c = float(wrap["circumference"])
+    unit = {"mm": " mm", "pitch": " pitches"}.get(units, "")
+    for i, point in enumerate(raw):
+        v = point[index]
+        if not 0.0 <= v < c:
+            raise ValueError(
+                f"{source}: field 'layout.actuators[{i}].{wrap['axis']}' is {v:g}{unit}, outside "
+                f"the wrap [0, {c:g}){unit} ('layout.wrap.circumference'): a wrapped axis runs "
+                f"from 0 round to the circumference"
+            )
+
+
+def _groups(groups, n: int, source: str) -> dict:
+    """``layout.groups`` checked field by field: names to lists of actuator indices."""
+    if not isinstance(groups, dict):
+        raise ValueError(
+            f"{source}: field 'layout.groups' must map names to lists of actuator indices, got "
+            f"{_validate.shown(groups)}"
+        )
+    for name, members in groups.items():
+        key = f"layout.groups.{name}"
+        if not isinstance(members, list):
+            raise ValueError(
+                f"{source}: field '{key}' must be a list of actuator indices, got "
+                f"{_validate.shown(members)}"
+            )
+        for j, m in enumerate(members):
+            if (isinstance(m, bool) or not isinstance(m, (int, float))
+                    or (isinstance(m, float) and not m.is_integer())):  # fmt: skip
+                raise ValueError(
+                    f"{source}: field '{key}[{j}]' must be an actuator index (a whole number), "
+                    f"got {_validate.shown(m)}"
+                )
+            if not 0 <= m < n:
+                raise ValueError(
+                    f"{source}: field '{key}[{j}]' names actuator {_validate.shown(m)}, which "
+                    f"does not exist: the layout has {n} actuator{'s' if n != 1 else ''}, "
+                    f"0..{n - 1}"
+                )
+    return groups
 
 
 def _wrap(field, scale, source) -> Wrap:
