@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import heapq
 import itertools
+import math
+import os
 import signal
 import threading
 import time
@@ -31,6 +33,7 @@ from ._shared import validate as _validate
 from .device.link import open_link
 from .device.profile import DeviceProfile, load_profile
 from .device.streamer import Streamer
+from .rendering.correction import check_correction
 from .rendering.points import TIMEOUT_RANGE_S as POINT_TIMEOUT_RANGE_S
 from .rendering.points import LivePoints, free_method
 from .rendering.scene import Scene
@@ -85,8 +88,14 @@ class Presentation:
         stopped: its status says why), or at once when the stream stops before the stimulus
         has played (the device went away: :attr:`failed`). A presentation cut short before its
         first frame (another ``play``, ``all_off``, ``close``) returns at once, ``interrupted``.
-        Ctrl-C here turns the array off, then propagates.
+        Ctrl-C here turns the array off, then propagates. ``timeout_s`` is None (or infinite)
+        to wait as long as it plays, else seconds >= 0.
         """
+        if timeout_s is not None:
+            if not (_validate.is_number(timeout_s) and timeout_s == math.inf):
+                timeout_s = _validate.non_negative("timeout_s", timeout_s)
+            if timeout_s >= threading.TIMEOUT_MAX:  # inf, 1e300: threading's wait overflows
+                timeout_s = None
         try:
             deadline = time.monotonic() + START_TIMEOUT_S
             while not (self.started.is_set() or self.done.is_set()):
@@ -132,7 +141,6 @@ class Array:
         self._wake = threading.Event()
         self._closed = threading.Event()
         self._epochs = itertools.count(1)
-        self._saved_sigterm = None
         if lsl or lsl_levels:
             from .live import LslOutlets
 
@@ -144,9 +152,12 @@ class Array:
         self.streamer.start()
         self._keeper.start()
         self.streamer.identified.wait(START_TIMEOUT_S)
-        if (threading.current_thread() is threading.main_thread()
-                and signal.getsignal(signal.SIGTERM) == signal.SIG_DFL):  # fmt: skip
-            self._saved_sigterm = signal.signal(signal.SIGTERM, _terminate)
+        if threading.current_thread() is threading.main_thread():
+            with _SIGTERM_LOCK:
+                if signal.getsignal(signal.SIGTERM) == signal.SIG_DFL:
+                    signal.signal(signal.SIGTERM, _terminate)
+                if signal.getsignal(signal.SIGTERM) is _terminate:
+                    _SIGTERM_ARRAYS.add(self)
         return self
 
     # --- presenting ----------------------------------------------------------------------------
@@ -180,6 +191,7 @@ class Array:
             With the first frame's time once it went out.
         """
         self._check_open()
+        wait = _validate.boolean("wait", wait)  # "no" would block, None would not
         if method is None:
             method = "IM" if self.profile.is_grid else "BA"
         if isinstance(shape, str):
@@ -207,6 +219,7 @@ class Array:
         if method is None:
             method = "AS" if self.profile.is_grid else "BA"
         spec = free_method(method).spec
+        mu, gamma = check_correction(mu, gamma)  # a refused call must not light the point
         self.points.set(point_id, x, y, intensity)
         scene = self.streamer.scene
         if (
@@ -249,11 +262,7 @@ class Array:
             self.link.close()
             if self.lsl is not None:
                 self.lsl.close()
-            if self._saved_sigterm is not None:
-                try:
-                    signal.signal(signal.SIGTERM, self._saved_sigterm)
-                except ValueError:  # not the main thread
-                    pass
+            _release_sigterm(self)
 
     def __enter__(self) -> Array:
         self._check_open()
@@ -320,6 +329,24 @@ def _terminate(signum, frame):
     raise SystemExit(128 + signum)
 
 
+_SIGTERM_LOCK = threading.Lock()
+_SIGTERM_ARRAYS: set = set()
+"""The open arrays that rely on :func:`_terminate`: SIGTERM goes back to its default only when
+the last of them closes, and only if the script has not put its own handler in since."""
+
+
+def _release_sigterm(array: Array) -> None:
+    with _SIGTERM_LOCK:
+        if array not in _SIGTERM_ARRAYS:
+            return
+        _SIGTERM_ARRAYS.discard(array)
+        if not _SIGTERM_ARRAYS and signal.getsignal(signal.SIGTERM) is _terminate:
+            try:
+                signal.signal(signal.SIGTERM, signal.SIG_DFL)
+            except ValueError:  # not the main thread: the handler stays, harmless
+                pass
+
+
 def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_ms: float = 0.0,
                lsl: bool = False, lsl_levels: bool = False,
                point_timeout_s: float | None = None) -> Array:  # fmt: skip
@@ -345,6 +372,11 @@ def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_m
     Array
         Use it as a context manager, or call :meth:`Array.close`.
     """
+    if isinstance(url, os.PathLike):
+        url = os.fspath(url)
+    if url is not None and not isinstance(url, str):  # pyserial's TypeError names no argument
+        raise ValueError(f"url must be a device URL such as 'sim' or '/dev/ttyUSB0', got "
+                         f"{_validate.shown(url)}")  # fmt: skip
     if not isinstance(profile, DeviceProfile):
         profile = load_profile(profile)
     lead = _validate.in_range("lead_ms", lead_ms, 0.0, 500.0) / 1e3

@@ -25,6 +25,7 @@ import numpy as np
 
 from .._shared import validate as _validate
 from .._shared.jsonfile import write_json_atomic
+from .._shared.outfile import check_output
 from ..rendering.layout import as_layout
 from ..rendering.rasterize import check_target
 from ..rendering.shapes import MAX_POINTS, Line, Polyline, Shape, Square, TimedPath
@@ -46,7 +47,8 @@ def path_of_scene(scene) -> TimedPath:
 
     Lines, polylines and squares without corner emphasis go out as their vertices at constant
     speed (exact); a time-keyed path as it is (its times shifted to start at 0); anything else
-    (circles, emphasis) is sampled every :data:`SAMPLE_MS` ms as ``CONST_TDM``. The pause and
+    (circles, emphasis) is sampled every :data:`SAMPLE_MS` ms as ``CONST_TDM`` (at most
+    ``MAX_POINTS`` samples: longer traces at that many evenly spaced times). The pause and
     the repeats are not part of it: a ``.tact`` effect plays once.
     """
     shape = scene.shape
@@ -163,7 +165,13 @@ def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
 
 
 def write_tact(out, path: TimedPath, target, **options):
-    """Write :func:`tact_document` to ``out`` atomically; returns the path written."""
+    """Write :func:`tact_document` to ``out`` atomically; returns the path written.
+
+    ``out`` is checked first (:func:`~tactile_core._shared.outfile.check_output`): a folder, a
+    device such as ``/dev/null`` or a missing folder is refused by name (``ValueError``), where
+    the atomic rename would otherwise put a regular file in a device's place.
+    """
+    out = check_output(out, (), "out")
     return write_json_atomic(out, tact_document(path, target, **options))
 
 
