@@ -45,6 +45,8 @@ def test_a_refused_point_call_lights_nothing():
         with pytest.raises(ValueError, match="gamma must be > 0"):
             array.point(4.5, 5.5, 1.0, point_id="c", gamma=-1.0)
         assert not settled_levels(array).any()
+        with pytest.raises(ValueError, match=r"point id must be a string or None, got \[1\]"):
+            array.release([1])  # was Python's "unhashable type: 'list'"
 
 
 def test_wait_takes_an_infinite_timeout_and_refuses_a_bad_one_by_name():

@@ -209,6 +209,23 @@ def test_atomic_writes_keep_the_umasks_mode_and_the_replaced_files(tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["kept.json", "new.json", "strict.json"]
 
 
+def test_atomic_writes_never_replace_what_is_not_a_regular_file(tmp_path):
+    # As root, write_tact("/dev/null", ...) replaced /dev/null with a regular file (the rename
+    # of the temporary file took the device's place). Every atomic writer refuses first.
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    folder = tmp_path / "folder"
+    folder.mkdir()
+    link = tmp_path / "link-to-pipe"
+    link.symlink_to(fifo)
+    for target in (fifo, folder, link):
+        with pytest.raises(OSError, match="not a regular file") as caught:
+            write_json_atomic(target, {"a": 1})
+        assert caught.value.filename == str(target)
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode) and folder.is_dir() and link.is_symlink()
+    assert sorted(os.listdir(tmp_path)) == ["folder", "link-to-pipe", "pipe"]  # no temporaries
+
+
 @pytest.mark.parametrize("value", ["1_0", "\uff11", " 0.5", "0.5 ", "0x1", "1,5", "\u0661"])
 def test_cli_numbers_are_ascii_decimals(capsys, tmp_path, value):
     code, err = run_cli(capsys, "render", "--shape", "circle:2.5,3,2", "--method", "AS",

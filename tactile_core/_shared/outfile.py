@@ -10,6 +10,7 @@ either the previous file or the new one, never a truncated or empty file in its 
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import secrets
 import stat
@@ -75,13 +76,22 @@ def check_folder(path, what: str = "folder", create: bool = True) -> Path:
 @contextlib.contextmanager
 def atomic_file(path, *, binary: bool = False):
     """Open a temporary file beside ``path`` for writing; on success sync it and rename it over
-    ``path``. On any error the temporary file is removed and ``path`` is left as it was.
+    ``path``. On any error the temporary file is removed and ``path`` is left as it was. A
+    ``path`` that exists and is not a regular file (``/dev/null``, a FIFO, a folder) is refused
+    with an ``OSError`` (``EINVAL``) before anything is written: the rename would replace it.
 
     The file gets the permissions a plain ``open(path, "w")`` would give it: those of the file
     it replaces, or for a new file ``0666`` less the umask (``0644`` under the usual ``022``),
     never the ``0600`` of a private temporary file.
     """
     path = Path(path)
+    try:
+        there = os.stat(path)
+    except OSError:
+        there = None
+    if there is not None and not stat.S_ISREG(there.st_mode):  # the rename would replace it
+        raise OSError(errno.EINVAL, "not a regular file (a folder, device or FIFO), which "
+                      "writing would replace", str(path))  # fmt: skip
     folder = path.parent if str(path.parent) else Path(".")
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
     for _ in range(100):

@@ -141,7 +141,10 @@ class LivePoints:
             self._points = new
 
     def release(self, point_id=None) -> int:
-        """Release one point (None: all); how many were released."""
+        """Release one point (None: all); how many were released. ``ValueError`` for an id
+        that is not a string (a point id always is)."""
+        if point_id is not None and not isinstance(point_id, str):
+            raise ValueError(f"point id must be a string or None, got {_validate.shown(point_id)}")
         with self._write:
             points = self._points
             if point_id is None:
