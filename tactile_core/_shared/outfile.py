@@ -94,16 +94,18 @@ def atomic_file(path, *, binary: bool = False):
                       "writing would replace", str(path))  # fmt: skip
     folder = path.parent if str(path.parent) else Path(".")
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
-    for _ in range(100):
-        tmp = folder / f".{path.name}.{secrets.token_hex(6)}.tmp"
-        try:
-            fd = os.open(tmp, flags | getattr(os, "O_NOFOLLOW", 0), 0o666)  # the umask applies
-            break
-        except FileExistsError:
-            continue
-    else:  # pragma: no cover - 100 random names taken
-        raise FileExistsError(f"{folder}: no free temporary name for {path.name}")
+    tmp = None  # the name being created or made: removed on any way out, a signal's included
     try:
+        for _ in range(100):
+            tmp = folder / f".{path.name}.{secrets.token_hex(6)}.tmp"
+            try:  # (a signal handled as os.open returns finds tmp set: it is removed below)
+                fd = os.open(tmp, flags | getattr(os, "O_NOFOLLOW", 0), 0o666)  # umask applies
+                break
+            except FileExistsError:
+                tmp = None  # another's file: never removed
+                continue
+        else:  # pragma: no cover - 100 random names taken
+            raise FileExistsError(f"{folder}: no free temporary name for {path.name}")
         try:
             old = os.stat(path)
         except OSError:
@@ -118,5 +120,6 @@ def atomic_file(path, *, binary: bool = False):
             os.fsync(f.fileno())
         os.replace(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        if tmp is not None:
+            Path(tmp).unlink(missing_ok=True)
         raise
