@@ -157,3 +157,29 @@ def test_write_wav_refuses_what_no_device_level_or_audio_url_allows(tmp_path, ch
         write_wav(out, args.pop("levels"), args.pop("rate_hz"), profile(4), **args)
     assert words in str(caught.value)
     assert not out.exists() and not list(tmp_path.iterdir())  # nothing half-written
+
+
+def test_a_stream_portaudio_has_lost_is_a_status_line_not_a_traceback(monkeypatch):
+    """sounddevice's ``active`` raises PortAudioError for a stream PortAudio lost (the
+    streamer took it for a bug: 'internal error', a traceback and exit 70, no reconnect)."""
+    from tactile_core.device.wire import encode_frame
+
+    sd, _ = fake_audio(monkeypatch)
+    link = AudioLink("audio:USB", profile(8))
+    stream = sd.streams[-1]
+
+    class Lost(type(stream)):
+        @property
+        def active(self):
+            raise PortAudioError("Bad stream pointer", -9988)
+
+        @active.setter
+        def active(self, value):
+            pass
+
+    stream.__class__ = Lost
+    for call in (lambda: link.write(encode_frame(0, [1] * 8)), link.read):
+        with pytest.raises(LinkError, match="audio device stopped: 'USB 8ch'"):
+            call()
+    link.close()
+    assert stream.closed

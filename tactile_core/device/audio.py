@@ -64,6 +64,15 @@ def _close_all() -> None:
         link.close()
 
 
+def _active(stream) -> bool:
+    """``stream.active``, False where PortAudio cannot say (sounddevice raises
+    ``PortAudioError`` for a stream it has lost: that is a stopped device, not a traceback)."""
+    try:
+        return bool(stream.active)
+    except Exception:
+        return False
+
+
 def audio_outputs(rescan: bool = False) -> list[tuple[str, str]]:
     """``(url, label)`` of every audio output device (``("audio:USB 8ch", "USB 8ch (ALSA, 8
     channels, 48000 Hz)")``), for a device box; empty without PortAudio. A device whose name
@@ -211,7 +220,7 @@ class AudioLink:
             ) from None
         self._stream = stream
         deadline = self._clock.now() + OPEN_TIMEOUT_S  # frames wait for a steady stream
-        while not self.player.clock.locked and self._clock.now() < deadline and stream.active:
+        while not self.player.clock.locked and self._clock.now() < deadline and _active(stream):
             self._clock.sleep(0.002)
         self.description = (
             f"{self.url} ({device['name']}, {self.channels} channels at {rate} Hz, latency "
@@ -239,7 +248,7 @@ class AudioLink:
         name = self.device["name"]
         if self._failure:
             raise LinkError(f"audio stopped on {name!r}: the callback failed ({self._failure})")
-        if self._finished or not stream.active:
+        if self._finished or not _active(stream):
             raise LinkError(
                 f"audio device stopped: {name!r} (unplugged, or taken by another program?)"
             )
