@@ -24,6 +24,8 @@ SAMPLERATE_RANGE = (8000, 384000)
 RAMP_RANGE_MS = (0.0, 20.0)
 MAX_CHANNELS = 1024
 INSTALL = "Debian/Ubuntu: apt-get install libportaudio2"
+PA_DEVICE_UNAVAILABLE = -9985
+"""PortAudio's ``paDeviceUnavailable``: the device is open in another program (or gone)."""
 
 
 @dataclass(frozen=True)
@@ -161,12 +163,15 @@ def find_device(sd, name: str) -> dict:
     """
     devices = output_devices(sd)
     if name == "":
-        index = sd.default.device[1] if isinstance(sd.default.device, list | tuple) else -1
+        try:  # sounddevice's default.device is an (input, output) pair, not a list
+            index = int(sd.default.device[1])
+        except (TypeError, ValueError, IndexError, KeyError):
+            index = -1
         chosen = [d for d in devices if d["index"] == index]
         if not chosen:
             raise LinkError(f"no default audio output device; {_listing(devices)}")
         return chosen[0]
-    if name.isdigit():
+    if is_index(name):
         chosen = [d for d in devices if d["index"] == int(name)]
     else:
         chosen = [d for d in devices if d["name"] == name] or [
@@ -176,8 +181,30 @@ def find_device(sd, name: str) -> dict:
         return chosen[0]
     if chosen:
         names = ", ".join(repr(d["name"]) for d in chosen[:10])
-        raise LinkError(f"audio device {name!r} is ambiguous: it matches {names}")
+        raise LinkError(f"audio device {name!r} is ambiguous: it matches {names}; name one by "
+                        f"its index (audio:N): {_listing(chosen)}")  # fmt: skip
     raise LinkError(f"no audio output device {name!r}; {_listing(devices)}")
+
+
+def is_index(name: str) -> bool:
+    """True for a device name that ``audio:NAME`` reads as an index: ASCII digits only."""
+    return name.isascii() and name.isdigit()
+
+
+def device_url(device: dict, devices: list[dict]) -> str:
+    """The ``audio:`` URL that opens ``device`` among ``devices``: by its name, or by its index
+    where the name would not find it (a name several devices share, as the host APIs of
+    Windows do; a name of digits, read as an index; an empty or space-padded one)."""
+    name = device["name"]
+    if (
+        name
+        and name == name.strip()
+        and not is_index(name)
+        and not name.startswith("//")
+        and sum(d["name"] == name for d in devices) == 1
+    ):
+        return audio_url(name)
+    return f"{SCHEME}{device['index']}"
 
 
 def check_device(sd, device: dict, channels: int, samplerate: int, *, asked: str) -> None:
@@ -194,6 +221,11 @@ def check_device(sd, device: dict, channels: int, samplerate: int, *, asked: str
             device=device["index"], channels=channels, dtype="float32", samplerate=samplerate
         )
     except Exception as exc:  # sounddevice.PortAudioError, ValueError
+        if exc.args[1:2] == (PA_DEVICE_UNAVAILABLE,):  # busy: not a matter of channels or rate
+            raise LinkError(
+                f"audio device {device['name']!r} is busy or unavailable (in use by another "
+                f"program, or unplugged?): {exc}"
+            ) from None
         raise LinkError(
             f"audio device {device['name']!r} cannot play {channels} channels at "
             f"{samplerate} Hz ({exc}); it supports {describe_device(device).split(': ', 1)[1]}"

@@ -33,8 +33,8 @@ from ._audio_play import Player
 from ._audio_synth import DEFAULT_CARRIER_HZ
 from ._audio_url import (
     SAMPLERATE_RANGE,
-    audio_url,
     check_device,
+    device_url,
     find_device,
     load_sounddevice,
     output_devices,
@@ -64,9 +64,19 @@ def _close_all() -> None:
         link.close()
 
 
+def _active(stream) -> bool:
+    """``stream.active``, False where PortAudio cannot say (sounddevice raises
+    ``PortAudioError`` for a stream it has lost: that is a stopped device, not a traceback)."""
+    try:
+        return bool(stream.active)
+    except Exception:
+        return False
+
+
 def audio_outputs(rescan: bool = False) -> list[tuple[str, str]]:
     """``(url, label)`` of every audio output device (``("audio:USB 8ch", "USB 8ch (ALSA, 8
-    channels, 48000 Hz)")``), for a device box; empty without PortAudio.
+    channels, 48000 Hz)")``), for a device box; empty without PortAudio. A device whose name
+    would not open it (one that several devices share, or digits) is ``audio:INDEX``.
 
     PortAudio lists the devices it found when it started; ``rescan`` starts it again to find
     devices plugged in since, unless an audio link is open in this process (its stream would
@@ -82,7 +92,7 @@ def audio_outputs(rescan: bool = False) -> list[tuple[str, str]]:
         return []
     return [
         (
-            audio_url(d["name"]),
+            device_url(d, devices),
             f"{d['name']} ({d['hostapi']}, {d['max_output_channels']} channels, "
             f"{d['default_samplerate']:g} Hz)",
         )
@@ -120,12 +130,16 @@ class AudioLink:
     LinkError
         A bad URL (naming the key), no PortAudio, no such device, or a device that cannot play
         the channels at the samplerate (listing what it supports).
+    TypeError
+        A ``profile`` that is not a :class:`~.profile.DeviceProfile`.
     """
 
     byte_s = 0.0
     """Seconds a byte takes on this link: none, it is received in-process."""
 
     def __init__(self, url: str, profile: DeviceProfile | None = None, *, clock=None):
+        if profile is not None and not isinstance(profile, DeviceProfile):
+            raise TypeError(f"profile must be a DeviceProfile, got {type(profile).__name__}")
         self.url = url
         self.profile = profile or default_profile()
         self.settings = parse_audio_url(url)
@@ -180,6 +194,7 @@ class AudioLink:
         self._finished = False
         self.underflows = 0
         self._late_taken = 0
+        stream = None
         try:
             stream = sd.OutputStream(
                 device=device["index"],
@@ -194,13 +209,18 @@ class AudioLink:
             self.latency_s = float(stream.latency)
             stream.start()
         except Exception as exc:  # sounddevice.PortAudioError
+            if stream is not None:  # opened, then failed to start: let go of the device
+                try:
+                    stream.close(ignore_errors=True)
+                except Exception:
+                    pass
             raise LinkError(
                 f"cannot open audio device {device['name']!r} ({self.channels} channels at "
                 f"{rate} Hz): {exc}"
             ) from None
         self._stream = stream
         deadline = self._clock.now() + OPEN_TIMEOUT_S  # frames wait for a steady stream
-        while not self.player.clock.locked and self._clock.now() < deadline and stream.active:
+        while not self.player.clock.locked and self._clock.now() < deadline and _active(stream):
             self._clock.sleep(0.002)
         self.description = (
             f"{self.url} ({device['name']}, {self.channels} channels at {rate} Hz, latency "
@@ -228,7 +248,7 @@ class AudioLink:
         name = self.device["name"]
         if self._failure:
             raise LinkError(f"audio stopped on {name!r}: the callback failed ({self._failure})")
-        if self._finished or not stream.active:
+        if self._finished or not _active(stream):
             raise LinkError(
                 f"audio device stopped: {name!r} (unplugged, or taken by another program?)"
             )

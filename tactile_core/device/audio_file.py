@@ -12,8 +12,10 @@ import wave
 
 import numpy as np
 
+from .._shared import validate as _validate
 from .._shared.outfile import atomic_file
 from ._audio_synth import DEFAULT_RAMP_MS, synthesize
+from ._audio_url import CARRIER_RANGE_HZ, RAMP_RANGE_MS, SAMPLERATE_RANGE
 from .audio import carriers_for
 from .profile import DeviceProfile
 
@@ -33,6 +35,18 @@ def wav_layout(frames: int, rate_hz: float, samplerate: int, ramp_s: float) -> t
     onsets = np.round(np.arange(frames + 1) * samplerate / rate_hz).astype(np.int64)
     length = int(onsets[-1] + round(ramp_s * samplerate) + round(TAIL_S * samplerate))
     return onsets, length
+
+
+def _check_levels(levels: np.ndarray, top: int) -> None:
+    """``ValueError`` naming the first entry of ``levels`` that is not a level 0 .. ``top``."""
+    if levels.dtype.kind not in "iuf":
+        raise ValueError(f"levels must be device levels 0..{top} (integers), got {levels.dtype}")
+    with np.errstate(invalid="ignore"):
+        bad = ~((levels >= 0) & (levels <= top) & (levels == np.round(levels)))
+    if bad.any():
+        k, c = np.argwhere(bad)[0]
+        raise ValueError(f"levels[{k}, {c}] must be a device level 0..{top}, got "
+                         f"{_validate.shown(levels[k, c].item())}")  # fmt: skip
 
 
 def write_wav(path, levels, rate_hz: float, profile: DeviceProfile, *, samplerate: int = 48000,
@@ -65,13 +79,20 @@ def write_wav(path, levels, rate_hz: float, profile: DeviceProfile, *, samplerat
     Raises
     ------
     ValueError
-        Levels of the wrong shape, or a signal too long for a WAV file (naming the duration).
+        Naming the argument: levels of the wrong shape or outside 0 .. levels - 1, a rate,
+        samplerate, carrier or ramp out of range (those of an ``audio:`` URL), or a signal too
+        long for a WAV file (naming the duration).
     """
     levels = np.asarray(levels)
     n = profile.channels
     if levels.ndim != 2 or levels.shape[1] != n:
         raise ValueError(f"levels must be (frames, {n}) in channel order, got {levels.shape}")
-    ramp_s = ramp_ms / 1e3
+    _check_levels(levels, profile.levels - 1)
+    rate_hz = _validate.rate("rate_hz", rate_hz, 1e-3)
+    samplerate = _validate.integer("samplerate", samplerate, *SAMPLERATE_RANGE)
+    ramp_s = _validate.in_range("ramp_ms", ramp_ms, *RAMP_RANGE_MS) / 1e3
+    if carrier_hz is not None:
+        carrier_hz = _validate.in_range("carrier_hz", carrier_hz, *CARRIER_RANGE_HZ)
     frames = np.vstack([levels, np.zeros((1, n), dtype=levels.dtype)])  # then all off
     onsets, length = wav_layout(len(levels), rate_hz, samplerate, ramp_s)
     size = length * n * 2
