@@ -228,7 +228,7 @@ def plateau_levels(x, carriers, onsets, ramp_n: int, margin: int = 8):
     return out
 
 
-def read_back(x, time_s, levels, *, carriers, samplerate, ramp_n, top, reach):
+def read_back(x, time_s, levels, *, carriers, samplerate, ramp_n, top, reach, timed=True):
     """Compare a capture with the frames a stream recorded.
 
     Parameters
@@ -245,6 +245,12 @@ def read_back(x, time_s, levels, *, carriers, samplerate, ramp_n, top, reach):
         How far from where the recording puts it an onset is looked for (samples): the onsets
         of frames closer together than a ramp and twice this are not fitted, and their levels
         not read; nor are those of frames found at the bound (``missed``: further off).
+    timed : bool
+        The frames were timed: the final frame (for now) starts at its time or later, so the
+        plateau before it ends there. Frames for now start anywhere in the block after their
+        time, the final one too, up to half a block before where the others' median shift
+        puts it: the plateau before it is not read (it read a level low when the final frame
+        came early in its block, 1 run in ~20).
 
     Returns
     -------
@@ -284,7 +290,7 @@ def read_back(x, time_s, levels, *, carriers, samplerate, ramp_n, top, reach):
     plateau = plateau_levels(x, car, onsets, ramp_n)
     known = np.zeros(len(t), dtype=bool)
     known[fitted] = True
-    known[-1] = True  # the final frame starts at its time or later: the one before holds until
+    known[-1] = timed  # the final frame starts at its time or later: the one before holds until
     plateau[~(known[:-1] & known[1:])] = np.nan  # a plateau between two known onsets only
     nonzero = np.flatnonzero(np.abs(x).max(axis=1) > 0)
     return {

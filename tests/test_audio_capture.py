@@ -83,6 +83,7 @@ def test_audio_stream_plays_the_frames_sent_and_ends_in_silence(tmp_path, how, r
         ramp_n=RAMP_N,
         top=22,
         reach=40 if timed else BLOCK + RAMP_N,
+        timed=timed,
     )
     onset = np.abs(figures["onset_error"])
     print(
