@@ -38,3 +38,15 @@ def align(received, expected):
         else:
             raise AssertionError(f"frame after trace frame {k} is not a rendering of the core")
     return k
+
+
+def stop_with(proc, signum, timeout_s=30.0):
+    """Send ``signum`` to the subprocess ``proc`` and wait for its end: ``(out, err)``. A
+    process still running when the wait fails is killed, so no test leaves one behind."""
+    try:
+        proc.send_signal(signum)
+        return proc.communicate(timeout=timeout_s)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()

@@ -17,6 +17,7 @@ from tactile_core.files.tact import path_of_scene, tact_document, write_tact
 from tactile_core.rendering.scene import Scene
 from tactile_core.rendering.shapes import TimedPath
 
+from .helpers import stop_with
 from .serve_support import wait_for
 
 PALM = tc.Grid(5, 6)
@@ -103,12 +104,10 @@ def test_sigterm_still_turns_the_array_off_after_another_array_closed():
                             stderr=subprocess.PIPE, text=True)  # fmt: skip
     try:
         assert proc.stdout.readline().strip() == "playing", proc.stderr.read()
-        proc.send_signal(signal.SIGTERM)
-        out, err = proc.communicate(timeout=30)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.communicate()
+    except BaseException:
+        stop_with(proc, signal.SIGKILL)
+        raise
+    out, err = stop_with(proc, signal.SIGTERM)
     assert out.split() == ["off"], err
     assert proc.returncode == 128 + signal.SIGTERM
 
