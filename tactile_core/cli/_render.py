@@ -10,10 +10,10 @@ import time
 import numpy as np
 
 from .._shared import validate as _validate
-from .._shared.outfile import atomic_file, check_output
+from .._shared.outfile import check_output
 from ..rendering.correction import correct
 from ..rendering.rasterize import check_renders, render
-from ._common import UsageError, _install_stop_handlers, _scene, _seconds
+from ._common import UsageError, _install_stop_handlers, _scene, _seconds, write_frames
 from ._tact import load_tact_arg, not_played, render_tact
 
 MAX_RENDER_FRAMES = 1_000_000
@@ -48,23 +48,7 @@ def cmd_render(args) -> int:
     if wav:
         return _write_wav(args, out, profile, frames, f"{shape.spec} ({method}, mu={mu:g}, "
                           f"gamma={gamma:g})")  # fmt: skip
-    try:
-        if out.suffix.lower() == ".npz":
-            with atomic_file(out, binary=True) as f:
-                np.savez(f, time=time_s, frames=frames)
-        else:
-            table = np.column_stack([time_s, frames.reshape(len(t), grid.size)])
-            with atomic_file(out) as f:
-                np.savetxt(
-                    f,
-                    table,
-                    delimiter=",",
-                    header=",".join(["time", *names]),
-                    comments="",
-                    fmt="%.10g",
-                )
-    except OSError as exc:
-        raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
+    write_frames(out, time_s, frames, names)
     print(f"wrote {len(t)} frames of {shape.spec} ({method}, mu={mu:g}, gamma={gamma:g}) to {out}")
     return 0
 

@@ -8,9 +8,9 @@ import argparse
 import numpy as np
 
 from .._shared import validate as _validate
-from .._shared.outfile import atomic_file, check_output
+from .._shared.outfile import check_output
 from ..files.tact import POSITIONS, TactError, load_pattern, path_of_scene, write_tact
-from ._common import UsageError, number, whole
+from ._common import UsageError, number, whole, write_frames
 
 PREFIX = "tact:"
 
@@ -56,17 +56,7 @@ def render_tact(args, pattern, method, mu, gamma, target, names, max_frames: int
     if n > max_frames:
         raise ValueError(f"duration x rate must give at most {max_frames} frames, got {n}")
     time_s, frames = pattern.frames(method, target, rate_hz=args.rate, mu=mu, gamma=gamma)
-    try:
-        if out.suffix.lower() == ".npz":
-            with atomic_file(out, binary=True) as f:
-                np.savez(f, time=time_s, frames=frames)
-        else:
-            table = np.column_stack([time_s, frames.reshape(len(time_s), target.size)])
-            with atomic_file(out) as f:
-                np.savetxt(f, table, delimiter=",", header=",".join(["time", *names]),
-                           comments="", fmt="%.10g")  # fmt: skip
-    except OSError as exc:
-        raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
+    write_frames(out, time_s, frames, names)
     print(f"wrote {len(time_s)} frames of {pattern.position} of {args.shape[len(PREFIX) :]} "
           f"({method}, mu={mu:g}, gamma={gamma:g}) to {out}{not_played(pattern)}")  # fmt: skip
     return 0
