@@ -273,14 +273,18 @@ class _Reader:
                 dots.extend(found if enabled else ())
         return start + length
 
-    def path_mode(self, mode, field, position, start, length) -> list:
-        field = f"{field}.pathMode"
-        body = self.object(self.get(mode, "pathMode", field.rpartition(".")[0]), field)
+    def feedback(self, mode, key, field):
+        """``(field path, entry)`` of each entry of ``mode[key].feedback``, checked objects."""
+        field = f"{field}.{key}"
+        body = self.object(self.get(mode, key, field.rpartition(".")[0]), field)
         feedback = self.array(self.get(body, "feedback", field), f"{field}.feedback", MAX_POINTS)
-        out = []
         for k, entry in enumerate(feedback):
             where = f"{field}.feedback[{k}]"
-            entry = self.object(entry, where)
+            yield where, self.object(entry, where)
+
+    def path_mode(self, mode, field, position, start, length) -> list:
+        out = []
+        for where, entry in self.feedback(mode, "pathMode", field):
             pattern = self.choice(self.get(entry, "movingPattern", where),
                                   f"{where}.movingPattern", PATTERNS)  # fmt: skip
             fade = self.choice(entry.get("playbackType", "NONE"), f"{where}.playbackType", FADES)
@@ -315,13 +319,8 @@ class _Reader:
         return out
 
     def dot_mode(self, mode, field, position, start, length, layouts) -> list:
-        field = f"{field}.dotMode"
-        body = self.object(self.get(mode, "dotMode", field.rpartition(".")[0]), field)
-        feedback = self.array(self.get(body, "feedback", field), f"{field}.feedback", MAX_POINTS)
         out = []
-        for k, entry in enumerate(feedback):
-            where = f"{field}.feedback[{k}]"
-            entry = self.object(entry, where)
+        for where, entry in self.feedback(mode, "dotMode", field):
             begin = self.number(self.get(entry, "startTime", where), f"{where}.startTime", 0.0,
                                 length)  # fmt: skip
             end = self.number(self.get(entry, "endTime", where), f"{where}.endTime", 0.0, length)
