@@ -52,16 +52,7 @@ def parse_shape(text: str) -> Shape:
         )
     if kind == "timed":
         return _parse_timed(args)
-    parts = [a.strip() for a in args.split(",")] if args.strip() else []
-    if len(parts) > 2 * MAX_POINTS:
-        raise ValueError(f"shape {kind}: at most {2 * MAX_POINTS} numbers, got {len(parts)}")
-    bad = next((a for a in parts if not _NUMBER.fullmatch(a)), None)
-    if bad is not None:
-        raise ValueError(
-            f"shape {kind}: coordinates must be decimal numbers separated by commas, "
-            f"got {_validate.shown(bad)}"
-        )
-    values = [float(a) for a in parts]
+    values = _numbers(kind, args, 2 * MAX_POINTS, "coordinates")
     need = {"line": 4, "circle": 3, "square": 3}
     if kind in need and len(values) != need[kind]:
         raise ValueError(f"shape {kind}: needs {need[kind]} numbers, got {len(values)}")
@@ -79,6 +70,21 @@ def parse_shape(text: str) -> Shape:
         raise ValueError(f"shape {kind}: {exc}") from None
 
 
+def _numbers(kind: str, text: str, most: int, what: str) -> list[float]:
+    """The comma-separated decimal numbers of a spec (none for blank ``text``), at most
+    ``most``; ``ValueError`` naming the shape kind and the first that is not a number."""
+    parts = [a.strip() for a in text.split(",")] if text.strip() else []
+    if len(parts) > most:
+        raise ValueError(f"shape {kind}: at most {most} numbers, got {len(parts)}")
+    bad = next((a for a in parts if not _NUMBER.fullmatch(a)), None)
+    if bad is not None:
+        raise ValueError(
+            f"shape {kind}: {what} must be decimal numbers separated by commas, "
+            f"got {_validate.shown(bad)}"
+        )
+    return [float(a) for a in parts]
+
+
 def _parse_timed(args: str) -> TimedPath:
     """The ``timed:`` form: quadruples ``x, y, time_s, intensity``, then ``;options``."""
     numbers, *words = [a.strip() for a in args.split(";")]
@@ -90,21 +96,12 @@ def _parse_timed(args: str) -> TimedPath:
             )
         key, value = SPEC_OPTIONS[word.lower()]
         options[key] = value
-    parts = [a.strip() for a in numbers.split(",")] if numbers else []
-    if len(parts) > 4 * MAX_POINTS:
-        raise ValueError(f"shape timed: at most {4 * MAX_POINTS} numbers, got {len(parts)}")
-    bad = next((a for a in parts if not _NUMBER.fullmatch(a)), None)
-    if bad is not None:
-        raise ValueError(
-            f"shape timed: numbers must be decimal numbers separated by commas, "
-            f"got {_validate.shown(bad)}"
-        )
-    if len(parts) < 8 or len(parts) % 4:
+    v = _numbers("timed", numbers, 4 * MAX_POINTS, "numbers")
+    if len(v) < 8 or len(v) % 4:
         raise ValueError(
             "shape timed: needs x, y, time_s, intensity for each of at least 2 points "
-            f"(a multiple of 4 numbers, >= 8), got {len(parts)}"
+            f"(a multiple of 4 numbers, >= 8), got {len(v)}"
         )
-    v = [float(a) for a in parts]
     try:
         return TimedPath(list(zip(v[0::4], v[1::4])), v[2::4], v[3::4], **options)
     except ValueError as exc:
