@@ -50,3 +50,24 @@ def stop_with(proc, signum, timeout_s=30.0):
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
+
+
+def run_cli_here(capsys, *argv):
+    """``tactile ARGV`` in this process (the command line's own code): ``(status, standard
+    output, standard error)``, an exit by ``SystemExit`` (argparse) included; fails on a
+    traceback."""
+    from tactile_core.cli import main
+
+    try:
+        code = main([str(a) for a in argv])
+    except SystemExit as exc:
+        code = exc.code
+    out = capsys.readouterr()
+    assert "Traceback" not in out.err
+    return code, out.out, out.err
+
+
+def run_cli_last_line(capsys, *argv):
+    """:func:`run_cli_here`'s status and the last line of standard error ("" if none)."""
+    code, _, err = run_cli_here(capsys, *argv)
+    return code, err.strip().splitlines()[-1] if err.strip() else ""

@@ -13,25 +13,19 @@ import pytest
 
 import tactile_core as tc
 from tactile_core._shared.assets import asset_path
-from tactile_core.cli import main as cli
 from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_from_dict
 from tactile_core.experiments.results import check_participant
 from tactile_core.files.export import write_lut_csv
 from tactile_core.files.presets import PresetError, load_preset
+
+from .helpers import run_cli_last_line
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
 PRESET = json.loads(asset_path("presets", "exp3-square.json").read_text())
 PROFILE = json.loads(asset_path("devices", "palm-5x6.json").read_text())
 
 
-def run_cli(capsys, *argv):
-    try:
-        code = cli(list(argv))
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    assert "Traceback" not in out.err
-    return code, out.err.strip().splitlines()[-1] if out.err.strip() else ""
+run_cli = run_cli_last_line
 
 
 @pytest.mark.parametrize(

@@ -12,12 +12,12 @@ import time
 
 import pytest
 
-from tactile_core.cli import main as cli
 from tactile_core.device.profile import ProfileError, load_profile, profile_from_dict
 from tactile_core.files.tact import TactError, read_tact
 from tactile_core.rendering.layout import Layout
 
 from . import tact_support as ts
+from .helpers import run_cli_last_line
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
 BELT = {
@@ -34,14 +34,7 @@ BELT = {
 }
 
 
-def run_cli(capsys, *argv):
-    try:
-        code = cli([str(a) for a in argv])
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    assert "Traceback" not in out.err
-    return code, out.err.strip().splitlines()[-1] if out.err.strip() else ""
+run_cli = run_cli_last_line
 
 
 def strip(n, wrap=False):

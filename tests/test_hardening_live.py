@@ -11,22 +11,18 @@ import pylsl
 import pytest
 
 import tactile_core as tc
-from tactile_core.cli import main as cli
 from tactile_core.device.profile import ProfileError, default_profile
 from tactile_core.live import LslError, LslOutlets
+
+from .helpers import run_cli_here
 
 
 def run_cli(capsys, *argv, stdout=None):
     """``(status, standard error)``; standard output appended to ``stdout`` if given."""
-    try:
-        code = cli([str(a) for a in argv])
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    assert "Traceback" not in out.err
+    code, out, err = run_cli_here(capsys, *argv)
     if stdout is not None:
-        stdout.append(out.out)
-    return code, out.err
+        stdout.append(out)
+    return code, err
 
 
 def stream_threads():
