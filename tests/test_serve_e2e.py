@@ -17,6 +17,7 @@ from tactile_core.device.streamer import Streamer
 from tactile_core.live import OscServer
 from tactile_core.rendering.scene import Scene
 
+from .helpers import stop_with
 from .serve_support import ServerRig, Taps, levels_of, send_until_shown, wait_for
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
@@ -109,12 +110,10 @@ def test_serve_e2e_subprocess_into_the_emulator_ends_all_off(emulator_thread):
         start = len(emulator.log)
         send_each_and_wait(client, emulator, points)
         client.close()
-        serve.send_signal(signal.SIGINT)  # Ctrl-C while the last point is lit
-        out, err = serve.communicate(timeout=20)
-    finally:
-        if serve.poll() is None:
-            serve.kill()
-            serve.communicate()
+    except BaseException:
+        stop_with(serve, signal.SIGKILL)
+        raise
+    out, err = stop_with(serve, signal.SIGINT, 20)  # Ctrl-C while the last point is lit
     assert serve.returncode == 0, err
     assert "15 point updates" in out  # the summary
     frames = received_since(emulator, start)
@@ -217,11 +216,9 @@ def test_serve_subprocess_sigterm_and_bad_options():
             if line.startswith("osc 127.0.0.1:"):
                 assert "0 messages (0/s); 0 points, playing points" in line
                 break
-        serve.send_signal(signal.SIGTERM)
-        out, err = serve.communicate(timeout=20)
-    finally:
-        if serve.poll() is None:
-            serve.kill()
-            serve.communicate()
+    except BaseException:
+        stop_with(serve, signal.SIGKILL)
+        raise
+    out, err = stop_with(serve, signal.SIGTERM, 20)
     assert serve.returncode == 0, err
     assert "stopped: all off" in out
