@@ -188,15 +188,15 @@ def settle(values, found, split: Split, radius: float, strict: bool, weight, wei
     if weight1 is None or len(found) > 16:
         flat[found] = exact(split.offsets(), radius, strict, weight)(found)
         return
-    n = split.f.shape[1]
-    fx, fy = split.f
+    f = split.f
+    n = f.shape[1]
     ks = split.column[:, 0].tolist()
     a = len(ks)
     hypot = np.hypot
     for k in found.tolist():
         slot, point = divmod(k, n)
         row, col = divmod(slot, a)
-        dx, dy = float(fx[point]) - ks[col], float(fy[point]) - ks[row]
+        dx, dy = f.item(0, point) - ks[col], f.item(1, point) - ks[row]  # (Python floats)
         # hypot(x, 0) is |x| exactly (C99 F.10.4.3): the common case, a shape through tactor
         # centres putting a neighbour at exactly the radius
         d = abs(dx) if dy == 0.0 else abs(dy) if dx == 0.0 else float(hypot(dx, dy))
