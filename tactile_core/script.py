@@ -152,6 +152,8 @@ class Array:
         self.streamer.start()
         self._keeper.start()
         self.streamer.identified.wait(START_TIMEOUT_S)
+        if self._lost:  # (open_array closes the link)
+            raise RuntimeError(f"the stream did not start: {self._lost}")
         if threading.current_thread() is threading.main_thread():
             with _SIGTERM_LOCK:
                 if signal.getsignal(signal.SIGTERM) == signal.SIG_DFL:
@@ -298,7 +300,7 @@ class Array:
     def _on_stream_status(self, stats) -> None:
         """The output thread: the stream stopped on its own (a device that went away)."""
         if stats.state in ("stopped", "failed", "refused") and not self._closed.is_set():
-            self._lost = f"[{stats.state}] {stats.status}"
+            self._lost = stats.status or stats.state
             self._wake.set()
 
     def _keep(self) -> None:

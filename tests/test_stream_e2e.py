@@ -202,3 +202,47 @@ def test_stream_bad_arguments_exit_2():
     assert proc.returncode == 2 and "mu" in proc.stderr
     proc = stream("sim", "--shape", "circle:2.5,3,2", "--method", "AS", "--profile", "/nope.json")
     assert proc.returncode == 2 and "no such file" in proc.stderr
+
+
+def test_a_second_client_of_a_socket_array_is_refused_not_left_waiting():
+    # An array serves one host, as a serial port held by one program does. The emulator used
+    # to leave a second client in the listening socket's backlog: its connection completed,
+    # open_array returned, and its presentations counted as played while every frame waited
+    # in a kernel buffer. Now the second client is closed at once and told why.
+    import threading
+
+    from tactile_core.device.emulator import Emulator as Array
+
+    array = Array()
+    url = array.open_socket()
+    stop = threading.Event()
+    thread = threading.Thread(target=array.run, args=(stop.is_set,), daemon=True)
+    thread.start()
+    try:
+        with tc.open_array(url, lead_ms=0) as first:
+            with pytest.raises(RuntimeError, match=r"closed the connection.*another program"):
+                tc.open_array(url, lead_ms=0)
+            shown = first.play("circle:2.5,3,2", "AS", duration_s=0.2)
+            assert shown.first_frame_s is not None and not shown.failed
+        with tc.open_array(url, lead_ms=0) as after:  # free again once the first one left
+            assert not after.play("circle:2.5,3,2", "AS", duration_s=0.1).failed
+    finally:
+        stop.set()
+        thread.join(5)
+        array.close()
+    report = array.report()
+    assert report["clients_refused"] == 1
+    assert report["bad_frames"] == {k: 0 for k in report["bad_frames"]}
+    assert "second clients refused: 1" in array.summary()
+
+
+def test_a_socket_with_nothing_listening_says_so():
+    import socket
+
+    from tactile_core.device.link import LinkError, open_link
+    from tactile_core.device.profile import load_profile
+
+    with socket.create_server(("127.0.0.1", 0)) as probe:
+        port = probe.getsockname()[1]  # (closed again: nothing listens there now)
+    with pytest.raises(LinkError, match=r"no device at socket://127\.0\.0\.1:.*connection refused"):
+        open_link(f"socket://127.0.0.1:{port}", load_profile(None))

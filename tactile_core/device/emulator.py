@@ -71,6 +71,7 @@ class Emulator:
         """Set (from any thread) to close the device as if it were unplugged; the run ends."""
         self.hellos = 0
         self.queries = 0
+        self.refused = 0  # clients closed at once because another one was connected
         self.seq_gaps = 0
         self.bytes_received = 0
         self.started = None
@@ -114,6 +115,18 @@ class Emulator:
         client.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self._client = client  # (kept: closing the object would close the descriptor)
         self.master = client.fileno()
+
+    def _refuse(self, now: float) -> None:
+        """Close a second client at once, as a serial port held by one program refuses
+        another: otherwise its connection would complete in the kernel's backlog and its
+        frames wait there, unplayed, while it believed them sent."""
+        try:
+            extra, _ = self.listener.accept()
+        except (BlockingIOError, OSError):
+            return
+        extra.close()
+        self.refused += 1
+        self.events.append((now, "refused a second client"))
 
     def _drop_client(self) -> None:
         client, self._client = self._client, None
@@ -217,6 +230,11 @@ class Emulator:
                 if ready:
                     self._accept()
                 ready = []
+            elif self.listener is not None:
+                ready, _, _ = select.select([self.master, self.listener], [], [], timeout)
+                if self.listener in ready:
+                    self._refuse(time.monotonic())
+                ready = [fd for fd in ready if fd is not self.listener]
             else:
                 ready, _, _ = select.select([self.master], [], [], timeout)
             now = time.monotonic()
@@ -272,6 +290,7 @@ class Emulator:
             "frames_applied": self.model.frames_applied,
             "seq_gaps": self.seq_gaps,
             "watchdog_trips": self.watchdog_trips,
+            "clients_refused": self.refused,
             "timed_late": self.model.late,
             "timed_full": self.model.full,
             "timed_flushed": self.model.flushed,
@@ -297,7 +316,8 @@ class Emulator:
             f"p99 {r['interval_error_p99_ms']:.3f} ms, max {r['interval_error_max_ms']:.3f} ms "
             f"(nominal {r['nominal_period_ms']:.3f} ms)",
             f"dropped messages: {r['dropped']} ({bad}); sequence gaps: {r['seq_gaps']}",
-            f"watchdog trips: {r['watchdog_trips']}",
+            f"watchdog trips: {r['watchdog_trips']}"
+            + (f"; second clients refused: {r['clients_refused']}" if r["clients_refused"] else ""),
             f"timed frames: late {r['timed_late']}, queue full {r['timed_full']}, dropped "
             f"unplayed {r['timed_flushed']}, played "
             f"p99 {r['play_lag_p99_ms']:.3f} ms after their time",

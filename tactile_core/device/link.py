@@ -41,6 +41,11 @@ def _explain(exc: BaseException, url: str) -> str:
         return f"permission denied: {url} (on Linux, add yourself to the 'dialout' group)"
     if code == errno.EBUSY or "exclusively lock" in text or "busy" in text.lower():
         return f"port busy: {url} is open in another program"
+    if code == errno.ECONNREFUSED or "Connection refused" in text:
+        return f"no device at {url}: connection refused (is the device or emulator running?)"
+    if code in (errno.ECONNRESET, errno.ECONNABORTED) or "socket disconnected" in text:
+        return (f"device disconnected: {url} closed the connection (an array serves one host "
+                f"at a time: is another program connected to it?)")  # fmt: skip
     if code in (errno.EIO, errno.ENXIO, errno.ENODEV, errno.EPIPE) or "write failed" in text:
         return f"device disconnected: {url} ({text})"
     if isinstance(exc, ValueError):
