@@ -152,8 +152,15 @@ class CompareView(QtWidgets.QWidget):
         if scene is self._shown_scene:
             return
         self._shown_scene = scene
-        if scene.shape is None:
+        if scene.shape is None:  # a .tact pattern: Compare renders shapes' traces only
+            for name in self.methods:
+                self.curves[name].clear_curves()
+                self.heatmaps[name].set_cell_frames({})
+                self.heatmaps[name].set_outline(None)
+                self.heatmaps[name].set_caption("a .tact pattern plays: Compare needs a shape")
             return
+        for name in self.methods:
+            self.heatmaps[name].set_caption("")
         outline = scene.shape.outline()
         for name in self.methods:
             mu, gamma = get_method(name).own_correction(scene.mu, scene.gamma)

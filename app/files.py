@@ -16,6 +16,7 @@ from tactile_core.files.tact import TactError, load_pattern, path_of_scene, writ
 from tactile_core.rendering.shapes import TimedPath, path_from_samples
 
 from . import dialogs
+from .texts import count
 from .views import cell_colors
 
 
@@ -146,11 +147,16 @@ class FileActions(QtCore.QObject):
         path = Path(path)
         scene = self.state.scene
         curves = self.curves()
+        if curves is None:
+            self.error_raised.emit("no activation curves on show to export (the predicted view, "
+                                   "a drawn point and live points have none)")  # fmt: skip
+            return False
         try:
             if path.suffix.lower() == ".csv":
                 export.write_curves_csv(path, curves)
             elif path.suffix.lower() in (".png", ".svg"):
-                title = f"{scene.method} on {scene.shape.spec}, mu = {scene.mu:g}, "
+                what = scene.shape.spec if scene.shape is not None else self.preset_name
+                title = f"{scene.method} on {what}, mu = {scene.mu:g}, "
                 title += f"gamma = {scene.gamma:g}"
                 export.plot_curves(path, curves, title=title, colors=cell_colors(curves.cells))
             else:
@@ -185,7 +191,7 @@ class FileActions(QtCore.QObject):
     def ask_export_curves(self) -> None:
         """Ask where to export the activation curves (CSV, PNG or SVG), and export them."""
         scene = self.state.scene
-        kind = type(scene.shape).__name__.lower() if scene.shape is not None else "none"
+        kind = type(scene.shape).__name__.lower() if scene.shape is not None else "pattern"
         name = f"curves-{kind}-{dialogs.tuning_tag(scene)}-{dialogs.today()}.csv"
         path = dialogs.save_path(self.parent(), "exports", "Export activation curves", name,
                                  ["CSV (*.csv)", "PNG (*.png)", "SVG (*.svg)"])  # fmt: skip
@@ -207,7 +213,8 @@ class FileActions(QtCore.QObject):
     def import_tact_file(self, path, position=None) -> bool:
         """Import a ``.tact`` file onto the current array. A position with one path becomes the
         scene's shape (a time-keyed path, over its own duration); anything more (several paths,
-        dots) plays as the scene's pattern, which the views do not draw."""
+        dots) plays as the scene's pattern: the heatmap draws its paths, the curves view its
+        actuators over its duration."""
         if self._refused():
             return False
         try:
@@ -231,9 +238,8 @@ class FileActions(QtCore.QObject):
             what = "its path is the shape"
         else:
             scene = scene.replace(shape=None, source=pattern)
-            what = (f"{len(paths)} paths and {len(dots)} dots play as a pattern of "
-                    f"{pattern.duration_s:g} s (Restart replays it; the views draw shapes "
-                    "only)")  # fmt: skip
+            what = (f"{count(len(paths), 'path')} and {count(len(dots), 'dot')} play as a "
+                    f"pattern of {pattern.duration_s:g} s (Restart replays it)")  # fmt: skip
         self.state.set_scene(scene)
         self.preset_name, self.preset_notes, self.preset_scene = Path(path).stem, "", scene
         self.preset_loaded.emit()

@@ -111,6 +111,8 @@ class TunerState(QtCore.QObject):
         (``ab``, ``trial``) is dropped."""
         if changes.get("playing") and "hold_s" not in changes:
             changes["hold_s"] = None
+        if changes.get("shape") is not None and "source" not in changes:
+            changes["source"] = None  # a shape picked replaces a pattern, which would win
         why = layouts.refusal(changes["method"], self._layout) if "method" in changes else ""
         if why:
             self.error_raised.emit(why)

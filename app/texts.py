@@ -23,3 +23,8 @@ def tip(text: str) -> str:
         ``text`` marked as rich text (``<qt>...</qt>``).
     """
     return f"<qt>{text}</qt>"
+
+
+def count(n: int, noun: str) -> str:
+    """``"1 path"``, ``"2 paths"``: a count with its noun (a plural in s)."""
+    return f"{n} {noun}" + ("" if n == 1 else "s")

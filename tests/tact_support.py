@@ -82,6 +82,16 @@ def simple():
     )
 
 
+def crossing_paths_and_a_dot():
+    """Two paths crossing the palm array corner to corner over 1 s, and the dot on motor 6
+    (tactor (3, 4) on the palm array) from 0.3 to 0.5 s."""
+    return document(
+        effect({"VestFront": path_mode([point(0, 1, 0.5, 0), point(1, 0, 1.0, 1000)])}),
+        effect({"VestFront": path_mode([point(0, 0, 1.0, 0), point(1, 1, 1.0, 1000)])}),
+        effect({"VestFront": dot_mode([(6, 0.8)], 100, 300)}, start_ms=200, length_ms=400),
+    )
+
+
 def write(tmp_path, data, name="t.tact"):
     path = tmp_path / name
     path.write_text(json.dumps(data))

@@ -90,6 +90,30 @@ def test_a_dot_on_the_vest_lights_the_nearest_actuator_over_its_span():
     assert pattern.dots(PALM)[0][2] == 4 * 5 + 3
 
 
+def test_a_patterns_activation_curves_are_its_frames_per_actuator():
+    # Path 1 runs (0.5, 0.5) -> (4.5, 5.5) and path 2 (0.5, 5.5) -> (4.5, 0.5), each over 1 s.
+    # AS lights tactor (3, 4) (centre (3.5, 4.5)) only while a point is within one pitch of it
+    # on both axes: path 1 for t in (0.6, 1), path 2 never (x > 2.5 needs t > 0.5, y > 3.5
+    # needs t < 0.4). So from 0.3 to 0.5 s only the dot lights it, at 0.8.
+    pattern = pattern_of(ts.crossing_paths_and_a_dot())
+    assert pattern.effects == 3
+    curves = pattern.curves("AS", PALM, mu=0.25, gamma=0.5, samples=400)
+    # 400 samples over 1 s, each in the middle of its frame, as the stream samples
+    assert curves.time_s == pytest.approx((np.arange(400) + 0.5) / 400)
+    k = curves.cells.index((3, 4))
+    t = curves.time_s
+    dot = (t > 0.301) & (t < 0.499)
+    assert curves.raw[dot, k] == pytest.approx(np.full(dot.sum(), 0.8))
+    assert not curves.raw[(t < 0.299) | ((t > 0.501) & (t < 0.599)), k].any()
+    assert curves.corrected[dot, k] == pytest.approx(0.75 * np.sqrt(0.8) + 0.25)  # (1-mu)I^g+mu
+    # the first sample, 1.25 ms in: path 1 at (0.505, 0.50625), its intensity 0.5 -> 1 at
+    # 0.500625; path 2 at (0.505, 5.49375) at 1. AS: the unit box's overlap with each cell.
+    first = {cell: curves.raw[0, i] for i, cell in enumerate(curves.cells)}
+    assert first[(0, 0)] == pytest.approx(0.995 * 0.99375 * 0.500625)
+    assert first[(0, 5)] == pytest.approx(0.995 * 0.99375)
+    assert first[(1, 5)] == pytest.approx(0.005 * 0.99375)
+
+
 def test_paths_and_dots_combine_by_the_maximum_per_actuator():
     # a point resting on the vest's actuator 5 (bHaptics (0.333, 0.75)) at 0.5, and a dot on
     # the same motor (index 13) at 0.3, then 0.9

@@ -1,6 +1,7 @@
 """The tuner's .tact pieces: File -> Import .tact..., Export .tact..., and a drawing kept as the
 scene's shape."""
 
+import numpy as np
 import pytest
 
 from tactile_core.files.tact import load_pattern, read_tact
@@ -49,7 +50,7 @@ def test_paths_and_dots_play_as_the_scenes_pattern(window, qtbot, tmp_path):
     assert window.files.import_tact_file(ts.write(tmp_path, ts.simple()))
     scene = window.state.scene
     assert scene.shape is None and scene.source is not None
-    assert "1 paths and 1 dots play as a pattern" in window.statusBar().currentMessage()
+    assert "1 path and 1 dot play as a pattern" in window.statusBar().currentMessage()
     frames = window.device.stats.frames
     qtbot.waitUntil(lambda: window.device.stats.frames > frames + 10, timeout=10000)
     assert window.device.stats.state == "streaming"
@@ -83,3 +84,51 @@ def test_a_drawing_is_kept_as_a_time_keyed_path(window, qtbot, tmp_path):
     assert window.files.save_preset_file(tmp_path / "drawn.json")
     assert window.files.export_tact_file(tmp_path / "drawn.tact")
     assert len(read_tact(tmp_path / "drawn.tact").paths[0].points) == 4
+
+
+def test_a_pattern_is_drawn_plotted_and_named_and_a_shape_replaces_it(window, tmp_path):
+    # The views used to keep the previous shape's outline, curves and fields while a pattern
+    # played. Paths as in tact_support.crossing_paths_and_a_dot: (0.5, 0.5) -> (4.5, 5.5) and
+    # (0.5, 5.5) -> (4.5, 0.5); the dot lights tactor (3, 4) from 0.3 to 0.5 s.
+    assert window.files.import_tact_file(ts.write(tmp_path, ts.crossing_paths_and_a_dot()))
+    assert "2 paths and 1 dot play as a pattern" in window.statusBar().currentMessage()
+    tune = window.tune
+    tune.refresh()
+    x, y = tune.heatmap.outline.getData()
+    gap = int(np.flatnonzero(np.isnan(x))[0])  # one gap: two outlines, not joined
+    assert np.isnan(x).sum() == 1
+    assert (x[0], y[0], x[gap - 1], y[gap - 1]) == pytest.approx((0.5, 0.5, 4.5, 5.5))
+    assert (x[gap + 1], y[gap + 1], x[-1], y[-1]) == pytest.approx((0.5, 5.5, 4.5, 0.5))
+    curves = tune.shown_curves
+    k = curves.cells.index((3, 4))
+    on = (curves.time_s > 0.301) & (curves.time_s < 0.499)
+    assert curves.raw[on, k] == pytest.approx(np.full(on.sum(), 0.8))
+    shape_box = window.controls.shape
+    assert shape_box.shape_combo.currentText() == "Other"
+    assert "2 paths and 1 dot over 1 s" in shape_box.other_label.text()
+    assert window.files.export_curves(tmp_path / "pattern.csv")  # the pattern's curves
+    assert "(3,4) raw" in (tmp_path / "pattern.csv").read_text().splitlines()[0]
+    compare = window.compare
+    compare._refresh()
+    for heatmap in compare.heatmaps.values():  # no shape's outline left over
+        x, _ = heatmap.outline.getData()
+        assert x is None or len(x) == 0
+    shape_box.shape_combo.setCurrentIndex(1)  # Circle: it replaces the pattern
+    scene = window.state.scene
+    assert type(scene.shape).__name__ == "Circle" and scene.source is None
+    tune.refresh()
+    assert not np.isnan(tune.heatmap.outline.getData()[0]).any()
+    assert shape_box.shape_combo.currentText() == "Circle"
+
+
+def test_curves_export_without_curves_on_show_says_why(window, tmp_path):
+    # The predicted view and a pattern in it show no activation curves; exporting them used to
+    # fail inside the CSV writer on None.
+    assert window.files.import_tact_file(ts.write(tmp_path, ts.crossing_paths_and_a_dot()))
+    window.state.set_view_mode("predicted")
+    window.tune.refresh()
+    assert window.tune.shown_curves is None
+    assert "needs a shape" in window.tune.curves.plotItem.titleLabel.text
+    assert not window.files.export_curves(tmp_path / "none.csv")
+    assert "no activation curves on show" in window.last_error
+    assert not (tmp_path / "none.csv").exists()

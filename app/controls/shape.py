@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from PySide6 import QtWidgets
+from PySide6 import QtCore, QtWidgets
 
 import tactile_core as tc
 
 from .. import layouts
-from ..texts import tip
+from ..texts import count, tip
 from ._common import SceneGroupWidget, spin_box
 
 SHAPES = ("line", "circle", "square")
@@ -46,6 +46,15 @@ class ShapeWidget(SceneGroupWidget):
                 fields.append(spin)
             self.shape_fields[kind] = fields
             self.shape_stack.addWidget(page)
+        # What the scene plays when it is none of the shapes (a path or a .tact pattern): shown,
+        # not chosen (picking a shape above replaces it)
+        self.shape_combo.addItem("Other")
+        self.shape_combo.model().item(len(SHAPES)).setEnabled(False)
+        self.other_label = QtWidgets.QLabel()
+        self.other_label.setObjectName("other-content")
+        self.other_label.setWordWrap(True)
+        self.other_label.setAlignment(QtCore.Qt.AlignmentFlag.AlignTop)
+        self.shape_stack.addWidget(self.other_label)
         self.shape_combo.currentIndexChanged.connect(self._on_shape_combo_changed)
         v.addWidget(self.shape_stack)
         state.scene_changed.connect(self.refresh)
@@ -65,17 +74,21 @@ class ShapeWidget(SceneGroupWidget):
             self.setToolTip("")
 
     def _on_shape_combo_changed(self, index: int) -> None:
-        if self._updating:
+        if self._updating or index >= len(SHAPES):
             return
         kind = SHAPES[index]
         scene = self.state.scene
         # Defaults that fit the layout (the paper's on the palm array).
         defaults = layouts.shape_defaults(self.state.layout)
-        if scene.shape is None or type(scene.shape).__name__.lower() != kind:
+        if (
+            scene.shape is None
+            or scene.source is not None
+            or type(scene.shape).__name__.lower() != kind
+        ):
             self.state.update(shape=defaults[kind])
 
     def _on_shape_fields_changed(self, _value=None) -> None:
-        if self._updating:
+        if self._updating or self.shape_combo.currentIndex() >= len(SHAPES):
             return
         kind = SHAPES[self.shape_combo.currentIndex()]
         values = [f.value() for f in self.shape_fields[kind]]
@@ -98,10 +111,11 @@ class ShapeWidget(SceneGroupWidget):
 
     def _show(self, scene) -> None:
         shape = scene.shape
-        if shape is None:
-            return
         kind = type(shape).__name__.lower()
         if kind not in SHAPES:
+            self.shape_combo.setCurrentIndex(len(SHAPES))
+            self.shape_stack.setCurrentIndex(len(SHAPES))
+            self.other_label.setText(describe_content(scene, self.state.target))
             return
         self.shape_combo.setCurrentIndex(SHAPES.index(kind))
         self.shape_stack.setCurrentIndex(SHAPES.index(kind))
@@ -113,3 +127,23 @@ class ShapeWidget(SceneGroupWidget):
             values = (*shape.center, shape.edge)
         for field, value in zip(self.shape_fields[kind], values):
             field.setValue(value)
+
+
+def describe_content(scene, target) -> str:
+    """What a scene plays when it is not a line, circle or square, in words."""
+    shape, source = scene.shape, scene.source
+    pick = " Pick a shape above to replace it."
+    if shape is not None:
+        points = len(getattr(shape, "points", ()))
+        if isinstance(shape, tc.TimedPath):
+            return (f"A time-keyed path of {points} points over {shape.duration_s:g} s "
+                    f"(drawn or imported).{pick}")  # fmt: skip
+        return f"A {type(shape).__name__.lower()} of {points} points.{pick}"
+    if hasattr(source, "effects"):  # a .tact pattern
+        paths, dots = len(source.paths(target)), len(source.dots(target))
+        return (f"The .tact pattern {source.name or 'untitled'}, {source.position}: "
+                f"{count(paths, 'path')} and {count(dots, 'dot')} over "
+                f"{source.duration_s:g} s.{pick}")  # fmt: skip
+    if source is not None:
+        return "Live points sent by another program (OSC or a script)."
+    return "Nothing: the array is off."

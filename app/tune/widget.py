@@ -15,6 +15,15 @@ from ..widgets import ElidedLabel
 from .gestures import HeatmapGestures
 from .live import LiveDisplay
 
+MAX_PLOTTED_EFFECTS = 2000
+"""A ``.tact`` pattern with more paths and dots than this is played but not plotted: its curves
+are rendered effect by effect, ~0.1 ms each, on the display's thread."""
+
+
+def pattern_outlines(pattern, target) -> list:
+    """The outline of each of a ``.tact`` pattern's paths on ``target``, for the heatmap."""
+    return [path.outline() for path in pattern.paths(target)]
+
 
 class TuneWidget(QtWidgets.QStackedWidget):
     """The tune tab's views, or in their place a notice while they would give something away.
@@ -172,34 +181,49 @@ class TuneWidget(QtWidgets.QStackedWidget):
         profile = self.device.profile
         self.correction.set_params(scene.mu, scene.gamma, profile.levels, profile.response,
                                    profile.drive_for if scene.felt_domain else None)  # fmt: skip
-        if scene.shape is None:
-            return
         heatmap = self.heatmap
+        pattern = scene.source if scene.shape is None else None
         if heatmap.drawing or self.gestures.pulsing:
             # A free point or a pulsed tactor has no trace worth plotting: no curves, no frames
-            self.curves.clear_curves()
-            heatmap.set_cell_frames({})
-            heatmap.set_outline(None)
-            if heatmap.drawing and not self.method_hidden:
-                set_title(self.curves.plotItem, f"{scene.method}: a drawn point has no trace")
+            self._no_trace("a drawn point has no trace" if heatmap.drawing else "")
+            return
+        if scene.shape is None and not hasattr(pattern, "curves"):
+            self._no_trace("live points have no trace")  # (driven by another program)
             return
         if self.state.view_mode == "predicted":
+            if pattern is not None:
+                self._no_trace("the predicted view needs a shape, not a pattern")
+                heatmap.set_outline(pattern_outlines(pattern, self.state.target))
+                return
             self._show_predicted(scene)
             return
         heatmap.set_path(None)
         felt_view = self.state.view_mode == "felt" and profile.motor is not None
+        motor = profile.motor if felt_view else None
+        period = scene.duration_s + scene.pause_s
         try:
-            curves = activation_curves(
-                scene.shape,
-                scene.method,
-                duration_s=scene.duration_s,
-                direction=scene.direction,
-                mu=scene.mu,
-                gamma=scene.gamma,
-                samples=400,
-                grid=self.state.target,
-                motor=profile.motor if felt_view else None,
-            )
+            if pattern is not None:
+                outline = pattern_outlines(pattern, self.state.target)
+                if pattern.effects > MAX_PLOTTED_EFFECTS:
+                    self._no_trace(f"{pattern.effects} paths and dots: too many to plot")
+                    heatmap.set_outline(outline)
+                    return
+                curves = pattern.curves(scene.method, self.state.target, mu=scene.mu,
+                                        gamma=scene.gamma, motor=motor)  # fmt: skip
+                period = pattern.duration_s
+            else:
+                outline = scene.shape.outline()
+                curves = activation_curves(
+                    scene.shape,
+                    scene.method,
+                    duration_s=scene.duration_s,
+                    direction=scene.direction,
+                    mu=scene.mu,
+                    gamma=scene.gamma,
+                    samples=400,
+                    grid=self.state.target,
+                    motor=motor,
+                )
         except ValueError as exc:  # a plug-in that cannot render here (the state checks ours)
             self.error_raised.emit(f"no activation curves: {exc}")
             return
@@ -208,13 +232,23 @@ class TuneWidget(QtWidgets.QStackedWidget):
             curves = dataclasses.replace(curves, corrected=profile.felt(curves.felt))
         self.shown_curves = curves
         colors = cell_colors(curves.cells)
-        self.curves.set_curves(curves, colors, scene.duration_s + scene.pause_s)
+        self.curves.set_curves(curves, colors, period)
         heatmap.set_cell_frames(colors)
-        heatmap.set_outline(None if heatmap.drawing else scene.shape.outline())
+        heatmap.set_outline(outline)
         if not self.method_hidden:
             what = "felt (motor lag and response)" if felt_view else "activation"
             title = f"{scene.method} {what}, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
             set_title(self.curves.plotItem, title)
+
+    def _no_trace(self, why: str) -> None:
+        """No curves, no tactor frames, no outline; ``why`` in the curves' title."""
+        self.shown_curves = None
+        self.curves.clear_curves()
+        self.heatmap.set_cell_frames({})
+        self.heatmap.set_outline(None)
+        self.heatmap.set_path(None)
+        if why and not self.method_hidden:
+            set_title(self.curves.plotItem, f"{self.state.scene.method}: {why}")
 
     def _show_predicted(self, scene) -> None:
         """The predicted view, from what is sent (the scene's rate, the device's levels, its

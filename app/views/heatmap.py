@@ -20,6 +20,9 @@ from ._cells import GridCells
 from ._common import PaletteMixin, style_plot
 from ._discs import Discs
 
+_GAP = np.array([np.nan])
+"""Between two outlines: no line joins them."""
+
 
 class _Pad(pg.GraphicsObject):
     """An invisible item over the array that takes clicks (a tactor to pulse, or a point in
@@ -347,13 +350,17 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         self.cells.show_texts(self._show_texts)
 
     def set_outline(self, points) -> None:
-        """Draw the shape's outline, ``(n, 2)`` points (None to hide); round a wrap, unrolled
-        with a gap at the seam."""
+        """Draw the shape's outline, ``(n, 2)`` points, or a list of outlines (a pattern's
+        paths), None to hide; round a wrap, unrolled with a gap at the seam."""
         if points is None:
             self.outline.setData([], [])
-        else:
-            x, y = self.cells.path(points)
-            self.outline.setData(x, y, connect="finite")
+            return
+        xs, ys = [], []
+        for part in points if isinstance(points, list) else [points]:
+            x, y = self.cells.path(part)
+            xs += [x, _GAP]
+            ys += [y, _GAP]
+        self.outline.setData(np.concatenate(xs[:-1]), np.concatenate(ys[:-1]), connect="finite")
 
     def set_path(self, points) -> None:
         """Draw a path, ``(n, 2)`` points, NaN rows as gaps (None to hide): the predicted

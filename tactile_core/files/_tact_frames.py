@@ -33,6 +33,7 @@ import numpy as np
 
 from .._shared import validate as _validate
 from ..rendering.correction import check_correction, correct, correct1
+from ..rendering.curves import ActivationCurves, curves_from_frames
 from ..rendering.layout import Layout, as_layout
 from ..rendering.methods import get_method
 from ..rendering.methods._layout import layout_sampler
@@ -180,6 +181,45 @@ class TactPattern:
         sampling = Sampling(rate_hz, "point") if sampling is None else sampling
         live = self.live(method, target, sampling, mu, gamma, gain)
         return live.render(0, live.n_frames, corrected=corrected)
+
+    @property
+    def effects(self) -> int:
+        """How many paths and dots the position holds (what drawing its curves costs)."""
+        file = self.file
+        return sum(p.position == self.position for p in file.paths) + sum(
+            d.position == self.position for d in file.dots
+        )
+
+    def curves(self, method, target, *, mu: float, gamma: float, samples: int = 400,
+               motor=None) -> ActivationCurves:  # fmt: skip
+        """The pattern's activation curves with ``method`` on ``target``: each actuator it
+        lights, raw and corrected, over the pattern's duration (``samples`` point samples,
+        the frames' own combination of paths and dots).
+
+        Parameters
+        ----------
+        method : str
+        target : Grid or Layout
+        mu, gamma : float, keyword-only
+            The correction of the ``corrected`` curves.
+        samples : int, keyword-only
+            Samples over the duration, >= 3.
+        motor : MotorResponse, optional
+            Also the curves through the motors (``felt``).
+
+        Returns
+        -------
+        ActivationCurves
+            ``time_s``: when each sample was taken (the middle of each of ``samples`` frames
+            over :attr:`duration_s`, as the stream's point sampling takes them).
+        """
+        samples = _validate.integer("samples", samples, 3)
+        if self.duration_s <= 0.0:
+            raise ValueError("the pattern has no duration to plot")
+        sampling = Sampling(samples / self.duration_s, "point")
+        start_s, frames = self.frames(method, target, sampling=sampling, corrected=False)
+        return curves_from_frames(frames, start_s + sampling.offsets_s()[0], mu=mu,
+                                  gamma=gamma, grid=check_target(target), motor=motor)  # fmt: skip
 
 
 @lru_cache(maxsize=16)

@@ -93,7 +93,44 @@ def activation_curves(
     grid = check_target(grid)
     u = np.linspace(0.0, 1.0, samples)
     t = 1.0 - u if direction == "reverse" else u
-    frames = render(shape, method, t, grid=grid).reshape(samples, grid.size)
+    frames = render(shape, method, t, grid=grid)
+    return curves_from_frames(frames, u * duration_s, mu=mu, gamma=gamma, grid=grid, motor=motor)
+
+
+def curves_from_frames(frames, time_s, *, mu: float, gamma: float, grid: Grid = _DEFAULT_GRID,
+                       motor=None) -> ActivationCurves:  # fmt: skip
+    """The activation curves of frames sampled evenly in time: of a shape's trace
+    (:func:`activation_curves`), or of any frame source, such as a ``.tact`` pattern.
+
+    Parameters
+    ----------
+    frames : ndarray of float64, shape (n, rows, cols), or (n, size) on a layout
+        Raw intensities in [0, 1], ``n >= 2`` samples.
+    time_s : ndarray of float64, shape (n,)
+        When each was sampled, in seconds, evenly spaced (the motors' simulation takes their
+        rate from it).
+    mu, gamma : float, keyword-only
+        Correction for the ``corrected`` curves.
+    grid : Grid or Layout, keyword-only
+    motor : MotorResponse, optional
+        As :func:`activation_curves`.
+
+    Returns
+    -------
+    ActivationCurves
+    """
+    mu, gamma = check_correction(mu, gamma)
+    grid = check_target(grid)
+    frames = np.asarray(frames, dtype=np.float64)
+    time_s = np.asarray(time_s, dtype=np.float64)
+    samples = len(frames)
+    if samples < 2 or frames.size != samples * grid.size:
+        raise ValueError(f"frames must hold at least 2 frames of {grid.size} intensities, got "
+                         f"shape {frames.shape}")  # fmt: skip
+    if time_s.shape != (samples,) or not time_s[-1] > time_s[0]:
+        raise ValueError(f"time_s must hold one increasing time per frame ({samples}), got "
+                         f"shape {time_s.shape}")  # fmt: skip
+    frames = frames.reshape(samples, grid.size)
     active = np.flatnonzero((frames > 0.0).any(axis=0))
     first = np.argmax(frames[:, active] > 0.0, axis=0)
     order = active[np.argsort(first, kind="stable")]
@@ -101,7 +138,8 @@ def activation_curves(
     corrected = correct(raw, mu, gamma)
     felt = None
     if motor is not None:
-        felt, _ = motor.select(order).effective(corrected, (samples - 1) / duration_s)
+        rate = (samples - 1) / (time_s[-1] - time_s[0])
+        felt, _ = motor.select(order).effective(corrected, rate)
     if isinstance(grid, Layout):
         cells = tuple(int(i) for i in order)
         names = tuple(grid.names[i] for i in cells)
@@ -109,5 +147,5 @@ def activation_curves(
         cells = tuple(grid.cell(int(i)) for i in order)
         names = tuple(f"({col},{row})" for col, row in cells)
     return ActivationCurves(
-        time_s=u * duration_s, cells=cells, raw=raw, corrected=corrected, felt=felt, names=names
+        time_s=time_s, cells=cells, raw=raw, corrected=corrected, felt=felt, names=names
     )
