@@ -45,7 +45,7 @@ from ..rendering.rasterize import (
     point_entries,  # fmt: skip
     render,
 )
-from ..rendering.shapes import TimedPath
+from ..rendering.shapes import FADES, TimedPath
 from ..rendering.trace import MAX_SAMPLES, Sampling, entry_table
 from ._tact_read import TactError, TactFile
 
@@ -246,6 +246,23 @@ def _dots(pattern: TactPattern, target) -> tuple:
     return tuple(out)
 
 
+_MARGIN_S = 1e-9
+"""Widens the search for effects that may be on at a time by more than the rounding of
+``time - longest`` (the exact test ``start <= time < end`` follows)."""
+
+
+def _dot_columns(dots) -> tuple:
+    """Sorted dots as arrays: starts, ends, actuators, levels and fades (indices of
+    :data:`~tactile_core.rendering.shapes.FADES`)."""
+    return (
+        np.array([d[0] for d in dots], dtype=np.float64),
+        np.array([d[1] for d in dots], dtype=np.float64),
+        np.array([d[2] for d in dots], dtype=np.intp),
+        np.array([d[3] for d in dots], dtype=np.float64),
+        np.array([FADES.index(d[4]) for d in dots], dtype=np.intp),
+    )
+
+
 class PatternFrames:
     """A pattern's frames on one array, served one at a time (the ``Scene.source`` protocol).
 
@@ -278,7 +295,10 @@ class PatternFrames:
         self._paths = [(p.times_s[0], p.times_s[-1], p) for p in paths]
         self._starts = [s for s, _, _ in self._paths]
         self._longest = max((e - s for s, e, _ in self._paths), default=0.0)
-        self._dots = pattern.dots(self.grid)
+        self._dots = sorted(pattern.dots(self.grid), key=lambda d: d[0])
+        self._dot_starts = [d[0] for d in self._dots]
+        self._dot_longest = max((e - s for s, e, *_ in self._dots), default=0.0)
+        self._dot_columns = _dot_columns(self._dots)
         if isinstance(self.grid, Layout):
             entries1 = layout_sampler(self.method, self.grid).entries1
             self._entries = lambda shape, t: layout_entries(shape, entries1, t)
@@ -343,12 +363,41 @@ class PatternFrames:
                 for i, v in self._entries(shape, min(max((when - s) / (e - s), 0.0), 1.0)):
                     if v > lit.get(i, 0.0):
                         lit[i] = v
-        for s, e, i, level, fade in self._dots:
+        # only the dots that can be on: started by now, and not before the longest could end
+        first = bisect.bisect_left(self._dot_starts, when - self._dot_longest - _MARGIN_S)
+        last = bisect.bisect_right(self._dot_starts, when)
+        for s, e, i, level, fade in self._dots[first:last]:
             if s <= when < e:
                 v = level * fade1(fade, (when - s) / (e - s))
                 if v > lit.get(i, 0.0):
                     lit[i] = v
         return lit
+
+    def _render_dots(self, when: np.ndarray, raw: np.ndarray) -> None:
+        """Combine the dots on at the ascending times ``when`` into ``raw`` (``(len(when),
+        size)``, the maximum per actuator), all at once: each dot is on over a run of the
+        times, found by searching, and only the dots that can be on within them are looked
+        at (a file may hold 200,000). The values are :func:`fade1`'s, operation for
+        operation."""
+        starts, ends, actuators, levels, fades = self._dot_columns
+        a = np.searchsorted(starts, when[0] - self._dot_longest - _MARGIN_S, "left")
+        b = np.searchsorted(starts, when[-1], "right")
+        if a >= b:
+            return
+        s, e = starts[a:b], ends[a:b]
+        lo = np.searchsorted(when, s, "left")  # the first time at or after the start
+        counts = np.maximum(np.searchsorted(when, e, "left") - lo, 0)  # ... and before the end
+        total = int(counts.sum())
+        if not total:
+            return
+        dot = np.repeat(np.arange(b - a), counts)
+        at = np.repeat(lo - (np.cumsum(counts) - counts), counts) + np.arange(total)
+        u = (when[at] - s[dot]) / (e[dot] - s[dot])
+        fade = fades[a:b][dot]
+        factor = np.where(fade == 1, u, 1.0)
+        factor = np.where(fade == 2, 1.0 - u, factor)
+        factor = np.where(fade == 3, 1.0 - np.abs(2.0 * u - 1.0), factor)
+        np.maximum.at(raw, (at, actuators[a:b][dot]), levels[a:b][dot] * factor)
 
     def frame(self, k: int) -> np.ndarray:
         """Frame ``k`` as a dense array: ``(rows, cols)`` on a grid, ``(size,)`` on a layout."""
@@ -370,18 +419,16 @@ class PatternFrames:
         start = (np.arange(count) + first) / rate
         when = (start[:, None] + self.sampling.offsets_s()[None, :]).reshape(-1)
         raw = np.zeros((when.size, size))
-        for s0, e0, shape in self._paths:
-            on = (when >= s0) & (when < e0)
-            if on.any():
-                t = np.clip((when[on] - s0) / (e0 - s0), 0.0, 1.0)
-                lit = render(shape, self.method, t, grid=self.grid).reshape(-1, size)
-                raw[on] = np.maximum(raw[on], lit)
-        for s0, e0, i, level, fade in self._dots:
-            on = np.flatnonzero((when >= s0) & (when < e0))
-            if on.size:
-                u = (when[on] - s0) / (e0 - s0)
-                values = level * np.array([fade1(fade, x) for x in u.tolist()])
-                raw[on, i] = np.maximum(raw[on, i], values)
+        if when.size:
+            first_path = bisect.bisect_left(self._starts, when[0] - self._longest - _MARGIN_S)
+            last_path = bisect.bisect_right(self._starts, when[-1])
+            for s0, e0, shape in self._paths[first_path:last_path]:
+                on = (when >= s0) & (when < e0)
+                if on.any():
+                    t = np.clip((when[on] - s0) / (e0 - s0), 0.0, 1.0)
+                    lit = render(shape, self.method, t, grid=self.grid).reshape(-1, size)
+                    raw[on] = np.maximum(raw[on], lit)
+            self._render_dots(when, raw)
         if corrected:
             raw = correct(raw, self.mu, self.gamma, gain=self.gain)
         frames = raw.reshape(count, s, size).mean(axis=1)
