@@ -170,6 +170,20 @@ def test_positions_disabled_tracks_and_the_end():
     assert live.n_frames == 500 and live.entries(500) == () and live.entries(-1) == ()
 
 
+def test_a_position_whose_paths_follow_another_positions_dots_is_found():
+    # The reader used to take the positions from the slice of (paths, dots) after the items
+    # it had, so a path added after a dot was never looked at: a file with a dot on the back
+    # and then a path on the front could not play its front ("holds no paths or dots").
+    data = ts.document(
+        ts.effect({"VestBack": ts.dot_mode([(1, 0.5)], 0, 100)}),
+        ts.effect({"VestFront": ts.path_mode([ts.point(0, 0, 1.0, 0), ts.point(1, 1, 1.0, 500)])}),
+        ts.effect({"VestBack": ts.dot_mode([(2, 0.5)], 0, 100)}),
+    )
+    assert parse_tact(data).positions == ("VestBack", "VestFront")
+    front = pattern_of(data, "VestFront")
+    assert len(front.paths(VEST.target)) == 1 and front.skipped == ("VestBack",)
+
+
 def test_layout_only_methods_are_refused_on_a_layout():
     with pytest.raises(ValueError, match="AS"):
         pattern_of(ts.simple()).live("AS", VEST.target, tc.Sampling(100.0), 0.0, 1.0)

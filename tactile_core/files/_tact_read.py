@@ -203,13 +203,10 @@ class _Reader:
                 self.fail(f"{field}.enable", f"must be true or false, got {_kind(enable)}")
             effects = self.array(track.get("effects", []), f"{field}.effects", MAX_EFFECTS)
             for j, effect in enumerate(effects):
-                found = len(paths) + len(dots)
-                end = self.effect(effect, f"{field}.effects[{j}]", layouts, paths, dots, enable)
+                end = self.effect(effect, f"{field}.effects[{j}]", layouts, paths, dots, enable,
+                                  positions)  # fmt: skip
                 if enable:
                     end_ms = max(end_ms, end)
-                for item in (*paths, *dots)[found:]:  # in the file's order
-                    if item.position not in positions:
-                        positions.append(item.position)
         return TactFile(
             name=name if isinstance(name, str) else "",
             layouts=layouts,
@@ -247,8 +244,9 @@ class _Reader:
             out[position] = table
         return out
 
-    def effect(self, effect, field, layouts, paths, dots, enabled) -> float:
-        """Check one effect, add its paths and dots (when ``enabled``); return its end (ms)."""
+    def effect(self, effect, field, layouts, paths, dots, enabled, positions) -> float:
+        """Check one effect, add its paths and dots (when ``enabled``) and the positions that
+        hold them to ``positions`` (in the file's order); return its end (ms)."""
         self.effects += 1
         if self.effects > MAX_EFFECTS:
             self.fail(field, f"is one effect too many: at most {MAX_EFFECTS} in a file")
@@ -271,6 +269,8 @@ class _Reader:
             else:
                 found = self.dot_mode(mode, where, position, start, length, layouts)
                 dots.extend(found if enabled else ())
+            if enabled and found and position not in positions:
+                positions.append(position)
         return start + length
 
     def feedback(self, mode, key, field):
