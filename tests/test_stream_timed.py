@@ -39,6 +39,7 @@ def test_timed_frames_are_played_in_order_and_every_frame_is_accounted_for(emula
     played = report["frames"]
     assert played + report["timed_flushed"] == len(sent_levels)
     assert report["timed_flushed"] <= 4  # 30 ms at 100 Hz, and the one being written
+    assert report["seq_gaps"] == 0  # received, then dropped unplayed: not lost on the way
     expected = np.vstack([sent_levels[: played - 1], sent_levels[-1:]])
     assert np.array_equal(log[:, 2:].astype(np.uint8), expected)
     assert not log[-1, 2:].any()
@@ -196,3 +197,24 @@ def test_a_simulated_array_keeps_a_bounded_record_of_onsets():
     for k in range(ONSETS_KEPT + 500):
         model.receive(encode_timed(k & 0xFF, 0, bytes(30), bits=5), now=k * 1e-3)
     assert len(model.onsets) == ONSETS_KEPT
+
+
+def test_sequence_gaps_count_frames_lost_on_the_way_not_frames_dropped_unplayed():
+    # The emulator used to count gaps among the frames it played, so the timed frames that a
+    # clean stop's all-off drops (a lead's worth, received) read as "sequence gaps: 6".
+    from tactile_core.device.array import ArrayModel
+    from tactile_core.device.wire import encode_frame, encode_timed
+
+    model = ArrayModel(epoch=0.0)
+    off = [0] * 30
+    ahead = b"".join(encode_timed(seq, 50_000 + seq, off, 5) for seq in range(1, 5))
+    model.receive(ahead, 0.001)  # four timed frames 50 ms ahead, queued
+    model.receive(encode_frame(5, off), 0.002)  # all-off for now drops them
+    assert (model.flushed, model.seq_gaps) == (4, 0)
+    model.receive(encode_frame(7, off) + encode_frame(8, off), 0.003)  # 6 lost on the way
+    frame = bytearray(encode_frame(9, off))
+    frame[3] ^= 0x40  # 9 corrupted: dropped by its checksum, then 10 arrives
+    model.receive(bytes(frame) + encode_frame(10, off), 0.004)
+    assert model.seq_gaps == 2 and model.dropped == 1
+    model.receive(encode_frame(1, off), 0.005)  # the counter wraps: 10 -> 1 is 246 missing
+    assert model.seq_gaps == 2 + 246

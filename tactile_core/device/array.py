@@ -93,6 +93,11 @@ class ArrayModel:
         self.queue: deque[Timed] = deque()
         self.last_valid: float | None = None
         self.last_seq: int | None = None
+        self.seq_gaps = 0
+        """Sequence numbers missing among the frames received (for now or timed), in arrival
+        order: frames lost on the way. Timed frames dropped unplayed were received, and are
+        not gaps."""
+        self._received_seq: int | None = None
         self.onsets: deque[tuple[float, Timed, bool]] = deque(maxlen=ONSETS_KEPT)
         """Timed frames played: ``(host time, frame, late)``, for emulators that log them (the
         latest :data:`ONSETS_KEPT`: a simulated array nobody reads must not grow)."""
@@ -136,6 +141,10 @@ class ArrayModel:
         frames = self.advance(now)
         replies = bytearray()
         for msg in self.reader.feed(data):
+            if isinstance(msg, (Frame, Timed)):
+                if self._received_seq is not None:
+                    self.seq_gaps += (msg.seq - self._received_seq - 1) % 256
+                self._received_seq = msg.seq
             if isinstance(msg, Frame):
                 self.flushed += len(self.queue)
                 self.queue.clear()  # a frame for now drops what is scheduled

@@ -72,7 +72,6 @@ class Emulator:
         self.hellos = 0
         self.queries = 0
         self.refused = 0  # clients closed at once because another one was connected
-        self.seq_gaps = 0
         self.bytes_received = 0
         self.started = None
         # how long after its time each timed frame was played: the latest keep_frames
@@ -178,8 +177,6 @@ class Emulator:
             if not late:
                 self._lag[self._lags % len(self._lag)] = now - at
                 self._lags += 1
-            if len(self.log):
-                self.seq_gaps += (frame.seq - self.log.last_seq() - 1) % 256
             self.log.append(at, frame.seq, frame.levels)
 
     def _receive(self, data: bytes, now: float) -> None:
@@ -288,7 +285,7 @@ class Emulator:
             "crc_errors": self.reader.errors["crc"],
             "dropped": self.model.dropped,
             "frames_applied": self.model.frames_applied,
-            "seq_gaps": self.seq_gaps,
+            "seq_gaps": self.model.seq_gaps,
             "watchdog_trips": self.watchdog_trips,
             "clients_refused": self.refused,
             "timed_late": self.model.late,
