@@ -48,6 +48,8 @@ class DevicePanel(QtWidgets.QWidget):
         )
         self.profile_label = QtWidgets.QLabel()
         self.link_label = QtWidgets.QLabel()
+        for label in (self.profile_label, self.link_label):  # a profile's or device's name
+            label.setTextFormat(QtCore.Qt.TextFormat.PlainText)
         self.lead_spin = QtWidgets.QDoubleSpinBox()
         self.lead_spin.setObjectName("lead")
         self.lead_spin.setRange(0.0, 500.0)

@@ -10,8 +10,8 @@ from pathlib import Path
 from PySide6 import QtCore
 
 from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_names
-from tactile_core.files import export
-from tactile_core.files.presets import Preset, PresetError, load_preset, save_preset
+from tactile_core.files import export, tact
+from tactile_core.files.presets import MAX_NAME_CHARS, Preset, PresetError, load_preset, save_preset
 from tactile_core.files.tact import TactError, load_pattern, path_of_scene, write_tact
 from tactile_core.rendering.shapes import TimedPath, path_from_samples
 
@@ -109,9 +109,14 @@ class FileActions(QtCore.QObject):
         if self._refused():
             return False
         path = Path(path)
+        if self.state.scene.shape is None:
+            self.error_raised.emit(f"could not save {path}: a preset holds a shape, and this "
+                                   "scene plays a .tact pattern (keep its .tact file, or pick a "
+                                   "shape)")  # fmt: skip
+            return False
         preset = Preset(
             self.state.scene.replace(playing=True),
-            name=name or path.stem,
+            name=name or path.stem[:MAX_NAME_CHARS],
             notes=self.preset_notes if notes is None else notes,
             device_profile=self.device.profile.name,
             lead_ms=self.device.lead_ms,
@@ -148,8 +153,8 @@ class FileActions(QtCore.QObject):
         scene = self.state.scene
         curves = self.curves()
         if curves is None:
-            self.error_raised.emit("no activation curves on show to export (the predicted view, "
-                                   "a drawn point and live points have none)")  # fmt: skip
+            self.error_raised.emit("no activation curves on show to export (the curves view's "
+                                   "title says why)")  # fmt: skip
             return False
         try:
             if path.suffix.lower() == ".csv":
@@ -173,12 +178,16 @@ class FileActions(QtCore.QObject):
     def export_lut(self, path) -> bool:
         """The correction as a 256-entry table: .csv, or a C header (.h)."""
         path = Path(path)
-        scene, levels = self.state.scene, self.device.profile.levels
+        scene, profile = self.state.scene, self.device.profile
+        # as the stream sends it: the master intensity, and on felt amplitude the motors'
+        # inverse response (the table used to hold the correction alone)
+        stages = dict(gain=scene.gain, drive_for=profile.drive_for
+                      if scene.felt_domain and profile.response is not None else None)  # fmt: skip
         try:
             if path.suffix.lower() == ".csv":
-                export.write_lut_csv(path, scene.mu, scene.gamma, levels)
+                export.write_lut_csv(path, scene.mu, scene.gamma, profile.levels, **stages)
             elif path.suffix.lower() == ".h":
-                export.write_lut_header(path, scene.mu, scene.gamma, levels)
+                export.write_lut_header(path, scene.mu, scene.gamma, profile.levels, **stages)
             else:
                 self.error_raised.emit(f"table export must end in .csv or .h, got {path.name}")
                 return False
@@ -254,7 +263,7 @@ class FileActions(QtCore.QObject):
         path = Path(path)
         try:
             written = write_tact(path, path_of_scene(self.state.scene), self.device.profile.target,
-                                 name=path.stem)  # fmt: skip
+                                 name=path.stem[: tact.MAX_NAME_CHARS])  # fmt: skip
         except (OSError, ValueError) as exc:
             self.error_raised.emit(f"could not export {path}: {exc}")
             return False

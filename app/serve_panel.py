@@ -76,6 +76,7 @@ class ServePanel(QtWidgets.QGroupBox):
         self.lsl_label.setObjectName("lsl_status")
         for label in (self.traffic, self.counters, self.lsl_label):
             label.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
+            label.setTextFormat(QtCore.Qt.TextFormat.PlainText)  # a sender's address, as is
         grid = QtWidgets.QGridLayout(self)
         grid.setContentsMargins(4, 0, 4, 0)  # as tall as the device's own three rows
         grid.setVerticalSpacing(0)

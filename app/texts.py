@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import html
+
 DRAW_HELP = (
     "MM and IM pick one tactor per column (or row) of a stroke of the shape, so they need a "
     "shape: a free point has no stroke. CT and AS depend on the point alone, as the paper "
@@ -20,9 +22,10 @@ def tip(text: str) -> str:
     Returns
     -------
     str
-        ``text`` marked as rich text (``<qt>...</qt>``).
+        ``text`` marked as rich text (``<qt>...</qt>``), its ``<``, ``>`` and ``&`` escaped: a
+        file or device name in a tooltip is shown as written, never read as markup.
     """
-    return f"<qt>{text}</qt>"
+    return f"<qt>{html.escape(text, quote=False)}</qt>"
 
 
 def count(n: int, noun: str) -> str:

@@ -7,6 +7,8 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from tactile_core.rendering.methods import METHODS, get_method, method_names
 
+from .texts import tip
+
 
 class ElidedLabel(QtWidgets.QLabel):
     """A one-line label that shortens its text with an ellipsis instead of widening its panel.
@@ -16,14 +18,15 @@ class ElidedLabel(QtWidgets.QLabel):
 
     def __init__(self, text: str, parent=None):
         super().__init__(text, parent)
-        self.setToolTip(text)
+        self.setTextFormat(QtCore.Qt.TextFormat.PlainText)  # names from files: never markup
+        self.setToolTip(tip(text))
         self.setSizePolicy(
             QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Preferred
         )
 
     def setText(self, text: str) -> None:  # Qt override: the tooltip follows the text
         super().setText(text)
-        self.setToolTip(text)
+        self.setToolTip(tip(text))
 
     def minimumSizeHint(self) -> QtCore.QSize:  # Qt override
         return QtCore.QSize(0, super().minimumSizeHint().height())

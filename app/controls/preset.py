@@ -20,6 +20,7 @@ class PresetWidget(QtWidgets.QGroupBox):
         self.name_label = QtWidgets.QLabel("")
         self.name_label.setObjectName("preset_name")
         self.name_label.setWordWrap(True)
+        self.name_label.setTextFormat(QtCore.Qt.TextFormat.PlainText)  # a file's name, as is
         self.notes_edit = QtWidgets.QPlainTextEdit()
         self.notes_edit.setObjectName("preset_notes")
         self.notes_edit.setPlaceholderText("notes, saved with the preset")

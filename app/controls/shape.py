@@ -53,6 +53,7 @@ class ShapeWidget(SceneGroupWidget):
         self.other_label = QtWidgets.QLabel()
         self.other_label.setObjectName("other-content")
         self.other_label.setWordWrap(True)
+        self.other_label.setTextFormat(QtCore.Qt.TextFormat.PlainText)  # a file's name, as is
         self.other_label.setAlignment(QtCore.Qt.AlignmentFlag.AlignTop)
         self.shape_stack.addWidget(self.other_label)
         self.shape_combo.currentIndexChanged.connect(self._on_shape_combo_changed)

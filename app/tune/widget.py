@@ -16,13 +16,21 @@ from .gestures import HeatmapGestures
 from .live import LiveDisplay
 
 MAX_PLOTTED_EFFECTS = 2000
-"""A ``.tact`` pattern with more paths and dots than this is played but not plotted: its curves
-are rendered effect by effect, ~0.1 ms each, on the display's thread."""
+"""A ``.tact`` pattern with more paths and dots than this is played but neither plotted nor
+outlined: its curves are rendered effect by effect, ~0.1 ms each, and drawing 4,000 paths'
+outlines took the display's thread 4.5 s."""
+MAX_OUTLINE_POINTS = 20_000
+"""Most points of a pattern's outlines drawn (beyond, none: a partial drawing would mislead)."""
 
 
-def pattern_outlines(pattern, target) -> list:
-    """The outline of each of a ``.tact`` pattern's paths on ``target``, for the heatmap."""
-    return [path.outline() for path in pattern.paths(target)]
+def pattern_outlines(pattern, target) -> list | None:
+    """The outline of each of a ``.tact`` pattern's paths on ``target``, for the heatmap; None
+    when there are more than :data:`MAX_PLOTTED_EFFECTS` effects or
+    :data:`MAX_OUTLINE_POINTS` points."""
+    if pattern.effects > MAX_PLOTTED_EFFECTS:
+        return None
+    outlines = [path.outline() for path in pattern.paths(target)]
+    return outlines if sum(map(len, outlines)) <= MAX_OUTLINE_POINTS else None
 
 
 class TuneWidget(QtWidgets.QStackedWidget):
@@ -203,11 +211,10 @@ class TuneWidget(QtWidgets.QStackedWidget):
         period = scene.duration_s + scene.pause_s
         try:
             if pattern is not None:
-                outline = pattern_outlines(pattern, self.state.target)
                 if pattern.effects > MAX_PLOTTED_EFFECTS:
                     self._no_trace(f"{pattern.effects} paths and dots: too many to plot")
-                    heatmap.set_outline(outline)
                     return
+                outline = pattern_outlines(pattern, self.state.target)
                 curves = pattern.curves(scene.method, self.state.target, mu=scene.mu,
                                         gamma=scene.gamma, motor=motor)  # fmt: skip
                 period = pattern.duration_s

@@ -14,6 +14,7 @@ import errno
 import os
 import secrets
 import stat
+import sys
 from pathlib import Path
 
 
@@ -73,6 +74,17 @@ def check_folder(path, what: str = "folder", create: bool = True) -> Path:
     return path
 
 
+def _stem_for_temporary(name: str) -> str:
+    """``name`` cut so that ``.NAME.<12 hex>.tmp`` stays within 255 bytes (a file system's
+    longest name): a valid name of 238-255 bytes could not be written through a temporary
+    file named after it whole."""
+    room = 255 - len(".") - len(".") - 12 - len(".tmp")
+    encoded = os.fsencode(name)
+    if len(encoded) <= room:
+        return name
+    return encoded[:room].decode(sys.getfilesystemencoding(), errors="ignore") or "out"
+
+
 @contextlib.contextmanager
 def atomic_file(path, *, binary: bool = False):
     """Open a temporary file beside ``path`` for writing; on success sync it and rename it over
@@ -97,7 +109,7 @@ def atomic_file(path, *, binary: bool = False):
     tmp = None  # the name being created or made: removed on any way out, a signal's included
     try:
         for _ in range(100):
-            tmp = folder / f".{path.name}.{secrets.token_hex(6)}.tmp"
+            tmp = folder / f".{_stem_for_temporary(path.name)}.{secrets.token_hex(6)}.tmp"
             try:  # (a signal handled as os.open returns finds tmp set: it is removed below)
                 fd = os.open(tmp, flags | getattr(os, "O_NOFOLLOW", 0), 0o666)  # umask applies
                 break

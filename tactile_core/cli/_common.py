@@ -75,7 +75,7 @@ def write_frames(out, time_s, frames, names) -> None:
                 np.savetxt(f, table, delimiter=",", header=",".join(["time", *names]),
                            comments="", fmt="%.10g")  # fmt: skip
     except OSError as exc:
-        raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
+        raise write_failed(out, exc) from None
 
 
 def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None:
@@ -173,3 +173,10 @@ def ending_signals():
             signal.signal(signum, previous)
         if saved_int is not None:  # a command's stop handler for Ctrl-C goes with the command
             signal.signal(signal.SIGINT, saved_int)
+
+
+def write_failed(out, exc: OSError) -> OSError:
+    """The error to raise when writing ``out`` fails during a run (a full disk): ``main``
+    prints ``cannot write OUT: REASON`` and exits with 1, as for any operating-system error
+    (the arguments were fine; status 2 is for those)."""
+    return OSError(exc.errno, f"cannot write {out}: {exc.strerror or exc}")

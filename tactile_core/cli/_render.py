@@ -13,7 +13,14 @@ from .._shared import validate as _validate
 from .._shared.outfile import check_output
 from ..rendering.correction import correct
 from ..rendering.rasterize import check_renders, render
-from ._common import UsageError, _install_stop_handlers, _scene, _seconds, write_frames
+from ._common import (
+    UsageError,
+    _install_stop_handlers,
+    _scene,
+    _seconds,
+    write_failed,
+    write_frames,
+)
 from ._tact import load_tact_arg, not_played, render_tact
 
 MAX_RENDER_FRAMES = 1_000_000
@@ -106,7 +113,7 @@ def _write_wav(args, out, profile, frames, what: str) -> int:
         written = write_wav(out, levels, args.rate, profile, samplerate=samplerate,
                             carrier_hz=args.carrier_hz, ramp_ms=ramp_ms)  # fmt: skip
     except OSError as exc:
-        raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
+        raise write_failed(out, exc) from None
     print(f"wrote {len(frames)} frames of {what} to {out}: {profile.channels} channels of "
           f"{written / samplerate:.3f} s at {samplerate} Hz (profile {profile.name})")  # fmt: skip
     return 0

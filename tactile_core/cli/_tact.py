@@ -9,8 +9,15 @@ import numpy as np
 
 from .._shared import validate as _validate
 from .._shared.outfile import check_output
-from ..files.tact import POSITIONS, TactError, load_pattern, path_of_scene, write_tact
-from ._common import UsageError, number, whole, write_frames
+from ..files.tact import (
+    MAX_NAME_CHARS,
+    POSITIONS,
+    TactError,
+    load_pattern,
+    path_of_scene,
+    write_tact,
+)
+from ._common import UsageError, number, whole, write_failed, write_frames
 
 PREFIX = "tact:"
 
@@ -140,10 +147,10 @@ def cmd_export_tact(args) -> int:
         except ProfileError as exc:
             raise UsageError(str(exc)) from None
     path = path_of_scene(scene)
-    name = args.name if args.name is not None else out.stem
+    name = args.name if args.name is not None else out.stem[:MAX_NAME_CHARS]
     try:
         write_tact(out, path, target, name=name, position=args.position)
     except OSError as exc:
-        raise UsageError(f"cannot write {out}: {exc.strerror or exc}") from None
+        raise write_failed(out, exc) from None
     print(f"wrote {len(path.points)} points over {path.duration_s:g} s ({path.pattern}) to {out}")
     return 0

@@ -35,6 +35,9 @@ MAX_EFFECTS = 5_000
 """Most effects in a file (over all tracks)."""
 MAX_TOTAL_POINTS = 200_000
 """Most path points and dots in a file, all together."""
+MAX_NAME_CHARS = 200
+"""Longest project name kept (a longer one is cut) or written (a default taken from the file's
+name is cut to this)."""
 MAX_LAYOUT = 1024
 """Most motors in one position's layout."""
 MAX_TIME_MS = 3_600_000.0
@@ -208,7 +211,7 @@ class _Reader:
                 if enable:
                     end_ms = max(end_ms, end)
         return TactFile(
-            name=name if isinstance(name, str) else "",
+            name=name[:MAX_NAME_CHARS] if isinstance(name, str) else "",
             layouts=layouts,
             paths=tuple(paths),
             dots=tuple(dots),

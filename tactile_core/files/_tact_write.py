@@ -31,6 +31,7 @@ from ..rendering.rasterize import check_target
 from ..rendering.shapes import MAX_POINTS, Line, Polyline, Shape, Square, TimedPath
 from ..rendering.trace import Trace
 from ._tact_frames import layout_box, layout_to_unit
+from ._tact_read import MAX_NAME_CHARS
 
 POSITIONS = {"VestFront": "Tactot", "VestBack": "Tactot", "Head": "Tactal",
              "ForearmL": "Tactosy2", "ForearmR": "Tactosy2", "Left": "Tactosy",
@@ -113,8 +114,9 @@ def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
         raise ValueError(
             f"position must be one of {', '.join(POSITIONS)}, got {_validate.shown(position)}"
         )
-    if not isinstance(name, str) or len(name) > 200:
-        raise ValueError(f"name must be a string of at most 200 characters, got {name!r}")
+    if not isinstance(name, str) or len(name) > MAX_NAME_CHARS:
+        raise ValueError(f"name must be a string of at most {MAX_NAME_CHARS} characters, got "
+                         f"{_validate.shown(name)}")  # fmt: skip
     if path.duration_s < 1e-3:
         raise ValueError(f"path lasts {path.duration_s * 1e3:g} ms: a .tact path needs >= 1 ms")
     target = check_target(target)

@@ -43,6 +43,12 @@ _SCENE_KEYS = ("method", "mu", "gamma", "rate_hz", "filter", "subsamples", "dith
 _TRACE_KEYS = ("duration_s", "pause_s", "direction", "repeat", "emphasis")
 
 
+MAX_NAME_CHARS = 200
+"""Longest preset name read (the tuner names a preset after its file, cut to this)."""
+MAX_NOTES_CHARS = 10_000
+"""Longest notes read."""
+
+
 class PresetError(ValueError):
     """A preset that cannot be used; the message names the file, the field and the problem."""
 
@@ -109,7 +115,8 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
         raise PresetError(
             f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
         )
-    for key, longest in (("name", 200), ("notes", 10_000), ("device_profile", 64)):
+    for key, longest in (("name", MAX_NAME_CHARS), ("notes", MAX_NOTES_CHARS),
+                         ("device_profile", 64)):  # fmt: skip
         if key in data and (not isinstance(data[key], str) or len(data[key]) > longest):
             raise PresetError(
                 f"{source}: field '{key}' must be a string of at most {longest} characters, "
@@ -187,8 +194,18 @@ def load_preset(path) -> Preset:
 
 
 def save_preset(preset: Preset, path) -> Path:
-    """Write a preset atomically (temporary file, then rename)."""
-    return write_json_atomic(path, preset.to_dict())
+    """Write a preset atomically (temporary file, then rename).
+
+    Raises
+    ------
+    PresetError
+        Before anything is written, when the preset would not load back (a scene without a
+        shape, a name or notes too long): a preset this writes is one :func:`load_preset`
+        reads.
+    """
+    data = preset.to_dict()
+    preset_from_dict(data, source=f"the preset for {path}")
+    return write_json_atomic(path, data)
 
 
 def builtin_presets() -> dict[str, Path]:

@@ -32,6 +32,7 @@ from ._tact_frames import (
 from ._tact_read import (
     MAX_EFFECTS,
     MAX_LAYOUT,
+    MAX_NAME_CHARS,
     MAX_TACT_BYTES,
     MAX_TOTAL_POINTS,
     TactDot,
@@ -46,6 +47,7 @@ from ._tact_write import POSITIONS, path_of_scene, tact_document, write_tact
 __all__ = [
     "MAX_EFFECTS",
     "MAX_LAYOUT",
+    "MAX_NAME_CHARS",
     "MAX_TABLE_FRAMES",
     "MAX_TACT_BYTES",
     "MAX_TOTAL_POINTS",

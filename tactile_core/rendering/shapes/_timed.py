@@ -79,8 +79,9 @@ class TimedPath(Shape):
                     f"times_s[{i}] must be later than times_s[{i - 1}] ({times[i - 1]:g} s): "
                     f"times must increase, got {value:g}"
                 )
-        levels = (1.0,) * n if len(self.intensities) == 0 else self.intensities
-        levels = _numbers("intensities", levels, n)
+        given = self.intensities  # () by default: every point at full intensity
+        empty = isinstance(given, (tuple, list, np.ndarray)) and len(given) == 0
+        levels = _numbers("intensities", (1.0,) * n if empty else given, n)
         for i, value in enumerate(levels):
             _validate.in_range(f"intensities[{i}]", value, 0.0, 1.0)
         object.__setattr__(self, "points", pts)
