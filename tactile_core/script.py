@@ -202,7 +202,9 @@ class Array:
         scene = Scene(method=method, mu=mu, gamma=gamma, duration_s=duration_s, pause_s=0.0,
                       repeat=False, rate_hz=self.rate_hz, gain=gain, direction=direction,
                       marker=marker, epoch=next(self._epochs), **kind)  # fmt: skip
-        scene.live(self.profile.target, self.rate_hz)  # refused here, by name, not by the stream
+        live = scene.live(self.profile.target, self.rate_hz)  # refused here, by name
+        if "source" in kind:  # a pattern: its table now, not beside the output thread
+            live.precompute()  # (the stream plays from it: the same frames, see TactPattern.live)
         presentation = Presentation(scene, self)
         with self._lock:
             self._finish_current()

@@ -272,3 +272,18 @@ def test_many_overlapping_dots_match_a_dot_by_dot_computation():
     live = pattern.live("EN", VEST.target, tc.Sampling(200.0, "point"), 0.0, 1.0)
     scalar = np.array([live.frame(k) for k in range(live.n_frames)])
     assert scalar == pytest.approx(expected, abs=1e-12)
+
+
+def test_a_pattern_is_tabulated_before_it_plays_and_the_stream_plays_that_table():
+    # Computed as it plays, 400 paths at once cost 1.4 ms a frame, and the table built beside
+    # the output thread took its turns: 197 of 285 frames late. open_array().play and
+    # tactile stream now tabulate first; live() gives the stream that very table.
+    pattern = pattern_of(ts.crossing_paths_and_a_dot())
+    args = ("AS", PALM, tc.Sampling(300.0), 0.33, 0.7, 1.0)
+    live = pattern.live(*args)
+    assert pattern.live(*args) is live and not live.precomputed
+    assert live.busiest_frame() == int(0.3 * 300)  # two paths and the dot from 0.3 s
+    with tc.open_array("sim", rate_hz=300.0) as array:
+        array.play(pattern, "AS", mu=0.33, gamma=0.7, duration_s=0.05, wait=False)
+        assert live.precomputed  # tabulated before play returned
+        array.all_off()

@@ -11,6 +11,7 @@ import numpy as np
 
 from .._shared import validate as _validate
 from .._shared.outfile import check_output
+from ..files.tact import MAX_TABLE_FRAMES
 from ..rendering.correction import correct
 from ..rendering.rasterize import check_renders, render
 from ._common import (
@@ -119,6 +120,25 @@ def _write_wav(args, out, profile, frames, what: str) -> int:
     return 0
 
 
+def _tabulate(scene, profile) -> None:
+    """Tabulate a pattern's frames before streaming it: the stream then plays from the table
+    (:meth:`TactPattern.live` gives it the same frames). Computed as it plays, a frame of many
+    effects at once can cost more than a frame lasts, and a table built in the background
+    meanwhile takes the output thread's turns: 400 paths at once made 197 of 285 frames late.
+    A pattern longer than the table holds plays as before (frame by frame)."""
+    live = scene.live(profile.target, scene.rate_hz)
+    if live.n_frames > MAX_TABLE_FRAMES:
+        return
+    if live.busiest_frame_s() * live.n_frames > 1.0:  # (an upper bound: the table is faster)
+        print(f"tabulating the pattern's {live.n_frames} frames before playing it",
+              file=sys.stderr, flush=True)  # fmt: skip
+    start = time.perf_counter()
+    live.precompute()
+    took = time.perf_counter() - start
+    if took > 0.5:
+        print(f"tabulated in {took:.1f} s", file=sys.stderr, flush=True)
+
+
 def cmd_stream(args) -> int:
     """Stream a scene to a device without the GUI; print statistics at the end."""
     from ..device.profile import ProfileError, load_profile
@@ -165,6 +185,8 @@ def cmd_stream(args) -> int:
         check_output(args.record, (".csv", ".npz"), "--record")
     stop = threading.Event()
     _install_stop_handlers(stop)
+    if pattern is not None:
+        _tabulate(scene, profile)
     from ._serve import open_outputs
 
     opened = open_outputs(args, profile, scene.rate_hz)

@@ -148,8 +148,12 @@ class TactPattern:
 
     def live(self, method, target, sampling, mu, gamma, gain=1.0) -> PatternFrames:
         """The frame source a :class:`~tactile_core.rendering.scene.Scene` plays (see
-        :class:`PatternFrames`)."""
-        return PatternFrames(self, method, target, sampling, mu, gamma, gain)
+        :class:`PatternFrames`): the same object for the same arguments (the latest few are
+        kept), so a table tabulated before a stream starts is the one it plays from."""
+        try:  # (keyed by the Method, however it was named)
+            return _live(self, get_method(method), target, sampling, mu, gamma, gain)
+        except TypeError:  # (an argument that cannot be a key: a fresh one, checked there)
+            return PatternFrames(self, method, target, sampling, mu, gamma, gain)
 
     def frames(self, method, target, *, rate_hz: float = 300.0, sampling: Sampling | None = None,
                mu: float = 0.0, gamma: float = 1.0, gain: float = 1.0,
@@ -220,6 +224,11 @@ class TactPattern:
         start_s, frames = self.frames(method, target, sampling=sampling, corrected=False)
         return curves_from_frames(frames, start_s + sampling.offsets_s()[0], mu=mu,
                                   gamma=gamma, grid=check_target(target), motor=motor)  # fmt: skip
+
+
+@lru_cache(maxsize=4)
+def _live(pattern, method, target, sampling, mu, gamma, gain) -> PatternFrames:
+    return PatternFrames(pattern, method, target, sampling, mu, gamma, gain)
 
 
 @lru_cache(maxsize=16)
@@ -312,6 +321,28 @@ class PatternFrames:
     def precomputed(self) -> bool:
         """True once the table is in use."""
         return self._table is not None
+
+    def busiest_frame(self) -> int:
+        """The frame at which the most paths and dots are on (the first such), 0 if none."""
+        spans = [(s, e) for s, e, _ in self._paths] + [(d[0], d[1]) for d in self._dots]
+        edges = sorted([(s, 1) for s, _ in spans] + [(e, -1) for _, e in spans])
+        on, most, when = 0, 0, 0.0
+        for t, step in edges:  # (an end sorts before a start at the same time)
+            on += step
+            if on > most:
+                most, when = on, t
+        return min(int(when * self.sampling.rate_hz), max(self.n_frames - 1, 0))
+
+    def busiest_frame_s(self) -> float:
+        """Seconds the scalar path takes for :meth:`busiest_frame`: what playing costs a frame
+        before the table is built (measured here, the best of two)."""
+        k = self.busiest_frame()
+        best = math.inf
+        for _ in range(2):
+            start = time.perf_counter()
+            self.compute(k)
+            best = min(best, time.perf_counter() - start)
+        return best
 
     def precompute(self, background: bool = False) -> None:
         """Tabulate every frame (no-op beyond :data:`MAX_TABLE_FRAMES`); with
