@@ -172,3 +172,16 @@ def test_a_pattern_of_many_long_paths_is_not_outlined(tmp_path):
     assert pattern_outlines(pattern, target) is None
     few = load_pattern(ts.write(tmp_path, ts.document(*effects[:2]), "few.tact"))
     assert len(pattern_outlines(few, target)) == 2
+
+
+def test_a_timed_path_renders_at_its_own_pace_unless_told(tmp_path, capsys):
+    # A 0.5 s path was stretched to --duration's default 2 s by render and stream, though
+    # export-tact kept its times and the docs say it plays at its own pace.
+    out = tmp_path / "t.csv"
+    spec = "timed:1,1,0,1,4,5,0.5,1"  # (1, 1) at 0 s to (4, 5) at 0.5 s
+    code, _ = run_cli_last_line(capsys, "render", "--shape", spec, "--method", "AS",
+                                "--rate", "10", "--out", out)  # fmt: skip
+    assert code == 0 and len(out.read_text().splitlines()) == 1 + 6  # 0, 0.1 .. 0.5 s
+    code, _ = run_cli_last_line(capsys, "render", "--shape", spec, "--method", "AS",
+                                "--rate", "10", "--duration", "1", "--out", out)  # fmt: skip
+    assert code == 0 and len(out.read_text().splitlines()) == 1 + 11  # told: 1 s

@@ -12,7 +12,7 @@ from .._shared import validate as _validate
 from ..rendering.correction import check_correction
 from ..rendering.geometry import Grid
 from ..rendering.methods import METHOD_NAMES, PEER_METHODS, get_method
-from ..rendering.shapes import parse_shape
+from ..rendering.shapes import TimedPath, parse_shape
 from ..rendering.trace import DIRECTIONS
 
 
@@ -95,9 +95,10 @@ def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None
     p.add_argument(
         "--duration",
         type=number,
-        default=duration,
-        help=f"seconds per trace (default {duration:g})",
+        default=None,
+        help=f"seconds per trace (default {duration:g}; a timed path's own)",
     )
+    p.set_defaults(default_duration=duration)
     p.add_argument("--direction", choices=DIRECTIONS, default="forward")
     p.add_argument("--cols", type=whole, default=5, help="grid columns (default 5)")
     p.add_argument("--rows", type=whole, default=6, help="grid rows (default 6)")
@@ -109,6 +110,9 @@ def _scene(args):
     shape = None if args.shape.startswith("tact:") else parse_shape(args.shape)
     method = get_method(args.method).spec
     mu, gamma = check_correction(args.mu, args.gamma)
+    if args.duration is None:  # a timed path plays at its own pace (its times are the point)
+        own = isinstance(shape, TimedPath)
+        args.duration = shape.duration_s if own else args.default_duration
     _validate.duration("duration", args.duration)
     for name in ("cols", "rows"):
         _validate.integer(name, getattr(args, name), 1, 64)
