@@ -267,6 +267,9 @@ class Array:
             if self.lsl is not None:
                 self.lsl.close()
             _release_sigterm(self)
+            keeper = self._keeper  # gone when close() returns: nothing left running
+            if keeper.ident is not None and keeper is not threading.current_thread():
+                keeper.join(timeout=2.0)
 
     def __enter__(self) -> Array:
         self._check_open()

@@ -126,6 +126,9 @@ def test_a_closed_array_refuses_points_as_it_refuses_play():
     """point() after close() did nothing and said nothing: the script believed a point on."""
     array = tc.open_array("sim")
     array.close()
+    # its threads are gone when close() returns (the keeper used to linger: under load the
+    # next test found it still running)
+    assert not array._keeper.is_alive() and not array.streamer.running
     array.close()  # twice: nothing happens
     for call in (lambda: array.point(2.5, 3.0), lambda: array.play("circle:2.5,3,2"),
                  array.__enter__):  # fmt: skip
