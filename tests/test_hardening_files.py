@@ -185,3 +185,24 @@ def test_a_timed_path_renders_at_its_own_pace_unless_told(tmp_path, capsys):
     code, _ = run_cli_last_line(capsys, "render", "--shape", spec, "--method", "AS",
                                 "--rate", "10", "--duration", "1", "--out", out)  # fmt: skip
     assert code == 0 and len(out.read_text().splitlines()) == 1 + 11  # told: 1 s
+
+
+def test_render_caps_the_values_it_writes_not_only_the_frames(tmp_path, capsys):
+    # 48,001 frames of a 64 x 64 grid (197 million values) passed the frame cap and ended in
+    # a MemoryError traceback under a 3 GB limit; 30 million values (240 MB) is the cap.
+    code, line = run_cli_last_line(capsys, "render", "--shape", "line:0,0,64,64", "--method",
+                                   "AS", "--cols", "64", "--rows", "64", "--rate", "1000",
+                                   "--duration", "48", "--out", tmp_path / "big.npz")  # fmt: skip
+    assert code == 2 and "at most 7324 frames of 4096 tactors, got 48001" in line
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_render_writes_a_patterns_carriers_to_wav(tmp_path, capsys):
+    out = tmp_path / "t.wav"
+    code, _ = run_cli_last_line(capsys, "render", "--shape", "tact:tests/data/testfeedback.tact",
+                                "--method", "BA", "--profile", "vest-4x5", "--out", out)  # fmt: skip
+    assert code == 0
+    import wave
+
+    with wave.open(str(out)) as f:  # 100 frames at 100 Hz: 1 s and the ramp
+        assert f.getnchannels() == 20 and 1.0 <= f.getnframes() / f.getframerate() < 1.05

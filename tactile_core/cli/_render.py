@@ -22,14 +22,27 @@ from ._common import (
     write_failed,
     write_frames,
 )
-from ._tact import load_tact_arg, not_played, render_tact
+from ._tact import load_tact_arg, not_played
 
 MAX_RENDER_FRAMES = 1_000_000
-"""Most frames ``tactile render`` writes (duration x rate + 1): 240 MB of floats."""
+"""Most frames ``tactile render`` writes (duration x rate + 1)."""
+MAX_RENDER_VALUES = 30_000_000
+"""Most intensities it writes, frames x tactors: 240 MB of floats (a million frames of the
+palm array's 30; a 64 x 64 grid at 1 kHz for 48 s made several 1.5 GB copies)."""
+
+
+def _check_render_size(frames: int, size: int, duration_s: float, rate_hz: float) -> None:
+    if frames > MAX_RENDER_FRAMES or frames * size > MAX_RENDER_VALUES:
+        most = min(MAX_RENDER_FRAMES, MAX_RENDER_VALUES // size)
+        raise ValueError(
+            f"duration x rate must give at most {most} frames of {size} tactors, got {frames} "
+            f"({duration_s:g} s at {rate_hz:g} Hz)"
+        )
 
 
 def cmd_render(args) -> int:
-    """Write the frames of one trace to CSV or NPZ, or its carrier signal to WAV."""
+    """Write the frames of one trace or pattern to CSV or NPZ, or its carrier signal to
+    WAV."""
     out = check_output(args.out, (".csv", ".npz", ".wav"), "--out")
     wav = out.suffix.lower() == ".wav"
     profile = _render_profile(args, wav)
@@ -40,24 +53,25 @@ def cmd_render(args) -> int:
         check_renders(method, grid)
         names = list(profile.layout.names)
     pattern = load_tact_arg(args)
-    if pattern is not None:
-        return render_tact(args, pattern, method, mu, gamma, grid, names, MAX_RENDER_FRAMES)
     _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
-    n = int(np.floor(args.duration * args.rate + 1e-9))
-    if n + 1 > MAX_RENDER_FRAMES:
-        raise ValueError(
-            f"duration x rate must give at most {MAX_RENDER_FRAMES} frames, got {n + 1} "
-            f"({args.duration:g} s at {args.rate:g} Hz)"
-        )
-    time_s = np.arange(n + 1) / args.rate
-    u = np.minimum(time_s / args.duration, 1.0)
-    t = 1.0 - u if args.direction == "reverse" else u
-    frames = correct(render(shape, method, t, grid=grid), mu, gamma)
+    if pattern is not None:  # frame k samples the middle of [k / rate, (k + 1) / rate)
+        n = int(np.ceil(pattern.duration_s * args.rate - 1e-9))
+        _check_render_size(n, grid.size, pattern.duration_s, args.rate)
+        time_s, frames = pattern.frames(method, grid, rate_hz=args.rate, mu=mu, gamma=gamma)
+        what, left_out = f"{pattern.position} of {args.shape[len('tact:') :]}", not_played(pattern)
+    else:
+        n = int(np.floor(args.duration * args.rate + 1e-9)) + 1
+        _check_render_size(n, grid.size, args.duration, args.rate)
+        time_s = np.arange(n) / args.rate
+        u = np.minimum(time_s / args.duration, 1.0)
+        t = 1.0 - u if args.direction == "reverse" else u
+        frames = correct(render(shape, method, t, grid=grid), mu, gamma)
+        what, left_out = shape.spec, ""
+    what = f"{what} ({method}, mu={mu:g}, gamma={gamma:g})"
     if wav:
-        return _write_wav(args, out, profile, frames, f"{shape.spec} ({method}, mu={mu:g}, "
-                          f"gamma={gamma:g})")  # fmt: skip
+        return _write_wav(args, out, profile, frames, what)
     write_frames(out, time_s, frames, names)
-    print(f"wrote {len(t)} frames of {shape.spec} ({method}, mu={mu:g}, gamma={gamma:g}) to {out}")
+    print(f"wrote {len(time_s)} frames of {what} to {out}{left_out}")
     return 0
 
 

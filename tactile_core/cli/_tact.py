@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 from .._shared import validate as _validate
 from .._shared.outfile import check_output
 from ..files.tact import (
@@ -17,7 +15,7 @@ from ..files.tact import (
     path_of_scene,
     write_tact,
 )
-from ._common import UsageError, number, whole, write_failed, write_frames
+from ._common import UsageError, number, whole, write_failed
 
 PREFIX = "tact:"
 
@@ -51,22 +49,6 @@ def load_tact_arg(args):
     if not pattern.position:
         raise UsageError(f"{path}: no paths or dots to play (no enabled track holds any)")
     return pattern
-
-
-def render_tact(args, pattern, method, mu, gamma, target, names, max_frames: int) -> int:
-    """``tactile render --shape tact:FILE``: the pattern's frames as streamed (frame ``k``
-    samples the middle of ``[k / rate, (k + 1) / rate)``), until its last effect ends; at most
-    ``max_frames`` of them."""
-    _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
-    out = check_output(args.out, (".csv", ".npz"), "--out")
-    n = int(np.ceil(pattern.duration_s * args.rate - 1e-9))
-    if n > max_frames:
-        raise ValueError(f"duration x rate must give at most {max_frames} frames, got {n}")
-    time_s, frames = pattern.frames(method, target, rate_hz=args.rate, mu=mu, gamma=gamma)
-    write_frames(out, time_s, frames, names)
-    print(f"wrote {len(time_s)} frames of {pattern.position} of {args.shape[len(PREFIX) :]} "
-          f"({method}, mu={mu:g}, gamma={gamma:g}) to {out}{not_played(pattern)}")  # fmt: skip
-    return 0
 
 
 def not_played(pattern) -> str:
