@@ -3,6 +3,7 @@ correction table, curves): each test failed on the code before its fix."""
 
 import errno
 import os
+import wave
 
 import numpy as np
 import pytest
@@ -199,10 +200,9 @@ def test_render_caps_the_values_it_writes_not_only_the_frames(tmp_path, capsys):
 
 def test_render_writes_a_patterns_carriers_to_wav(tmp_path, capsys):
     out = tmp_path / "t.wav"
-    code, _ = run_cli_last_line(capsys, "render", "--shape", "tact:tests/data/testfeedback.tact",
-                                "--method", "BA", "--profile", "vest-4x5", "--out", out)  # fmt: skip
+    shape = "tact:tests/data/testfeedback.tact"
+    code, _ = run_cli_last_line(capsys, "render", "--shape", shape, "--method", "BA",
+                                "--profile", "vest-4x5", "--out", out)  # fmt: skip
     assert code == 0
-    import wave
-
     with wave.open(str(out)) as f:  # 100 frames at 100 Hz: 1 s and the ramp
         assert f.getnchannels() == 20 and 1.0 <= f.getnframes() / f.getframerate() < 1.05
