@@ -206,3 +206,11 @@ def test_render_writes_a_patterns_carriers_to_wav(tmp_path, capsys):
     assert code == 0
     with wave.open(str(out)) as f:  # 100 frames at 100 Hz: 1 s and the ramp
         assert f.getnchannels() == 20 and 1.0 <= f.getnframes() / f.getframerate() < 1.05
+
+
+def test_a_preset_saved_with_a_byte_order_mark_opens(tmp_path):
+    # Windows' Notepad writes one; .tact files were read past it, presets were refused.
+    good = preset_from_dict(timed_preset())
+    path = save_preset(good, tmp_path / "p.json")
+    path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
+    assert load_preset(path).scene.shape == good.scene.shape

@@ -66,9 +66,10 @@ def _no_constant(name):
 
 def parse_json(data: bytes, source, error=ValueError, *, max_depth: int = MAX_JSON_DEPTH):
     """Parse JSON bytes; ``error`` names ``source`` and what is wrong (including nesting past
-    ``max_depth``)."""
+    ``max_depth``). A leading UTF-8 byte order mark is skipped (Windows' Notepad and
+    bHaptics' Designer write one)."""
     try:
-        text = data.decode("utf-8")
+        text = data.removeprefix(b"\xef\xbb\xbf").decode("utf-8")
     except UnicodeDecodeError as exc:
         raise error(f"{source}: not UTF-8 text: {exc.reason} at byte {exc.start}") from None
     try:

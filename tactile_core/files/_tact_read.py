@@ -125,7 +125,7 @@ def read_tact(path) -> TactFile:
         after their effect's end) or too large.
     """
     data = read_bytes(path, TactError, max_bytes=MAX_TACT_BYTES)
-    return parse_tact(parse_json(data.removeprefix(b"\xef\xbb\xbf"), path, TactError), str(path))
+    return parse_tact(parse_json(data, path, TactError), str(path))
 
 
 def parse_tact(data, source: str = "tact") -> TactFile:
