@@ -3,6 +3,8 @@ stream's status line."""
 
 from __future__ import annotations
 
+import html
+
 from PySide6 import QtCore, QtWidgets
 from serial.tools import list_ports
 
@@ -48,8 +50,8 @@ class DevicePanel(QtWidgets.QWidget):
         )
         self.profile_label = QtWidgets.QLabel()
         self.link_label = QtWidgets.QLabel()
-        for label in (self.profile_label, self.link_label):  # a profile's or device's name
-            label.setTextFormat(QtCore.Qt.TextFormat.PlainText)
+        self.profile_label.setTextFormat(QtCore.Qt.TextFormat.PlainText)  # a profile's words
+        self.link_label.setTextFormat(QtCore.Qt.TextFormat.RichText)  # bold, the name escaped
         self.lead_spin = QtWidgets.QDoubleSpinBox()
         self.lead_spin.setObjectName("lead")
         self.lead_spin.setRange(0.0, 500.0)
@@ -175,8 +177,8 @@ class DevicePanel(QtWidgets.QWidget):
             f"{profile.layout.describe()}, {profile.levels} levels, {profile.baud} baud (max "
             f"{profile.max_rate_hz:.0f} frames/s)"
         )
-        self.profile_label.setToolTip(profile.description or profile.name)
-        self.link_label.setText(f"<b>{description}</b>")
+        self.profile_label.setToolTip(tip(profile.description or profile.name))
+        self.link_label.setText(f"<b>{html.escape(description)}</b>")
         self.disconnect_button.setEnabled(not self.device.simulated)
         self.lead_spin.blockSignals(True)  # a preset may have set another lead
         self.lead_spin.setValue(self.device.lead_ms)

@@ -160,6 +160,10 @@ def test_names_from_files_are_shown_as_written_not_as_markup(window, tmp_path):
     from tactile_tuner.texts import tip
 
     assert tip("<b>a & b</b>") == "<qt>&lt;b&gt;a &amp; b&lt;/b&gt;</qt>"
+    # the device's name stays bold (rich text, its name escaped): not "<b>simulated array</b>"
+    link = window.device_panel.link_label
+    assert link.text() == "<b>simulated array</b>"
+    assert link.textFormat() == QtCore.Qt.TextFormat.RichText
 
 
 def test_a_pattern_of_many_long_paths_is_not_outlined(tmp_path):
