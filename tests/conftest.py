@@ -27,13 +27,11 @@ settings.register_profile("thorough", deadline=None, max_examples=2000)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "default"))
 
 
-@pytest.fixture
-def emulator_thread():
-    """A device emulator on a pseudo-terminal, receiving in a thread: ``(emulator, path)``."""
+def _emulator_in_a_thread(socket: bool):
     from tactile_core.device.emulator import Emulator
 
     emulator = Emulator()
-    path = emulator.open()
+    path = emulator.open_socket() if socket else emulator.open()
     stop = threading.Event()
     thread = threading.Thread(target=emulator.run, args=(stop.is_set,), daemon=True)
     thread.start()
@@ -41,6 +39,18 @@ def emulator_thread():
     stop.set()
     thread.join(2)
     emulator.close()
+
+
+@pytest.fixture
+def emulator_thread():
+    """A device emulator on a pseudo-terminal, receiving in a thread: ``(emulator, path)``."""
+    yield from _emulator_in_a_thread(socket=False)
+
+
+@pytest.fixture
+def emulator_socket_thread():
+    """:func:`emulator_thread` listening on a local TCP port: ``(emulator, socket:// URL)``."""
+    yield from _emulator_in_a_thread(socket=True)
 
 
 @pytest.fixture

@@ -204,32 +204,19 @@ def test_stream_bad_arguments_exit_2():
     assert proc.returncode == 2 and "no such file" in proc.stderr
 
 
-def test_a_second_client_of_a_socket_array_is_refused_not_left_waiting():
+def test_a_second_client_of_a_socket_array_is_refused_not_left_waiting(emulator_socket_thread):
     # An array serves one host, as a serial port held by one program does. The emulator used
     # to leave a second client in the listening socket's backlog: its connection completed,
     # open_array returned, and its presentations counted as played while every frame waited
     # in a kernel buffer. Now the second client is closed at once and told why.
-    import threading
-
-    from tactile_core.device.emulator import Emulator as Array
-
-    array = Array()
-    url = array.open_socket()
-    stop = threading.Event()
-    thread = threading.Thread(target=array.run, args=(stop.is_set,), daemon=True)
-    thread.start()
-    try:
-        with tc.open_array(url, lead_ms=0) as first:
-            with pytest.raises(RuntimeError, match=r"closed the connection.*another program"):
-                tc.open_array(url, lead_ms=0)
-            shown = first.play("circle:2.5,3,2", "AS", duration_s=0.2)
-            assert shown.first_frame_s is not None and not shown.failed
-        with tc.open_array(url, lead_ms=0) as after:  # free again once the first one left
-            assert not after.play("circle:2.5,3,2", "AS", duration_s=0.1).failed
-    finally:
-        stop.set()
-        thread.join(5)
-        array.close()
+    array, url = emulator_socket_thread
+    with tc.open_array(url, lead_ms=0) as first:
+        with pytest.raises(RuntimeError, match=r"closed the connection.*another program"):
+            tc.open_array(url, lead_ms=0)
+        shown = first.play("circle:2.5,3,2", "AS", duration_s=0.2)
+        assert shown.first_frame_s is not None and not shown.failed
+    with tc.open_array(url, lead_ms=0) as after:  # free again once the first one left
+        assert not after.play("circle:2.5,3,2", "AS", duration_s=0.1).failed
     report = array.report()
     assert report["clients_refused"] == 1
     assert report["bad_frames"] == {k: 0 for k in report["bad_frames"]}
