@@ -170,6 +170,15 @@ class DevicePanel(QtWidgets.QWidget):
             return  # already streaming there (Enter again, a double click)
         self.device.connect_device(self.port_combo.currentText())
 
+    def set_run_locked(self, locked: bool) -> None:
+        """During an experiment run the device stays as it is: another port, a disconnect
+        (the simulated array took over without a word) or a new lead (the stream restarts and
+        its counters with it) would change what the trials record."""
+        for widget in (self.port_combo, self.refresh_button, self.connect_button,
+                       self.lead_spin):  # fmt: skip
+            widget.setEnabled(not locked)
+        self.disconnect_button.setEnabled(not locked and not self.device.simulated)
+
     def _on_device_connection_changed(self, description: str) -> None:
         profile = self.device.profile
         self._fill_profiles()

@@ -66,6 +66,9 @@ class KeyFilter(QtCore.QObject):
             return False
         app = QtWidgets.QApplication
         if app.activePopupWidget() is not None or app.activeModalWidget() is not None:
+            first = app.focusWidget() or app.activeModalWidget() or app.activePopupWidget()
+            if event.key() == QtCore.Qt.Key.Key_Escape and self.run_active() and obj is first:
+                self.on_escape()  # during a run Esc stops the array whatever is open (once)
             return False  # a menu, a drop-down list or a dialog: Esc closes it, nothing more
         active = app.activeWindow()
         ours = self.windows()

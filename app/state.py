@@ -94,21 +94,43 @@ class TunerState(QtCore.QObject):
         """A callable ``guard(name) -> why`` ("" when allowed) consulted by :meth:`update`
         besides the layout (another program driving free points refuses MM and IM); a refusal
         goes to the status line."""
+        self.run_owner = None
+        """The experiment run that alone sets the scene meanwhile (:meth:`lock`), or None."""
         if layout is not None:
             self.set_layout(layout)
+
+    def lock(self, owner) -> None:
+        """Only ``owner`` (an experiment run's trials) changes the scene until :meth:`unlock`:
+        a preset opened from the menu, the controls or a restart would otherwise change what
+        plays while the row records the trial's condition."""
+        self.run_owner = owner
+
+    def unlock(self, owner) -> None:
+        """Release :meth:`lock` (if ``owner`` holds it)."""
+        if self.run_owner is owner:
+            self.run_owner = None
+
+    def _refused_by_run(self, owner) -> bool:
+        if self.run_owner is None or owner is self.run_owner:
+            return False
+        self._post("an experiment run sets the stimulus: Stop the run first to change it")
+        return True
 
     @property
     def scene(self) -> Scene:
         """The current scene."""
         return self._scene
 
-    def update(self, **changes) -> bool:
+    def update(self, *, owner=None, **changes) -> bool:
         """Apply field changes; False (and :attr:`error_raised`) if they are invalid. Playing
         (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go.
 
         A change that starts a new presentation (a new epoch or shape, playing after a pause)
         without naming its ``marker`` is the tuner's own: the kind a part gave the scene before
-        (``ab``, ``trial``) is dropped."""
+        (``ab``, ``trial``) is dropped. During an experiment run only its ``owner`` changes
+        the scene (:meth:`lock`)."""
+        if self._refused_by_run(owner):
+            return False
         if changes.get("playing") and "hold_s" not in changes:
             changes["hold_s"] = None
         if changes.get("shape") is not None and "source" not in changes:
@@ -135,10 +157,13 @@ class TunerState(QtCore.QObject):
         except (ValueError, TypeError) as exc:
             self.error_raised.emit(str(exc))
             return False
-        return self.set_scene(new)
+        return self.set_scene(new, owner=owner)
 
-    def set_scene(self, scene: Scene) -> bool:
-        """Replace the whole scene (e.g. from a preset) and emit what changed."""
+    def set_scene(self, scene: Scene, *, owner=None) -> bool:
+        """Replace the whole scene (e.g. from a preset) and emit what changed (during an
+        experiment run, only its ``owner``: :meth:`lock`)."""
+        if self._refused_by_run(owner):
+            return False
         if not isinstance(scene, Scene):
             self.error_raised.emit(f"scene must be a Scene, got {scene!r}")
             return False

@@ -11,6 +11,25 @@ DRAW_HELP = (
 )
 
 
+# What the window says when a part is locked (a run or a blind session on).
+HIDDEN_BLIND = (
+    "Blind A/B in progress: the display is hidden so that it does not give the method away. "
+    "Reveal in the Blind A/B tab to see it again."
+)
+HIDDEN_EXPERIMENT = (
+    "An experiment is running: the display is hidden so that it does not give the stimulus away."
+)
+RUN_FILES = (
+    "An experiment run is going on: a preset or a .tact file opened now would change the "
+    "stimulus its trials record. Stop the run first."
+)
+BLIND_FILES = (
+    "Blind A/B in progress: presets and curve exports would name the hidden method. Reveal "
+    "(or cancel the session) in the Blind A/B tab first."
+)
+PROFILE_BLOCKED = "The device profile cannot change {}: it is for this array's layout."
+
+
 def tip(text: str) -> str:
     """A tooltip that wraps (rich text) instead of one line as wide as the screen.
 

@@ -29,21 +29,15 @@ from .menus import build_menus
 from .serve_panel import install_live
 from .settings import restore_window, restored_preset, save_window
 from .state import TunerState
-from .texts import DRAW_HELP
+from .texts import (
+    BLIND_FILES,
+    DRAW_HELP,
+    HIDDEN_BLIND,
+    HIDDEN_EXPERIMENT,
+    PROFILE_BLOCKED,
+    RUN_FILES,
+)
 from .tune import TuneWidget
-
-HIDDEN_BLIND = (
-    "Blind A/B in progress: the display is hidden so that it does not give the method away. "
-    "Reveal in the Blind A/B tab to see it again."
-)
-HIDDEN_EXPERIMENT = (
-    "An experiment is running: the display is hidden so that it does not give the stimulus away."
-)
-BLIND_FILES = (
-    "Blind A/B in progress: presets and curve exports would name the hidden method. Reveal "
-    "(or cancel the session) in the Blind A/B tab first."
-)
-PROFILE_BLOCKED = "The device profile cannot change {}: it is for this array's layout."
 
 
 def _same_tuning(a, b) -> bool:
@@ -230,7 +224,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.device_panel.profile_chosen.connect(self.files.use_profile)
         self.files.profile_blocked = self._profile_blocked
         self.files.curves = lambda: tune.shown_curves
-        self.files.blocked = lambda: BLIND_FILES if self.blind.active else ""
+        self.files.blocked = lambda: (
+            BLIND_FILES if self.blind.active else RUN_FILES if self.experiments.running else ""
+        )
         self.files.before_load = lambda: gestures.set_draw_mode(False)
         tune.heatmap.point_drawn.connect(self.files.record_drawn_point)
         tune.heatmap.draw_released.connect(self.files.end_drawn_stroke)
@@ -256,6 +252,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.tune.gestures.end_pulse(restore=True)
         self.device.all_off()
         if self.experiments.running:  # Space is the run's, not play/pause
+            self.experiments.pause()  # (the menu's All off said so, and did not pause it)
             self.statusBar().showMessage("all off: the run is paused (Enter or Present again "
                                          "resumes it)")  # fmt: skip
         else:
@@ -263,8 +260,6 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def _on_escape_pressed(self) -> None:
         self.all_off()
-        if self.experiments.running:
-            self.experiments.pause()
 
     def toggle_play(self) -> None:
         """Play or pause the trace (Space); a pulsed tactor is let go first."""
@@ -325,6 +320,9 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def start_tuning(self) -> None:
         """Guide the experimenter to the tuning procedure (the Experiments tab, set up)."""
+        if self.experiments.running:  # (it rewrote the console of the run going on)
+            self.statusBar().showMessage("a run is going on: Stop it first to tune by feel", 8000)
+            return
         self.tabs.setCurrentWidget(self.experiments)
         self.experiments.prepare_tuning()
 
@@ -380,6 +378,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.tabs.setTabEnabled(0, not running)
         self.tabs.setTabEnabled(1, not running)
         self.tabs.setTabEnabled(2, not running)
+        self.device_panel.set_run_locked(running)
         # The controls show the stimulus (a line's ends give its direction away): hide them.
         self.controls_dock.setVisible(not running)
         self.device_panel.status_label.setVisible(not running)

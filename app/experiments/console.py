@@ -201,7 +201,12 @@ class ExperimentsPanel(QtWidgets.QWidget):
                 f"choose the simulated array, before starting"
             )
             return False
-        folder = Path(setup.folder_edit.text().strip() or ".")
+        text = setup.folder_edit.text().strip()
+        if not text:  # (it wrote into whatever folder the tuner was started in)
+            self.error_raised.emit("the results folder is empty: name the folder the "
+                                   "participants' results go to")  # fmt: skip
+            return False
+        folder = Path(text).expanduser().absolute()  # "~/res" is the home's, not a "~" folder
         existing = folder / f"participant-{pid}"
         title = TITLES[kind]
         if (existing / f"{kind}.csv").exists():  # the runner's results file
@@ -215,7 +220,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
                 f"experiment.\n\nStart {title} for {pid}?"
             )
         else:
-            question = f"Start {title} for a new participant, {pid}?"
+            question = f"Start {title} for a new participant, {pid}?\n\nResults go to {existing}."
         if not self.confirm("Start the run", question):
             return False
         try:
@@ -225,12 +230,14 @@ class ExperimentsPanel(QtWidgets.QWidget):
             return False
         self.trials.begin(runner)
         self.saved_scene = self.state.scene
+        self.state.lock(self.trials)  # the trials alone set the stimulus until the run ends
         self.participant_label.setText(f"participant {pid}")
         self.path_label.setText(f"results: {runner.path}")
         self.log_event(f"started {title} for {pid} on {self.device()} ({runner.done} done)")
         if runner.recovered:
             self.log_event(f"resumed after a crash: {runner.recovered}; that trial comes again")
         self.participant_window.show_on(setup.screen_combo.currentData())
+        self.setup.set_running(True)
         self.running_changed.emit(True)
         self.trials.present()
         return True
@@ -273,11 +280,13 @@ class ExperimentsPanel(QtWidgets.QWidget):
         The participant's window closes, or after the last trial says the part is finished
         (until the next run or the experimenter closes it)."""
         saved, self.saved_scene = self.saved_scene, None
+        self.state.unlock(self.trials)
         if saved is not None:
             self.state.set_scene(saved.replace(playing=False, epoch=self.state.scene.epoch + 1))
         if not finished:
             self.participant_window.hide()
         self.setup.resume_button.setEnabled(False)
+        self.setup.set_running(False)
         self.running_changed.emit(False)
 
     def _on_trials_trial_presented(self, trial) -> None:

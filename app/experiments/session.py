@@ -40,7 +40,7 @@ class SessionWidget(QtWidgets.QGroupBox):
         )
         folder_row = QtWidgets.QHBoxLayout()
         self.folder_edit = QtWidgets.QLineEdit(str(Path.home() / "tactile-results"))
-        browse = QtWidgets.QPushButton("Browse...")
+        browse = self.browse_button = QtWidgets.QPushButton("Browse...")
         browse.clicked.connect(self._on_browse_clicked)
         folder_row.addWidget(self.folder_edit)
         folder_row.addWidget(browse)
@@ -101,6 +101,15 @@ class SessionWidget(QtWidgets.QGroupBox):
             )
         if len(QtGui.QGuiApplication.screens()) > 1:  # a second screen: the participant's
             self.screen_combo.setCurrentIndex(self.screen_combo.count() - 1)
+
+    def set_running(self, running: bool) -> None:
+        """During a run the session's fields are the run's: a participant id, experiment,
+        folder or seed changed meanwhile was taken by nothing, or by a later Save; Start is
+        off (it did nothing)."""
+        for widget in (self.experiment_combo, self.participant_edit, self.folder_edit,
+                       self.browse_button, self.seed_spin, self.emphasis_spin,
+                       self.screen_combo, self.start_button):  # fmt: skip
+            widget.setEnabled(not running)
 
     def _on_browse_clicked(self) -> None:
         folder = dialogs.folder_path(self, "results", "Results folder", self.folder_edit.text())

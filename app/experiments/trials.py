@@ -116,9 +116,9 @@ class TrialPresenter(QtCore.QObject):
         LSL markers: ``trial``, or ``interval`` for an interval of guided tuning."""
         current = self.state.scene
         if scene is None:
-            self.state.set_scene(current.replace(playing=False))
+            self.state.set_scene(current.replace(playing=False), owner=self)
         else:
-            self.state.set_scene(scene.replace(epoch=current.epoch + 1, marker=marker))
+            self.state.set_scene(scene.replace(epoch=current.epoch + 1, marker=marker), owner=self)
 
     def present(self) -> None:
         """Present the current trial from its beginning (finish when none is left)."""
@@ -217,7 +217,9 @@ class TrialPresenter(QtCore.QObject):
         health = {"presentations": self._presentations}
         now, before = self.health(), self._health0
         if now is not None and before is not None:
-            health.update({key: now[key] - before[key] for key in now})
+            # a stream that restarted (its counters too) since the trial began counts from 0
+            health.update({key: now[key] - before[key] if now[key] >= before[key] else now[key]
+                           for key in now})  # fmt: skip
         try:
             feedback = runner.answer(answer, rt_s=rt, health=health)
         except OSError as exc:  # the disk: the runner stays on this trial; a retry records it
@@ -249,8 +251,8 @@ class TrialPresenter(QtCore.QObject):
     def replay(self) -> None:
         """Play the current trial's stimulus again (calibration: R), or both its intervals."""
         trial = self.runner.current if self.runner else None
-        if trial is None or self.paused:
-            return
+        if trial is None or self.paused or self.gap_timer.isActive():
+            return  # (in the gap the next trial would play early, and again when presented)
         if trial.kind == "interval":
             self.interval_timer.stop()
             self._play_intervals(trial)
@@ -336,6 +338,9 @@ class TrialPresenter(QtCore.QObject):
         if self.link_lost:
             self.error_raised.emit("the array is still disconnected")
             return
+        if not self.participant_window.isVisible():  # closed during the pause: its prompts
+            self.participant_window.show()  # and feedback go with the trial
+            self.event_logged.emit("the participant's window was closed: shown again")
         self.present()
 
     def on_device_status(self, stats) -> None:
