@@ -1,10 +1,15 @@
 """An operator's pass on the Experiments tab: what a technician does wrong during a run. Each
 test failed on the code before its fix."""
 
+import json
+import shutil
 from pathlib import Path
 
+import pytest
 from PySide6 import QtCore
 
+from tactile_core.experiments import RUNNERS
+from tactile_core.experiments.results import SESSION_FILE, open_session
 from tactile_core.files.presets import builtin_presets
 
 from . import experiments_gui_support as support
@@ -119,3 +124,32 @@ def test_tuning_by_feel_is_refused_during_a_run(window, qtbot):
     window.start_tuning()  # Array > Tune the correction by feel...
     assert panel.setup.experiment == "exp2" and panel.running
     assert "Stop it first" in window.statusBar().currentMessage()
+
+
+# --- the session on disk -----------------------------------------------------------------------
+
+
+def test_a_copy_refused_the_participant_writes_nothing_to_their_session(tmp_path):
+    # Exp. 3's emphasis and method set were saved before the lock was taken: a second copy,
+    # refused, had already rewritten session.json, and Exp. 3 was then refused with the
+    # participant's real emphasis ("differs from the session's 0.5").
+    first = RUNNERS["exp2"](open_session(tmp_path, "P01"))
+    try:
+        path = tmp_path / "participant-P01" / SESSION_FILE
+        before = path.read_bytes()
+        with pytest.raises(Exception, match="being recorded by"):
+            RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.5, methods=["CT", "MM"])
+        assert path.read_bytes() == before
+        assert "exp3_emphasis" not in json.loads(before).get("parameters", {})
+    finally:
+        first.close()
+    third = RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.0)
+    third.close()  # the participant's own emphasis, accepted
+
+
+def test_a_deleted_participant_does_not_give_the_next_one_anothers_orders(tmp_path):
+    for pid in ("P01", "P0l", "P02"):  # a typo among them, deleted afterwards
+        open_session(tmp_path, pid)
+    shutil.rmtree(tmp_path / "participant-P0l")
+    assert open_session(tmp_path, "P03").index == 3  # was 2, P02's: the same orders
+    assert open_session(tmp_path, "P02").index == 2

@@ -227,6 +227,21 @@ def session_from_dict(data, path) -> Session:
 _KIND_NAMES = {str: "a string", int: "an integer", dict: "an object"}
 
 
+def _next_index(root: Path) -> int:
+    """One past the highest recruitment index of the sessions in ``root`` (0 for none). The
+    number of sessions gave a participant recruited after a deleted one the index, and so the
+    counterbalanced orders, of another still there."""
+    highest = -1
+    for path in root.glob(f"participant-*/{SESSION_FILE}"):
+        try:
+            index = read_json(path, SessionError, follow_symlinks=False).get("index")
+        except (SessionError, AttributeError):
+            continue  # (a malformed session is refused when it is opened)
+        if type(index) is int:
+            highest = max(highest, index)
+    return highest + 1
+
+
 def open_session(
     results_dir,
     participant: str,
@@ -247,8 +262,8 @@ def open_session(
         Identifier (a folder name).
     index : int, optional
         The participant's position in recruitment, which decides the counterbalanced orders
-        (no two of the first 12 share one). Default: the number of participants already in
-        ``results_dir``.
+        (no two of the first 12 share one). Default: one past the highest index of the
+        participants in ``results_dir`` (their number, unless one was deleted).
     seed : int
         Seeds the order assignment and each experiment's random choices.
     device_profile : str
@@ -278,7 +293,7 @@ def open_session(
         return session
     root.mkdir(parents=True, exist_ok=True)
     if index is None:
-        index = len([p for p in root.glob("participant-*") if (p / SESSION_FILE).exists()])
+        index = _next_index(root)
     folder.mkdir(exist_ok=True)
     session = Session(
         participant=participant,

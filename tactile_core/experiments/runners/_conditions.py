@@ -66,9 +66,8 @@ def method_set(session: Session, experiment: str, methods=None) -> list[str]:
             f"methods {' '.join(chosen)} differ from the session's {' '.join(recorded)} for "
             f"{experiment}: resume with the same set, or use another participant id"
         )
-    if recorded is None:
+    if recorded is None:  # (written once the runner holds the participant: Runner.__init__)
         session.parameters[key] = chosen
-        session.save()
     return chosen
 
 

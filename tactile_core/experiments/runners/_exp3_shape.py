@@ -52,8 +52,7 @@ class Experiment3(Runner):
                 f"emphasis {self.emphasis:g} differs from the session's "
                 f"{session.parameters['exp3_emphasis']:g}"
             )
-        session.parameters["exp3_emphasis"] = self.emphasis
-        session.save()
+        session.parameters["exp3_emphasis"] = self.emphasis  # (written under the lock)
         super().__init__(session, **kwargs)
 
     def _trials(self):

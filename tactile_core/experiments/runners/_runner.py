@@ -113,6 +113,9 @@ class Runner:
         self._lock = ParticipantLock(session.folder) if write else None
         try:
             if write:
+                # the parameters a subclass chose (a method set, Exp. 3's emphasis) only now,
+                # holding the participant: a copy refused the lock rewrote them before
+                session.save()
                 session.record_run(self.experiment, self.run_record())
             self._file = ResultsFile(self.path, self.fields) if write else None
             self._rows: list[dict] = []
