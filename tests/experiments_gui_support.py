@@ -13,6 +13,7 @@ def quick_runs(qt_settings, monkeypatch):
     monkeypatch.setattr(
         tactile_tuner.experiments.trials, "GAP_S", 0.01
     )  # no pause between questions in tests
+    monkeypatch.setattr(tactile_tuner.experiments.trials, "CONTINUE_GUARD_S", 0.0)
 
 
 @pytest.fixture

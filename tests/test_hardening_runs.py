@@ -3,6 +3,7 @@ test failed on the code before its fix."""
 
 import json
 import shutil
+import time
 from pathlib import Path
 
 import pytest
@@ -153,3 +154,20 @@ def test_a_deleted_participant_does_not_give_the_next_one_anothers_orders(tmp_pa
     shutil.rmtree(tmp_path / "participant-P0l")
     assert open_session(tmp_path, "P03").index == 3  # was 2, P02's: the same orders
     assert open_session(tmp_path, "P02").index == 2
+
+
+def test_a_ready_screen_takes_space_and_enter_but_not_a_key_pressed_twice(window, qtbot,
+                                                                          monkeypatch):  # fmt: skip
+    import tactile_tuner.experiments.trials as trials_module
+
+    panel = window.experiments
+    choose(panel, "exp2")
+    assert panel.start()
+    assert panel.runner.current.kind == "continue"  # the introduction
+    monkeypatch.setattr(trials_module, "CONTINUE_GUARD_S", 60.0)
+    panel.trials.trial_started = time.monotonic()
+    press(qtbot, window, Key.Key_C)  # the last answer's key again: the screen stays
+    assert panel.runner.current.kind == "continue"
+    monkeypatch.setattr(trials_module, "CONTINUE_GUARD_S", 0.0)
+    press(qtbot, window, Key.Key_Space)  # letters only, before
+    wait_trial(qtbot, panel, "direction")

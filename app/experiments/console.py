@@ -225,7 +225,12 @@ class ExperimentsPanel(QtWidgets.QWidget):
             return False
         try:
             runner = self._open_runner(kind, folder, pid)
-        except (ValueError, OSError) as exc:
+        except OSError as exc:  # (it said only "[Errno 28] No space left on device")
+            where = exc.filename or folder
+            self.error_raised.emit(f"could not start: {where}: {exc.strerror or exc}; free "
+                                   "space there, or choose another results folder")  # fmt: skip
+            return False
+        except ValueError as exc:
             self.error_raised.emit(str(exc))
             return False
         self.trials.begin(runner)

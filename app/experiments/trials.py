@@ -20,6 +20,9 @@ KEYS = {
     "interval": "1 or 2 once both intervals have played; R to feel both again",
 }
 GAP_S = 0.8  # the array is off between a question's answer and the next stimulus
+CONTINUE_GUARD_S = 0.4
+"""A "press a key when ready" screen takes no key this soon after it appears (an answer key
+pressed twice would skip it, and the rest it offers)."""
 LINK_DOWN = ("disconnected", "stopped", "failed", "refused")
 """Stream states in which the array is not being driven."""
 
@@ -290,7 +293,11 @@ class TrialPresenter(QtCore.QObject):
             return False  # the rating box takes digits and Enter itself
         if kind == "prepare" and k.Key_1 <= key < k.Key_1 + len(runner.current.options):
             return self.select_key(key - k.Key_1 + 1)
-        if kind in ("continue", "prepare") and k.Key_A <= key <= k.Key_Z:
+        if kind in ("continue", "prepare") and (
+            k.Key_A <= key <= k.Key_Z or key in (k.Key_Space, k.Key_Return, k.Key_Enter)
+        ):
+            if time.monotonic() - self.trial_started < CONTINUE_GUARD_S:
+                return True  # the last answer's key pressed twice: not "ready" yet
             return self.submit("continue")
         if kind == "direction":
             arrows = {k.Key_Up: "up", k.Key_Down: "down", k.Key_Left: "left", k.Key_Right: "right"}
