@@ -171,3 +171,15 @@ def test_a_ready_screen_takes_space_and_enter_but_not_a_key_pressed_twice(window
     monkeypatch.setattr(trials_module, "CONTINUE_GUARD_S", 0.0)
     press(qtbot, window, Key.Key_Space)  # letters only, before
     wait_trial(qtbot, panel, "direction")
+
+
+def test_a_resumed_session_keeps_its_seed_and_says_so(window, qtbot):
+    panel = window.experiments
+    choose(panel, "exp2")
+    panel.setup.seed_spin.setValue(7)
+    assert panel.start()
+    panel.stop()
+    panel.setup.seed_spin.setValue(8)  # the seed typed differs: it was ignored without a word
+    assert panel.start()
+    assert panel.setup.seed_spin.value() == 7 and panel.runner.session.seed == 7
+    assert "has seed 7, not 8: it keeps its own" in panel.log.toPlainText()

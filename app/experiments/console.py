@@ -254,6 +254,10 @@ class ExperimentsPanel(QtWidgets.QWidget):
         setup = self.setup
         session = open_session(folder, pid, seed=setup.seed_spin.value(),
                                device_profile=profile.name)  # fmt: skip
+        if session.seed != setup.seed_spin.value():  # a resumed session keeps its own
+            self.log_event(f"the participant's session has seed {session.seed}, not "
+                           f"{setup.seed_spin.value()}: it keeps its own")  # fmt: skip
+            setup.seed_spin.setValue(session.seed)
         methods = setup.methods_edit.methods
         recorded = session.parameters.get(f"{kind}_methods")
         if kind in ("exp1", "exp3") and recorded and list(methods) == list(PAPER_METHODS):
