@@ -183,3 +183,20 @@ def test_a_resumed_session_keeps_its_seed_and_says_so(window, qtbot):
     assert panel.start()
     assert panel.setup.seed_spin.value() == 7 and panel.runner.session.seed == 7
     assert "has seed 7, not 8: it keeps its own" in panel.log.toPlainText()
+
+
+def test_a_run_stopped_before_its_first_answer_may_start_again_otherwise(tmp_path):
+    # A mistyped method set or emphasis, started and stopped at once, could only be undone
+    # with a new participant id (and so another recruitment index).
+    wrong = RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.5, methods=["CT", "MM"])
+    wrong.close()  # no answer
+    paper = ["CT", "MM", "AS", "IM"]
+    right = RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.0, methods=paper)
+    assert right.methods == ["CT", "MM", "AS", "IM"] and right.emphasis == 0.0
+    right.answer("continue", rt_s=0.5)  # the first screen: now an answer is recorded
+    right.close()
+    session = json.loads((tmp_path / "participant-P01" / SESSION_FILE).read_text())
+    assert session["parameters"]["exp3_emphasis"] == 0.0
+    assert session["parameters"]["exp3_methods"] == ["CT", "MM", "AS", "IM"]
+    with pytest.raises(ValueError, match=r"emphasis 0\.5 differs from the session.s 0"):
+        RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.5)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import datetime as dt
 import os
 import re
+import stat
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -123,17 +124,35 @@ class Session:
         """The session's pipeline."""
         return Pipeline.from_dict(self.pipeline, source=f"{self.path}: pipeline")
 
+    def answered(self, experiment: str) -> bool:
+        """Whether ``experiment``'s results file holds an answer (a line after its header).
+        Only a regular file is read, and only its first 64 KiB: anything else (``/dev/zero``,
+        a FIFO that would block) is refused when the run opens it."""
+        if not self.folder:
+            return False
+        path = Path(self.folder) / f"{experiment}.csv"
+        try:
+            if not stat.S_ISREG(os.lstat(path).st_mode):
+                return False
+            with open(path, "rb") as f:
+                head = f.read(1 << 16)
+        except OSError:  # none yet
+            return False
+        return any(line.strip() for line in head.split(b"\n")[1:])
+
     def record_run(self, experiment: str, record: dict) -> None:
-        """Record what ``experiment`` runs, or check that a resumed run is the same.
+        """Record what ``experiment`` runs, or check that a resumed run is the same. A run
+        started and stopped before its first answer may start again with other settings
+        (nothing was recorded under the old ones).
 
         Raises
         ------
         SessionError
             Naming the file and what differs, when the experiment was started under another
-            pipeline, device profile, calibration or correction.
+            pipeline, device profile, calibration or correction and has answers.
         """
         old = self.runs.get(experiment)
-        if old is None:
+        if old is None or not self.answered(experiment):
             self.runs[experiment] = record
             self.save()
             return

@@ -61,6 +61,11 @@ def method_set(session: Session, experiment: str, methods=None) -> list[str]:
         raise ValueError(
             f"methods must be 2 to {MAX_SET} different methods, got {' '.join(chosen) or 'none'}"
         )
+    if recorded is not None and not session.answered(experiment):
+        # started and stopped before an answer: the set may change, its order with it
+        if [get_method(m).spec for m in recorded] != chosen:
+            session.orders.pop(experiment, None)
+        recorded = None
     if recorded is not None and [get_method(m).spec for m in recorded] != chosen:
         raise ValueError(
             f"methods {' '.join(chosen)} differ from the session's {' '.join(recorded)} for "

@@ -47,7 +47,8 @@ class Experiment3(Runner):
         if emphasis is None:
             emphasis = float(session.parameters.get("exp3_emphasis", 0.0))
         self.emphasis = _validate.in_range("emphasis", emphasis, 0.0, 0.9)
-        if session.parameters.get("exp3_emphasis", self.emphasis) != self.emphasis:
+        answered = session.answered(self.experiment)  # (before an answer it may change)
+        if answered and session.parameters.get("exp3_emphasis", self.emphasis) != self.emphasis:
             raise ValueError(
                 f"emphasis {self.emphasis:g} differs from the session's "
                 f"{session.parameters['exp3_emphasis']:g}"
