@@ -57,9 +57,13 @@ def test_experiment3_by_keyboard_hides_the_display_and_records_every_answer(
 
 
 def test_experiment3_time_limit_records_a_timeout(window, qtbot, monkeypatch, tmp_path):
+    import tactile_tuner.experiments.trials
     from tactile_core.experiments import runners
 
     monkeypatch.setattr(runners.Experiment3, "TIME_LIMIT_S", 0.3)
+    # the feedback shows through the silent gap; a gap of 10 ms (quick_runs) could end, and
+    # the next trial clear it, before a loaded machine polls it
+    monkeypatch.setattr(tactile_tuner.experiments.trials, "GAP_S", 60.0)
     panel = window.experiments
     choose(panel, "exp3")
     panel.start()
@@ -67,6 +71,7 @@ def test_experiment3_time_limit_records_a_timeout(window, qtbot, monkeypatch, tm
     wait_trial(qtbot, panel, "shape")
     assert "s left" in panel.participant_window.countdown.text()
     qtbot.waitUntil(lambda: panel.runner.done == 2, timeout=3000)  # nobody answered
+    assert panel.trials.gap_timer.isActive()
     assert panel.participant_window.feedback.text().startswith("Time is up: it was a")
     data = rows(tmp_path / "results" / "participant-P01" / "exp3.csv")
     assert data[-1]["timeout"] == "1" and data[-1]["answer"] == ""
