@@ -218,3 +218,20 @@ def test_a_preset_saved_with_a_byte_order_mark_opens(tmp_path):
     path = save_preset(good, tmp_path / "p.json")
     path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
     assert load_preset(path).scene.shape == good.scene.shape
+
+
+@pytest.mark.parametrize("version", [1.0, 1])
+def test_a_preset_version_written_as_a_whole_float_is_read(version):
+    # some JSON writers store 1 as 1.0; it was refused although every other whole number reads
+    data = {**timed_preset(), "version": version}
+    assert preset_from_dict(data).scene.method == "AS"
+
+
+@pytest.mark.parametrize(
+    ("version", "message"),
+    [(1.5, "must be an integer"), (0, "must be >= 1"), (True, "must be an integer"),
+     ("1", "must be an integer"), (None, "must be an integer"), (2, "newer than")],
+)  # fmt: skip
+def test_a_bad_preset_version_names_the_field(version, message):
+    with pytest.raises(PresetError, match=rf"field 'version'.*{message}"):
+        preset_from_dict({**timed_preset(), "version": version})

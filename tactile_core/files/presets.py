@@ -106,11 +106,10 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
             f"{source}: field 'format' must be {FORMAT!r}, "
             f"got {_validate.shown(data.get('format'))}"
         )
-    version = data.get("version")
-    if isinstance(version, bool) or not isinstance(version, int) or version < 1:
-        raise PresetError(
-            f"{source}: field 'version' must be an integer >= 1, got {_validate.shown(version)}"
-        )
+    try:  # a whole number written as 1.0 (some JSON writers do) reads as 1, as everywhere
+        version = _validate.integer("field 'version'", data.get("version"), 1)
+    except ValueError as exc:
+        raise PresetError(f"{source}: {exc}") from None
     if version > VERSION:
         raise PresetError(
             f"{source}: field 'version' is {version}, newer than this software reads ({VERSION})"
