@@ -131,6 +131,13 @@ def test_reopen_after_close_and_close_is_idempotent(pty_pair):
         (serial.SerialTimeoutException("Write timeout"), "write timeout"),
         (OSError(errno.EIO, "Input/output error"), "disconnected"),
         (serial.SerialException("Could not exclusively lock port /dev/x"), "port busy"),
+        # what pyserial's socket:// raises when an array that serves another host resets the
+        # connection (a refused second client sees this or a clean close, whichever comes first)
+        (
+            serial.SerialException("read failed: [Errno 104] Connection reset by peer"),
+            "closed the connection (an array serves one host",
+        ),
+        (ConnectionResetError(errno.ECONNRESET, "Connection reset by peer"), "closed the"),
     ],
 )
 def test_error_explanations(exc, words):

@@ -10,6 +10,7 @@ open in another program"); no other exception escapes a link.
 from __future__ import annotations
 
 import errno
+import os
 import socket
 import threading
 import time
@@ -43,7 +44,10 @@ def _explain(exc: BaseException, url: str) -> str:
         return f"port busy: {url} is open in another program"
     if code == errno.ECONNREFUSED or "Connection refused" in text:
         return f"no device at {url}: connection refused (is the device or emulator running?)"
-    if code in (errno.ECONNRESET, errno.ECONNABORTED) or "socket disconnected" in text:
+    # pyserial wraps a socket's reset in a SerialException without an errno ("read failed:
+    # [Errno 104] Connection reset by peer"): which one a refused client sees is a race
+    reset = ("socket disconnected", os.strerror(errno.ECONNRESET), os.strerror(errno.ECONNABORTED))
+    if code in (errno.ECONNRESET, errno.ECONNABORTED) or any(r in text for r in reset):
         return (f"device disconnected: {url} closed the connection (an array serves one host "
                 f"at a time: is another program connected to it?)")  # fmt: skip
     if code in (errno.EIO, errno.ENXIO, errno.ENODEV, errno.EPIPE) or "write failed" in text:

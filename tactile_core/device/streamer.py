@@ -21,10 +21,9 @@ lead; the array's timer decides when it reaches the motors. Pausing, all-off and
 frame stay frames for now (they also drop what is scheduled). An array without the extension is
 driven with frames for now, and the status says so.
 
-Here is the thread; its statistics (:class:`StreamStats` and the book it is read from) live in
-``_stream_stats``, what it derives from a scene (rate, period, device levels) in
-``_stream_plan``, and what it says to the array besides frames (hello, counters, the clock) in
-``_stream_talk``.
+Here is the thread; its statistics (:class:`StreamStats` and their book) live in ``_stream_stats``,
+what it derives from a scene (rate, period, device levels) in ``_stream_plan``, and what it says
+to the array besides frames (hello, counters, the clock) in ``_stream_talk``.
 """
 
 from __future__ import annotations
@@ -58,6 +57,7 @@ from .wire import Info, Status, encode_frame, encode_timed, level_bits
 __all__ = ["Onset", "StreamStats", "Streamer"]
 
 _RUNNING: weakref.WeakSet = weakref.WeakSet()
+FINAL_STATUS_WAIT_S = 0.3  # how long a stop waits for the array's counters after all-off, s
 
 
 @atexit.register
@@ -477,7 +477,7 @@ class Streamer:
             self._write(seq, zeros)  # a frame for now: also drops what is scheduled
             if self.array_info is not None:  # an array that answers: read its counters
                 self._talk.send_query()
-                deadline = self.clock.now() + 0.3
+                deadline = self.clock.now() + FINAL_STATUS_WAIT_S
                 seen = self.array_status
                 while self.clock.now() < deadline and self.array_status is seen:
                     self._talk.poll()
