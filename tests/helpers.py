@@ -71,3 +71,15 @@ def run_cli_last_line(capsys, *argv):
     """:func:`run_cli_here`'s status and the last line of standard error ("" if none)."""
     code, _, err = run_cli_here(capsys, *argv)
     return code, err.strip().splitlines()[-1] if err.strip() else ""
+
+
+def record_sent(window):
+    """Every frame the tuner's stream sends from now on, as channel levels (a list of numpy
+    arrays that grows). Polling ``sent_levels()`` sees only the newest frame: a pulse shorter
+    than a loaded machine's gap between two polls is missed. Needs a window that streams from
+    a thread (``process=False``)."""
+    frames = []
+    window.device.streamer.taps.append(
+        lambda _t, _seq, levels: frames.append(np.frombuffer(levels, np.uint8))
+    )
+    return frames

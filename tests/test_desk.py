@@ -13,6 +13,8 @@ from PySide6 import QtCore, QtGui, QtWidgets
 import tactile_core as tc
 from tactile_core.device.streamer import StreamStats
 
+from .helpers import record_sent
+
 pytestmark = pytest.mark.usefixtures("qt_settings")
 Key = QtCore.Qt.Key
 
@@ -225,15 +227,16 @@ def test_dragging_the_cursor_holds_and_shows_that_moment(window, qtbot):
 
 def test_clicking_a_cell_pulses_its_tactor_and_shift_holds_it(window, qtbot):
     before = window.state.scene
+    sent = record_sent(window)  # the pulse lasts 0.3 s: every frame, not the newest one
     window.tune.heatmap.cell_clicked.emit(3, 4, False)
     scene = window.state.scene
     assert scene.shape == tc.Line((3.5, 4.5), (3.5, 4.5)) and scene.method == "CT"
-    qtbot.waitUntil(lambda: window.device.sent_levels()[4, 3] == 22, timeout=2000)
-    qtbot.waitUntil(lambda: window.state.scene.shape == before.shape, timeout=2000)  # back
+    qtbot.waitUntil(lambda: any(lv[4 * 5 + 3] == 22 for lv in list(sent)), timeout=3000)
+    qtbot.waitUntil(lambda: window.state.scene.shape == before.shape, timeout=3000)  # back
     window.tune.heatmap.cell_clicked.emit(1, 1, True)  # Shift: held
-    qtbot.wait(600)
+    qtbot.wait(600)  # longer than a pulse
     assert window.state.scene.shape == tc.Line((1.5, 1.5), (1.5, 1.5))
-    assert window.device.sent_levels()[1, 1] == 22
+    qtbot.waitUntil(lambda: window.device.sent_levels()[1, 1] == 22, timeout=3000)
     window.tune.heatmap.cell_clicked.emit(1, 1, False)  # a click releases it
     assert window.state.scene.shape == before.shape
 

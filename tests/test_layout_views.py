@@ -14,6 +14,8 @@ from tactile_core.device.profile import find_profile
 from tactile_core.rendering.curves import activation_curves
 from tactile_tuner.layouts import default_shape, fits, shape_defaults, unrolled
 
+from .helpers import record_sent
+
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 LAYOUTS = ("belt-8", "sleeve-2x6", "vest-4x5")
@@ -164,11 +166,13 @@ def test_a_path_drawn_across_the_seam_streams_on(belt, qtbot):
 
 def test_clicking_a_disc_pulses_that_actuator_alone(belt, qtbot):
     before = belt.state.scene
+    sent = record_sent(belt)  # the pulse lasts 0.3 s: every frame, not the newest one
     belt.tune.heatmap.actuator_clicked.emit(3, False)
     assert belt.state.scene.method == "PK"
-    qtbot.waitUntil(lambda: belt.device.sent_levels()[3] == 22, timeout=2000)
-    assert (belt.device.sent_levels() > 0).sum() == 1
-    qtbot.waitUntil(lambda: belt.state.scene.shape == before.shape, timeout=2000)  # back
+    qtbot.waitUntil(lambda: any(lv[3] == 22 for lv in list(sent)), timeout=3000)
+    pulse = [lv for lv in list(sent) if lv[3] == 22]
+    assert all((lv > 0).sum() == 1 for lv in pulse)  # that actuator alone
+    qtbot.waitUntil(lambda: belt.state.scene.shape == before.shape, timeout=3000)  # back
 
 
 def test_a_grid_profile_keeps_the_grid_image(qtbot):

@@ -38,7 +38,7 @@ def test_child_streams_scenes_and_turns_off_on_stop(emulator_thread):
         wait(lambda: emu.log.last()[4 * 5 + 3] == 22 and emu.log.last()[2 * 5 + 1] == 0)
         stream.all_off()
         wait(lambda: not any(emu.log.last()))
-        assert stream.stats.state == "paused"
+        wait(lambda: stream.stats.state == "paused")  # the parent hears it through a pipe
     finally:
         stats = stream.stop()
     assert not stream.running

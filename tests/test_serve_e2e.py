@@ -116,6 +116,8 @@ def test_serve_e2e_subprocess_into_the_emulator_ends_all_off(emulator_thread):
     out, err = stop_with(serve, signal.SIGINT, 20)  # Ctrl-C while the last point is lit
     assert serve.returncode == 0, err
     assert "15 point updates" in out  # the summary
+    # the emulator's thread logs the all-off when it reads it, maybe after the server left
+    wait_for(lambda: emulator.log.last() == ZEROS, what="the all-off frame at the array")
     frames = received_since(emulator, start)
     assert frames[-1] == ZEROS  # the way out: all off
     assert_frames_follow(frames, points)
@@ -170,7 +172,9 @@ FLOOD = textwrap.dedent("""
 
 
 def test_serve_flood_from_a_second_process_is_counted_and_the_server_lives():
-    with ServerRig() as rig:
+    # A limit of 2,000 messages/s: a sender a loaded machine slows to a tenth of its 50,000/s
+    # still floods it (at the default 10,000/s it might not, and nothing would be dropped).
+    with ServerRig(max_rate_hz=2_000.0) as rig:
         first_frames = len(rig.taps.frames)
         port = str(rig.server.address[1])
         flood = subprocess.run([sys.executable, "-c", FLOOD, port, "50000", "1.5"],
@@ -178,7 +182,7 @@ def test_serve_flood_from_a_second_process_is_counted_and_the_server_lives():
         assert flood.returncode == 0, flood.stderr
         sent, _failed, seconds = flood.stdout.split()
         sent = int(sent)
-        assert sent > 20_000  # the sender ran (its rate is reported, not asserted)
+        assert sent > 2 * 2_000 * 1.5  # it flooded (its rate is reported, not asserted)
         # The socket's buffer may still be full: the system drops what does not fit, an off
         # too. Repeat it until one is read; then one more, read after everything else, carries
         # the system's final count of dropped datagrams.

@@ -100,11 +100,14 @@ def test_view_modes_show_raw_corrected_sent_and_felt(window, qtbot):
     qtbot.waitUntil(lambda: window.tune.heatmap.values[3, 1] != pytest.approx(0.3), timeout=2000)
     np.testing.assert_allclose(window.tune.heatmap.values, tc.correct(raw, 0.33, 0.7))
     window.state.set_view_mode("sent")
-    qtbot.wait(100)
-    sent = window.tune.heatmap.values
-    assert set(np.unique(np.round(sent * 22, 9))) <= set(range(23))  # whole device levels
+    # whole device levels, once the display's next tick has drawn them
+    qtbot.waitUntil(
+        lambda: set(np.unique(np.round(window.tune.heatmap.values * 22, 9))) <= set(range(23)),
+        timeout=3000,
+    )
+    sent = window.tune.heatmap.values.copy()
     window.state.set_view_mode("felt")
-    qtbot.wait(100)
+    qtbot.waitUntil(lambda: not np.array_equal(window.tune.heatmap.values, sent), timeout=3000)
     felt = window.tune.heatmap.values
     assert (felt <= window.device.profile.felt(np.ones(1))[0]).all()
     assert felt[3, 2] > 0
@@ -115,7 +118,7 @@ def test_space_pauses_and_resumes(window, qtbot):
     qtbot.keyClick(window.tune.heatmap, QtCore.Qt.Key.Key_Space)
     assert not window.state.scene.playing
     wait_for_levels(qtbot, window, lambda lv: not lv.any())
-    assert window.device.stats.state == "paused"
+    qtbot.waitUntil(lambda: window.device.stats.state == "paused", timeout=3000)
     qtbot.keyClick(window.tune.heatmap, QtCore.Qt.Key.Key_Space)
     assert window.state.scene.playing
     wait_for_levels(qtbot, window, lambda lv: lv.any())
@@ -403,8 +406,8 @@ def test_connect_to_an_emulated_device_and_disconnect(window, qtbot, emulator_th
     qtbot.waitUntil(lambda: "achieved" in window.device_panel.status_label.text(), timeout=3000)
     qtbot.mouseClick(window.device_panel.disconnect_button, QtCore.Qt.MouseButton.LeftButton)
     assert window.device.simulated
-    qtbot.wait(50)
-    assert not any(emulator.log.last())  # all off before letting go of the device
+    # all off before letting go of the device (nothing else writes to it afterwards)
+    qtbot.waitUntil(lambda: not any(emulator.log.last()), timeout=3000)
 
 
 def test_screenshot_command(tmp_path):
