@@ -50,6 +50,7 @@ def test_tuner_lsl_marks_each_blind_ab_play_at_its_first_frames_send_time(qtbot,
     plays = ab_onsets(onsets)
     markers = []
     deadline = time.monotonic() + 15
+
     def first_cycles():  # key 1 plays again after 2.5 s: its second cycle is not a play
         return [m for m, _ in markers if m["kind"] == "ab" and m["cycle"] == 0]
 
