@@ -5,6 +5,7 @@ import json
 import signal
 import subprocess
 import sys
+import time
 
 import numpy as np
 
@@ -50,3 +51,15 @@ def stream(path, *args, timeout=30):
     return subprocess.run(
         [*CLI, "stream", "--device", path, *args], capture_output=True, text=True, timeout=timeout
     )
+
+
+def wait_streaming(proc, timeout_s=30.0):
+    """Read the stream's standard error until it says it streams: the frames flow and its stop
+    handlers are in place (a fixed sleep assumed a start-up a loaded machine may not make)."""
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end:
+        line = proc.stderr.readline()
+        assert line, f"the stream ended before streaming (exit {proc.poll()})"
+        if line.startswith("[streaming]"):
+            return
+    raise AssertionError("the stream did not start streaming")

@@ -87,6 +87,9 @@ class ServerRig:
         self.streamer = Streamer(self.link, self.profile, taps=[self.taps], identify=False)
         self.scene = scene or Scene(method="AS", mu=0.33, gamma=0.7)
         self.warnings = []
+        # Points stay until released: with the 100 ms default, a point sent once could time out
+        # before a loaded host's test sends the next one (the timeout's tests pass their own).
+        options.setdefault("timeout_s", 10.0)
         self.server = OscServer(self.streamer, self.profile, scene=self.scene, port=0,
                                 on_warning=self.warnings.append, **options)  # fmt: skip
 

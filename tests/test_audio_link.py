@@ -284,28 +284,46 @@ def test_outputs_beyond_the_actuators_stay_silent_and_a_url_carrier_wins(monkeyp
     assert played.shape[1] == 8 and played[:, :3].any() and not played[:, 3:].any()
 
 
-def test_the_callback_allocates_no_arrays(monkeypatch):
+def measure_callback_allocations():
+    """Traced bytes before and after 200 callback blocks, and the peak between (run in a
+    process of its own: a pytest-xdist worker's other threads allocate while it measures)."""
     import tracemalloc
 
-    link, _, clock = open_fake(monkeypatch)
-    out = np.zeros((BLOCK, 8), dtype=np.float32)
-    player = link.player
-    for k in range(20):  # events to play: frames for now and timed ones within the blocks
-        link.write(encode_frame(k, [k % 23] * 8))
-        link.write(encode_timed(k, link.model.clock_us(clock.now() + 0.01), [22] * 8, 5))
-    events = player.events
-    tracemalloc.start()
-    try:
-        start = clock.now()
-        player.play(out, BLOCK, start)  # warm: numpy's first calls cache things
-        before, _ = tracemalloc.get_traced_memory()
-        tracemalloc.reset_peak()
-        for k in range(200):
-            player.events = events if k % 10 == 0 else player.events
-            player.play(out, BLOCK, start + (k + 1) * BLOCK / RATE)
-        after, peak = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        link, _, clock = open_fake(monkeypatch)
+        out = np.zeros((BLOCK, 8), dtype=np.float32)
+        player = link.player
+        for k in range(20):  # events to play: frames for now and timed ones within the blocks
+            link.write(encode_frame(k, [k % 23] * 8))
+            link.write(encode_timed(k, link.model.clock_us(clock.now() + 0.01), [22] * 8, 5))
+        events = player.events
+        tracemalloc.start()
+        try:
+            start = clock.now()
+            player.play(out, BLOCK, start)  # warm: numpy's first calls cache things
+            before, _ = tracemalloc.get_traced_memory()
+            tracemalloc.reset_peak()
+            for k in range(200):
+                player.events = events if k % 10 == 0 else player.events
+                player.play(out, BLOCK, start + (k + 1) * BLOCK / RATE)
+            after, peak = tracemalloc.get_traced_memory()
+        finally:
+            tracemalloc.stop()
+    return before, after, peak
+
+
+def test_the_callback_allocates_no_arrays():
+    import json
+    import subprocess
+    from pathlib import Path
+
+    code = ("import json; from tests.test_audio_link import measure_callback_allocations as m; "
+            "print(json.dumps(m()))")  # fmt: skip
+    root = Path(__file__).resolve().parents[1]
+    proc = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True,
+                          text=True, timeout=120)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    before, after, peak = json.loads(proc.stdout.splitlines()[-1])
     assert peak - before < 4096  # not one block's worth (8 KB): views and scalars come and go
     assert after - before < 256
 

@@ -56,7 +56,7 @@ def test_the_onset_lead_matches_the_interrupts_entry_counted_on_the_machine_code
 def test_the_firmware_announces_scheduled_frames(sim):
     link = SerialLink(sim.path)
     try:
-        info, problem = identify(link, default_profile())
+        info, problem = identify(link, default_profile(), timeout_s=10.0)
     finally:
         link.close()
     assert problem == "" and info.scheduled and info.queue == 24
@@ -113,14 +113,14 @@ def test_a_late_frame_plays_at_once_and_one_dropped_by_a_plain_frame_never_plays
     full = [0] * 30
     full[7] = 22
     try:
-        identify(link, default_profile())
+        identify(link, default_profile(), timeout_s=10.0)
         now_us = clock_exchange(link, reader, 1).tx_us
         link.write(encode_timed(2, now_us - 5_000, full, bits=5))  # 5 ms in the past: late
         time.sleep(0.05)
         future = [0] * 30
         future[20] = 22
         now_us = clock_exchange(link, reader, 3).tx_us
-        link.write(encode_timed(4, now_us + 100_000, future, bits=5))  # 100 ms ahead ...
+        link.write(encode_timed(4, now_us + 10_000_000, future, bits=5))  # 10 s ahead ...
         link.write(encode_frame(5, [0] * 30))  # ... dropped by a frame for now
         time.sleep(0.2)
         reply = clock_exchange(link, reader, 6)

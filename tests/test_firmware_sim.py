@@ -14,6 +14,7 @@ from tactile_core.device.link import SerialLink, identify
 from tactile_core.device.profile import default_profile
 from tactile_core.device.wire import MessageReader, Status, encode_frame, encode_query
 
+from .emulator_support import wait_streaming
 from .firmware_support import pinlog
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
@@ -23,7 +24,7 @@ MS = 16_000  # cycles
 def test_firmware_answers_hello_with_the_profiles_array(sim):
     link = SerialLink(sim.path)
     try:
-        info, problem = identify(link, default_profile())
+        info, problem = identify(link, default_profile(), timeout_s=10.0)
     finally:
         link.close()
     assert problem == "" and info is not None
@@ -60,7 +61,7 @@ def test_firmware_plays_every_frame_tactile_stream_sends(sim, tmp_path):
 def test_firmware_never_applies_a_corrupted_frame_and_counts_it(sim):
     link = SerialLink(sim.path)
     try:
-        identify(link, default_profile())
+        identify(link, default_profile(), timeout_s=10.0)
         rng = np.random.default_rng(3)
         good = [5] * 30
         link.write(encode_frame(1, good))
@@ -79,7 +80,7 @@ def test_firmware_never_applies_a_corrupted_frame_and_counts_it(sim):
         reader = MessageReader(accept=(Status,))
         link.write(encode_query(9))
         status = None
-        deadline = time.monotonic() + 1.0
+        deadline = time.monotonic() + 10.0
         while status is None and time.monotonic() < deadline:
             got = reader.feed(link.read())
             status = got[-1] if got else None
@@ -101,12 +102,13 @@ def test_firmware_watchdog_turns_everything_off_after_250_ms(sim):
     proc = subprocess.Popen(
         [*CLI, "stream", "--device", sim.path, "--shape", "line:2.5,3.5,2.5,3.5", "--method",
          "CT", "--rate", "100", "--seconds", "30", "--lead-ms", "0"],
-        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
     )  # fmt: skip
-    time.sleep(2.0)
+    wait_streaming(proc)
+    time.sleep(0.5)  # lit frames reach the firmware
     os.kill(proc.pid, signal.SIGKILL)
-    proc.wait()
-    time.sleep(0.6)
+    proc.communicate(timeout=10)
+    time.sleep(1.0)  # the watchdog's 250 ms in simulated time, which keeps to real time
     log = sim.finish()
     frames = pinlog.received_frames(log)
     assert frames and frames[-1][1].any()  # the last frame it got was lit

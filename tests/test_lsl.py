@@ -147,8 +147,10 @@ def test_lsl_repeating_trace_gets_a_marker_per_cycle():
     streamer.on_onset.append(onsets.append)
     streamer.start()
     try:
-        scene = Scene(tc.Line((0.5, 0.5), (4.5, 0.5)), "CT", duration_s=0.05, pause_s=0.05)
-        streamer.set_scene(scene)  # 30 frames a cycle at 300 Hz
+        scene = Scene(tc.Line((0.5, 0.5), (4.5, 0.5)), "CT", duration_s=0.2, pause_s=0.05)
+        # 75 frames a cycle at 300 Hz; the first tactor is lit for the first ~7 (a cycle's first
+        # frame may be skipped on a loaded host: its onset is then the next, still on it)
+        streamer.set_scene(scene)
         wait_for(lambda: len(onsets) >= 4, what="four cycles")
         streamer.set_scene(scene.replace(mu=0.5))  # the same presentation goes on
         wait_for(lambda: len(onsets) >= 6, what="six cycles")

@@ -15,7 +15,7 @@ import pytest
 
 import tactile_core as tc
 
-from .emulator_support import CLI, Emulator, stream
+from .emulator_support import CLI, Emulator, stream, wait_streaming
 from .helpers import align
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
@@ -58,18 +58,6 @@ def test_emulator_closing_mid_stream_stops_the_streamer_with_a_message(emulator)
     assert "stopped" in proc.stdout
     report, _ = emu.finish(ends_itself=True)
     assert report["frames"] > 0 and report["events"][-1][1] == "closed"
-
-
-def wait_streaming(proc, timeout_s=30.0):
-    """Read the stream's standard error until it says it streams: the frames flow and its stop
-    handlers are in place (a fixed sleep assumed a start-up a loaded machine may not make)."""
-    end = time.monotonic() + timeout_s
-    while time.monotonic() < end:
-        line = proc.stderr.readline()
-        assert line, f"the stream ended before streaming (exit {proc.poll()})"
-        if line.startswith("[streaming]"):
-            return
-    raise AssertionError("the stream did not start streaming")
 
 
 def test_sigkilled_streamer_is_turned_off_by_the_watchdog(emulator):
