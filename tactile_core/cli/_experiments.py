@@ -4,11 +4,10 @@
 from __future__ import annotations
 
 import sys
-import threading
 
 from .._shared import validate as _validate
 from .._shared.outfile import check_folder
-from ._common import UsageError, _install_stop_handlers
+from ._common import StopRequest, UsageError, _install_stop_handlers
 from ._keys import read_key
 
 
@@ -124,7 +123,7 @@ def _tune_at_array(args, plan, seed) -> int:
         raise UsageError(str(exc)) from None
     session = open_session(args.results, pid, seed=seed, device_profile=profile.name)
     runner = CorrectionTuning(session, plan, profile=profile)
-    stop = threading.Event()
+    stop = StopRequest()
     _install_stop_handlers(stop)
     try:
         link = open_link(args.device, profile)

@@ -4,7 +4,6 @@ a device) and ``emulate`` (a device on a pseudo-terminal)."""
 from __future__ import annotations
 
 import sys
-import threading
 import time
 
 import numpy as np
@@ -15,6 +14,7 @@ from ..files.tact import MAX_TABLE_FRAMES
 from ..rendering.correction import correct
 from ..rendering.rasterize import check_renders, render
 from ._common import (
+    StopRequest,
     UsageError,
     _install_stop_handlers,
     _scene,
@@ -197,7 +197,7 @@ def cmd_stream(args) -> int:
         raise UsageError(f"--lead-ms must be within [0, 500] milliseconds, got {lead_ms!r}")
     if args.record is not None:  # '' too: refused, not ignored
         check_output(args.record, (".csv", ".npz"), "--record")
-    stop = threading.Event()
+    stop = StopRequest()
     _install_stop_handlers(stop)
     if pattern is not None:
         _tabulate(scene, profile)
@@ -281,7 +281,7 @@ def cmd_emulate(args) -> int:
     for option, value in (("--log", args.log), ("--json", args.json)):
         if value is not None:  # '' too: refused, not ignored
             check_output(value, (), option)
-    stop = threading.Event()
+    stop = StopRequest()
     _install_stop_handlers(stop)
     keep = KEEP_FRAMES if args.keep_frames is None else args.keep_frames
     if not 1 <= keep <= 1 << 31:

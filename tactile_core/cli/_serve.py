@@ -7,7 +7,6 @@ import argparse
 import dataclasses
 import math
 import sys
-import threading
 import time
 
 from .._shared.jsonfile import write_json_atomic
@@ -15,7 +14,15 @@ from .._shared.outfile import check_output
 from ..device._stream_talk import DEFAULT_LEAD_MS
 from ..live import SWITCH_INTERVAL_S
 from ..rendering.correction import check_correction
-from ._common import DEVICE_HELP, UsageError, _install_stop_handlers, _seconds, number, whole
+from ._common import (
+    DEVICE_HELP,
+    StopRequest,
+    UsageError,
+    _install_stop_handlers,
+    _seconds,
+    number,
+    whole,
+)
 
 
 def add_lsl_arguments(p: argparse.ArgumentParser) -> None:
@@ -205,7 +212,7 @@ def cmd_serve(args) -> int:
     from ..live import OscServer
 
     profile, scene = _check(args)
-    stop = threading.Event()
+    stop = StopRequest()
     _install_stop_handlers(stop)
     opened = open_outputs(args, profile, scene.rate_hz)
     if opened is None:
