@@ -130,7 +130,7 @@ def test_ctrl_c_turns_the_array_off_and_reports(emulator):
     proc.send_signal(signal.SIGINT)
     try:
         out, err = proc.communicate(timeout=30)
-    except subprocess.TimeoutExpired:  # (once in CI-like load: not reproduced since)
+    except subprocess.TimeoutExpired:  # (a handler deadlocked once: tests/test_stop_signals.py)
         proc.send_signal(signal.SIGABRT)
         out, err = proc.communicate(timeout=10)
         pytest.fail(f"the stream did not stop 30 s after Ctrl-C; where it was:\n{err}")
