@@ -98,3 +98,40 @@ def test_the_tuner_closes_on_a_signal_after_the_handler_all_off(qtbot, signum):
     finally:
         for s, handler in saved.items():
             signal.signal(s, handler)
+
+
+@pytest.mark.parametrize("terminal", [True, False], ids=["terminal", "pipe"])
+def test_ctrl_c_at_a_key_prompt_stops_tune_correction_at_once(tmp_path, terminal):
+    # The handler only sets the stop request; a read of standard input went on waiting through
+    # it, so Ctrl-C at "Press a key" did nothing until a key came.
+    import os
+
+    if terminal:
+        controller, stdin = os.openpty()
+    else:
+        stdin, controller = os.pipe()  # kept open and silent: no key ever comes
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "tactile_core.cli", "tune-correction", "--device", "sim",
+         "--participant", "P1", "--results", str(tmp_path), "--interval-ms", "100"],
+        stdin=stdin, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    )  # fmt: skip
+    os.close(stdin)
+    try:
+        import select
+
+        seen, deadline = b"", time.monotonic() + 60
+        while b"(Enter or Space)" not in seen:  # the first question is asked (no newline)
+            assert time.monotonic() < deadline and proc.poll() is None, seen
+            if select.select([proc.stderr], [], [], 0.1)[0]:
+                seen += os.read(proc.stderr.fileno(), 4096)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+        os.close(controller)
+    err = (seen + err).decode()
+    assert proc.returncode == 1, err  # stopped before the end, as 'q' does
+    assert "stopped at 0 of" in err and "stopped: all off" in err
+    assert "Traceback" not in err

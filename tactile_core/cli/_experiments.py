@@ -149,7 +149,7 @@ def _tune_at_array(args, plan, seed) -> int:
             done, total = runner.progress()
             if trial.kind == "continue":
                 answer = read_key(f"[{done + 1}/{total}] {trial.prompt} (Enter or Space) ",
-                                  whitespace=True)  # fmt: skip
+                                  whitespace=True, stop=stop)  # fmt: skip
                 if answer == "q":
                     break
                 runner.answer("continue")
@@ -160,7 +160,7 @@ def _tune_at_array(args, plan, seed) -> int:
                     play(scene, interval_s)
                     if k == 0:
                         stop.wait(interval_s)
-                answer = read_key(f"[{done + 1}/{total}] {trial.prompt} ")
+                answer = read_key(f"[{done + 1}/{total}] {trial.prompt} ", stop=stop)
                 if answer in ("1", "2", "q"):
                     break
                 if answer != "r":
