@@ -129,7 +129,7 @@ def test_enter_commits_a_field_and_gives_the_keys_back(window, qtbot):
     qtbot.keyClicks(spin, "0.5")
     qtbot.keyClick(spin, Key.Key_Return)
     assert window.state.scene.mu == pytest.approx(0.5)
-    qtbot.waitUntil(lambda: not spin.hasFocus(), timeout=1000)
+    qtbot.waitUntil(lambda: not spin.hasFocus(), timeout=5000)
     focus = QtWidgets.QApplication.focusWidget()
     playing = window.state.scene.playing
     qtbot.keyClick(focus or window, Key.Key_Space)  # Space works at once
@@ -145,7 +145,7 @@ def test_esc_in_a_drop_down_closes_only_the_drop_down(window, qtbot):
     popup = QtWidgets.QApplication.activePopupWidget()
     assert popup is not None
     qtbot.keyClick(popup, Key.Key_Escape)
-    qtbot.waitUntil(lambda: QtWidgets.QApplication.activePopupWidget() is None, timeout=1000)
+    qtbot.waitUntil(lambda: QtWidgets.QApplication.activePopupWidget() is None, timeout=5000)
     assert window.state.scene.playing  # the array was not turned off
 
 
@@ -155,7 +155,7 @@ def test_esc_in_a_dialog_closes_only_the_dialog(window, qtbot):
     box = QtWidgets.QApplication.activeModalWidget()
     assert isinstance(box, QtWidgets.QMessageBox)
     qtbot.keyClick(box, Key.Key_Escape)
-    qtbot.waitUntil(lambda: not box.isVisible(), timeout=1000)
+    qtbot.waitUntil(lambda: not box.isVisible(), timeout=5000)
     assert window.state.scene.playing
     qtbot.keyClick(window.tune.heatmap, Key.Key_Escape)  # in the window: all off
     assert not window.state.scene.playing
