@@ -311,3 +311,31 @@ def test_serve_json_that_cannot_be_written_names_the_file(capsys, tmp_path, monk
                         "--status-s", "0", "--json", json_path, stdout=out)  # fmt: skip
     assert code == 1 and f"cannot write --json {tmp_path / 'c.json'}: No space left" in err
     assert "served " in out[0]
+
+
+def test_an_emulators_report_may_be_read_while_its_thread_logs_events():
+    # report() iterated the events deque that the emulator's thread appends to (an answer to
+    # every status query); a report read meanwhile raised "deque mutated during iteration".
+    from tactile_core.device.emulator import Emulator
+
+    emulator = Emulator()
+    emulator.open()
+    try:
+        for k in range(emulator.events.maxlen):  # full: each append also drops the oldest
+            emulator.events.append((float(k), "answered 20 bytes"))
+        stop = threading.Event()
+
+        def log_events():
+            while not stop.is_set():
+                emulator.events.append((0.0, "answered 20 bytes"))
+
+        thread = threading.Thread(target=log_events, daemon=True)
+        thread.start()
+        try:
+            for _ in range(50):
+                assert len(emulator.report()["events"]) == emulator.events.maxlen
+        finally:
+            stop.set()
+            thread.join(5)
+    finally:
+        emulator.close()

@@ -295,7 +295,8 @@ class Emulator:
                 float(np.percentile(self.play_lag, 99) * 1e3) if self._lags else 0.0
             ),
             "info": self.model.info.describe(),
-            "events": [(round(t - (self.started or 0.0), 6), e) for t, e in self.events],
+            # list() copies in one step: the emulator's thread may append while this is read
+            "events": [(round(t - (self.started or 0.0), 6), e) for t, e in list(self.events)],
             "last_levels": cells.reshape(grid.shape)[::-1].tolist(),  # top row first, as seen
         }
 
