@@ -20,7 +20,7 @@ from tactile_core.cli._common import StopRequest
 
 STRESS = textwrap.dedent("""
     import os, signal, subprocess, sys, threading, time
-    from tactile_core.cli._common import StopRequest, _install_stop_handlers
+    from tactile_core.cli._common import _install_stop_handlers
 
     n = int(sys.argv[1])
     sys.setswitchinterval(0.0005)  # as the streamer sets it
@@ -41,8 +41,7 @@ STRESS = textwrap.dedent("""
         str(os.getpid()), str(n)])
     stops = 0
     while killer.poll() is None:
-        stop = StopRequest()
-        _install_stop_handlers(stop)
+        stop = _install_stop_handlers()
         while not stop.wait(0.0005) and killer.poll() is None:
             pass
         stops += stop.is_set()

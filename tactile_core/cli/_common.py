@@ -167,10 +167,12 @@ class StopRequest:
         return True
 
 
-def _install_stop_handlers(stop: StopRequest) -> None:
-    """Ctrl-C, SIGTERM and SIGHUP (the terminal closed) set ``stop``: the caller then turns the
-    array off and reports, quietly. ``stop`` is a :class:`StopRequest` (not a
-    ``threading.Event``, whose ``set()`` may deadlock in a handler)."""
+def _install_stop_handlers(stop: StopRequest | None = None) -> StopRequest:
+    """Ctrl-C, SIGTERM and SIGHUP (the terminal closed) set ``stop`` (a new
+    :class:`StopRequest` if not given; never a ``threading.Event``, whose ``set()`` may
+    deadlock in a handler) and return it: the caller then turns the array off and reports,
+    quietly."""
+    stop = StopRequest() if stop is None else stop
 
     def handler(signum, frame):
         stop.set()
@@ -178,6 +180,7 @@ def _install_stop_handlers(stop: StopRequest) -> None:
     for name in ("SIGINT", "SIGTERM", "SIGHUP"):
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), handler)
+    return stop
 
 
 class Ended(BaseException):

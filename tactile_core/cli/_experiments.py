@@ -7,7 +7,7 @@ import sys
 
 from .._shared import validate as _validate
 from .._shared.outfile import check_folder
-from ._common import StopRequest, UsageError, _install_stop_handlers
+from ._common import UsageError, _install_stop_handlers
 from ._keys import read_key
 
 
@@ -123,8 +123,7 @@ def _tune_at_array(args, plan, seed) -> int:
         raise UsageError(str(exc)) from None
     session = open_session(args.results, pid, seed=seed, device_profile=profile.name)
     runner = CorrectionTuning(session, plan, profile=profile)
-    stop = StopRequest()
-    _install_stop_handlers(stop)
+    stop = _install_stop_handlers()
     try:
         link = open_link(args.device, profile)
     except LinkError as exc:

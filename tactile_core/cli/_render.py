@@ -14,7 +14,6 @@ from ..files.tact import MAX_TABLE_FRAMES
 from ..rendering.correction import correct
 from ..rendering.rasterize import check_renders, render
 from ._common import (
-    StopRequest,
     UsageError,
     _install_stop_handlers,
     _scene,
@@ -197,8 +196,7 @@ def cmd_stream(args) -> int:
         raise UsageError(f"--lead-ms must be within [0, 500] milliseconds, got {lead_ms!r}")
     if args.record is not None:  # '' too: refused, not ignored
         check_output(args.record, (".csv", ".npz"), "--record")
-    stop = StopRequest()
-    _install_stop_handlers(stop)
+    stop = _install_stop_handlers()
     if pattern is not None:
         _tabulate(scene, profile)
     from ._serve import open_outputs
@@ -281,8 +279,7 @@ def cmd_emulate(args) -> int:
     for option, value in (("--log", args.log), ("--json", args.json)):
         if value is not None:  # '' too: refused, not ignored
             check_output(value, (), option)
-    stop = StopRequest()
-    _install_stop_handlers(stop)
+    stop = _install_stop_handlers()
     keep = KEEP_FRAMES if args.keep_frames is None else args.keep_frames
     if not 1 <= keep <= 1 << 31:
         raise UsageError(f"--keep-frames must be within [1, 2147483648], got {keep}")

@@ -16,7 +16,6 @@ from ..live import SWITCH_INTERVAL_S
 from ..rendering.correction import check_correction
 from ._common import (
     DEVICE_HELP,
-    StopRequest,
     UsageError,
     _install_stop_handlers,
     _seconds,
@@ -212,8 +211,7 @@ def cmd_serve(args) -> int:
     from ..live import OscServer
 
     profile, scene = _check(args)
-    stop = StopRequest()
-    _install_stop_handlers(stop)
+    stop = _install_stop_handlers()
     opened = open_outputs(args, profile, scene.rate_hz)
     if opened is None:
         return 1

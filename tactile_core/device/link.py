@@ -30,6 +30,13 @@ MAX_URL_CHARS = 1024
 the URL, some of them twice, and a 100,000-character one made a 300 KB error line."""
 
 
+_RESET_TEXTS = ("socket disconnected", os.strerror(errno.ECONNRESET),
+                os.strerror(errno.ECONNABORTED))  # fmt: skip
+"""How a connection the array closed reads when it comes without an errno: pyserial wraps a
+socket's reset in a ``SerialException`` ("read failed: [Errno 104] Connection reset by peer"),
+and which of the two a refused second client sees is a race."""
+
+
 def _explain(exc: BaseException, url: str) -> str:
     """Turn a pyserial/OS error into a short status line."""
     code = getattr(exc, "errno", None)
@@ -44,10 +51,7 @@ def _explain(exc: BaseException, url: str) -> str:
         return f"port busy: {url} is open in another program"
     if code == errno.ECONNREFUSED or "Connection refused" in text:
         return f"no device at {url}: connection refused (is the device or emulator running?)"
-    # pyserial wraps a socket's reset in a SerialException without an errno ("read failed:
-    # [Errno 104] Connection reset by peer"): which one a refused client sees is a race
-    reset = ("socket disconnected", os.strerror(errno.ECONNRESET), os.strerror(errno.ECONNABORTED))
-    if code in (errno.ECONNRESET, errno.ECONNABORTED) or any(r in text for r in reset):
+    if code in (errno.ECONNRESET, errno.ECONNABORTED) or any(r in text for r in _RESET_TEXTS):
         return (f"device disconnected: {url} closed the connection (an array serves one host "
                 f"at a time: is another program connected to it?)")  # fmt: skip
     if code in (errno.EIO, errno.ENXIO, errno.ENODEV, errno.EPIPE) or "write failed" in text:
