@@ -223,3 +223,18 @@ def test_sequence_gaps_count_frames_lost_on_the_way_not_frames_dropped_unplayed(
     assert model.seq_gaps == 2 and model.dropped == 1
     model.receive(encode_frame(1, off), 0.005)  # the counter wraps: 10 -> 1 is 246 missing
     assert model.seq_gaps == 2 + 246
+
+
+def test_a_new_hosts_hello_starts_the_sequence_count_again():
+    # Two streams in turn into one emulator read as 166 sequence gaps: the second one's frames
+    # from 0 after the first one's last, 89. A host says hello when it starts.
+    from tactile_core.device.array import ArrayModel
+    from tactile_core.device.wire import encode_frame, encode_hello
+
+    off = [0] * 30
+    model = ArrayModel(epoch=0.0)
+    model.receive(b"".join(encode_frame(seq, off) for seq in range(90)), 0.001)
+    model.receive(encode_hello(0) + encode_frame(0, off) + encode_frame(1, off), 0.002)
+    assert model.seq_gaps == 0
+    model.receive(encode_frame(0, off), 0.003)  # without a hello, 1 -> 0 misses 2..255
+    assert model.seq_gaps == 254

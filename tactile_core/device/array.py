@@ -163,6 +163,7 @@ class ArrayModel:
                     self.queue.append(msg)
                     frames += self.advance(now)  # due this very moment
             elif isinstance(msg, Hello):
+                self._received_seq = None  # a host starts again: its sequence restarts
                 replies += encode_info(
                     Info(msg.seq, *(getattr(self.info, k) for k in _INFO_FIELDS))
                 )
