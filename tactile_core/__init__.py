@@ -24,7 +24,6 @@ The package is layered; each layer imports only those above it in this list::
 (5, 6, 5)
 """
 
-from . import _compat
 from ._version import __version__
 from .experiments import ORDERS, Staircase, pairwise_wilcoxon
 from .rendering.correction import correct, quantize
@@ -74,16 +73,10 @@ __all__ = [
     "shape_from_dict",
 ]
 
-_compat.install()
-
 
 def __getattr__(name: str):
     if name == "open_array":  # the scripting API, imported when first asked for
         from .script import open_array
 
         return open_array
-    # ``tactile_core.scene`` and the other paths of 0.1, as attributes (see _compat).
-    module = _compat.moved_attribute(name)
-    if module is None:
-        raise AttributeError(f"module 'tactile_core' has no attribute {name!r}")
-    return module
+    raise AttributeError(f"module 'tactile_core' has no attribute {name!r}")

@@ -18,7 +18,7 @@ PACKAGES = {"tactile_core": ROOT / "tactile_core", "tactile_tuner": ROOT / "app"
 
 #: tactile_core's layers, bottom first: a module may import its own layer and those below.
 LAYERS = (
-    ("tactile_core._shared", "tactile_core._version", "tactile_core._compat"),
+    ("tactile_core._shared", "tactile_core._version"),
     ("tactile_core.rendering",),
     ("tactile_core.device",),
     ("tactile_core.live",),

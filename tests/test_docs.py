@@ -2,10 +2,8 @@
 the reference with a table of contents, every relative link and image resolves (anchors too),
 and every ``tactile_core...`` path the pages name exists and imports without a warning.
 
-Old 0.1 import paths (``tactile_core._compat.MOVED``) import silently and warn only when a name
-is taken from them, so they are refused here explicitly; the one place allowed to name them is
-the compat note in ``docs/architecture.md``, between its ``<!-- compat-note`` markers, and the
-paths there are listed in :data:`COMPAT_NOTE_PATHS`.
+The import paths of 0.1 and 0.2 that went in 0.3 are named only in CHANGELOG.md, which is not
+read here: a page that names one fails, as that path no longer imports.
 """
 
 from __future__ import annotations
@@ -22,16 +20,6 @@ ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 PAGES = [ROOT / "README.md", *sorted(DOCS.glob("*.md"))]
 README_MAX_LINES = 300
-
-#: The old paths the compat note shows as examples, and the page that holds the note.
-COMPAT_NOTE_PAGE = DOCS / "architecture.md"
-COMPAT_NOTE_PATHS = {
-    "tactile_core.scene",
-    "tactile_core.methods",
-    "tactile_core.percept",
-    "tactile_core.process",
-}
-COMPAT_NOTE = re.compile(r"<!-- compat-note.*?-->(.*?)<!-- /compat-note -->", re.S)
 
 #: Paths the docs may name that a build creates (not in the repository).
 GENERATED = ("firmware/build/",)
@@ -151,33 +139,26 @@ def test_every_repository_path_named_in_code_exists(page):
     assert missing == [], f"{rel(page)} names missing files: {missing}"
 
 
-def named_paths() -> tuple[dict[str, list[str]], dict[str, set[str]], set[str]]:
-    """``{dotted path: [pages]}``, ``{module: names imported from it}`` and the paths of the
-    compat note."""
+def named_paths() -> tuple[dict[str, list[str]], dict[str, set[str]]]:
+    """``{dotted path: [pages]}`` and ``{module: names imported from it}``."""
     paths: dict[str, list[str]] = {}
     imports: dict[str, set[str]] = {}
-    note: set[str] = set()
     for page in PAGES:
         text = page.read_text()
-        if page == COMPAT_NOTE_PAGE:
-            for block in COMPAT_NOTE.findall(text):
-                note.update(DOTTED.findall(block))
-            text = COMPAT_NOTE.sub("", text)
         for snippet in code(text):
             for path in DOTTED.findall(snippet):
                 paths.setdefault(path, []).append(rel(page))
             for module, grouped, names in FROM_IMPORT.findall(snippet):
                 wanted = {n.strip() for n in (grouped or names).split(",") if n.strip()}
                 imports.setdefault(module, set()).update(wanted)
-    return paths, imports, note
+    return paths, imports
 
 
 #: Run in a fresh interpreter with warnings as errors: each path is a module, or a module and an
-#: attribute chain; a path that is an old 0.1 module (a _compat.MovedModule) is refused.
+#: attribute chain.
 PROBE = r"""
 import importlib, json, sys, warnings
 warnings.simplefilter("error")
-from tactile_core import _compat
 paths, imports = json.loads(sys.stdin.read())
 problems = {}
 
@@ -191,8 +172,6 @@ def resolve(path):
             if exc.name and (name == exc.name or name.startswith(exc.name + ".")):
                 continue
             raise
-        if isinstance(obj, _compat.MovedModule) or name in _compat.MOVED:
-            raise ImportError(f"{name} is a 0.1 path (now {_compat.MOVED[name]})")
         for attr in parts[i:]:
             obj = getattr(obj, attr)
         return obj
@@ -228,7 +207,7 @@ def probe(paths, imports) -> dict[str, str]:
 
 
 def test_every_module_path_in_the_docs_imports_without_a_warning():
-    paths, imports, _ = named_paths()
+    paths, imports = named_paths()
     assert len(paths) > 10, "the docs name fewer tactile_core paths than expected: parser broken?"
     problems = probe(paths, imports)
     report = []
@@ -236,11 +215,3 @@ def test_every_module_path_in_the_docs_imports_without_a_warning():
         module = path.split()[1] if path.startswith("from ") else path
         report.append(f"{path} (in {', '.join(sorted(set(paths.get(module, []))))}): {why}")
     assert problems == {}, "\n".join(report)
-
-
-def test_the_compat_note_names_exactly_its_listed_old_paths():
-    from tactile_core import _compat
-
-    _, _, note = named_paths()
-    assert note == COMPAT_NOTE_PATHS | {_compat.MOVED[p] for p in COMPAT_NOTE_PATHS}
-    assert all(p in _compat.MOVED for p in COMPAT_NOTE_PATHS)

@@ -11,8 +11,6 @@ schedule and bytes on a link::
 ``recorder`` keeps what was sent.
 """
 
-from .. import _compat
-from . import profile as _profile
 from .link import LinkError, SimulatedArray, open_link
 from .profile import (
     DeviceProfile,
@@ -41,10 +39,3 @@ __all__ = [
     "profile_names",
 ]
 
-
-def __getattr__(name: str):
-    # In 0.1, ``tactile_core.device`` was the module now at ``tactile_core.device.profile``.
-    if not name.startswith("_") and hasattr(_profile, name):
-        _compat.warn_moved("tactile_core.device", "tactile_core.device.profile", name)
-        return getattr(_profile, name)
-    raise AttributeError(f"module 'tactile_core.device' has no attribute {name!r}")
