@@ -44,13 +44,13 @@ RECEIVERS = {
 
 def _emulator(tmpdir, rate_hz: float, name: str, receiver: str):
     """``tactile emulate`` for a row, receiving as ``receiver`` says (:data:`RECEIVERS`)."""
-    from tactile_core.bench import _EmulatorProcess
-    from tactile_core.device.process import own_core
+    from tactile_core.bench import EmulatorProcess
+    from tactile_core.stream.process import own_core
 
     if receiver == "ordinary":
-        return _EmulatorProcess(tmpdir, rate_hz, name)
+        return EmulatorProcess(tmpdir, rate_hz, name)
     cores = own_core()
-    return _EmulatorProcess(
+    return EmulatorProcess(
         tmpdir, rate_hz, name, realtime=True, cpus=None if cores is None else cores[1], socket=True
     )
 
@@ -218,14 +218,14 @@ def gui_latency_table(rate_hz: float = 300.0, changes: int = 30):
     from PySide6 import QtCore
 
     import tactile_core as tc
-    from tactile_core.bench import Table, _EmulatorProcess
+    from tactile_core.bench import EmulatorProcess, Table
 
     rows = []
     with _offscreen_app() as (app, tmpdir):
         from .window import MainWindow
 
         for process in (True, False):
-            emu = _EmulatorProcess(tmpdir, rate_hz, f"latency-{process}")
+            emu = EmulatorProcess(tmpdir, rate_hz, f"latency-{process}")
             window = MainWindow(device_url=emu.path, restore=False, process=process)
             window.resize(1400, 900)
             window.show()

@@ -5,12 +5,16 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore
 
-from tactile_core.device._stream_talk import DEFAULT_LEAD_MS
 from tactile_core.device.link import SIMULATED_URLS, LinkError
-from tactile_core.device.process import open_stream
 from tactile_core.device.profile import DeviceProfile, default_profile
-from tactile_core.device.streamer import StreamStats
-from tactile_core.live import CHILD_MODULE, LiveServices
+from tactile_core.stream import (
+    DEFAULT_LEAD_MS,
+    StreamOptions,
+    StreamServices,
+    StreamStats,
+    check_lead_ms,
+    open_stream,
+)
 
 from .state import TunerState
 
@@ -26,7 +30,7 @@ def outgoing(scene):
 class DeviceController(QtCore.QObject):
     """Owns the stream; follows the state's scene.
 
-    The stream runs in its own process (:class:`tactile_core.device.process.StreamerProcess`): the
+    The stream runs in its own process (:class:`tactile_core.stream.process.StreamerProcess`): the
     GUI's painting holds Python's interpreter lock for milliseconds at a time, and a stream
     thread in this process would wait that long for every frame. The simulated array is used
     whenever no device is connected, so the views always have "sent" and "felt" levels to show.
@@ -48,7 +52,7 @@ class DeviceController(QtCore.QObject):
     A stream child gets a core of its own where there are two or more (the GUI runs on the
     others), so that repainting never competes with it for a core. It runs the OSC server and
     the LSL outlets beside its output thread when asked (:attr:`services`, a
-    :class:`~tactile_core.live.LiveServices`; their news as :attr:`live_event`).
+    :class:`~tactile_core.stream.StreamServices`; their news as :attr:`live_event`).
 
     Every scene goes out with a presentation kind for the LSL markers: the one a part gave it
     (``trial``, ``interval``, ``ab``) or :data:`TUNE_MARKER`.
@@ -109,14 +113,15 @@ class DeviceController(QtCore.QObject):
             self.profile,
             scene=None if self.divert is not None else outgoing(self.state.scene),
             on_status=on_status,
-            reconnect=url is not None,
+            options=StreamOptions(
+                reconnect=url is not None,
+                realtime=self.realtime,
+                lead_ms=self.lead_ms,
+                own_core=True,
+            ),
             process=self.process,
-            realtime=self.realtime,
-            lead_s=self.lead_ms / 1e3,
-            own_core=True,
-            child=CHILD_MODULE,
         )
-        return stream, LiveServices(stream, on_event)
+        return stream, StreamServices(stream, on_event)
 
     def _switch(self, url) -> bool:
         previous = self._generation
@@ -172,9 +177,12 @@ class DeviceController(QtCore.QObject):
 
     def set_lead(self, lead_ms: float) -> bool:
         """Send frames ``lead_ms`` ahead from now on (reopens the current link); False, with
-        :attr:`error_raised`, for a lead outside [0, 500] ms or a link that cannot reopen."""
-        if not (isinstance(lead_ms, int | float) and 0.0 <= lead_ms <= 500.0):
-            self.error_raised.emit(f"lead must be within [0, 500] ms, got {lead_ms!r}")
+        :attr:`error_raised`, for a lead outside [0, MAX_LEAD_MS] or a link that cannot
+        reopen."""
+        try:
+            check_lead_ms(lead_ms, "lead")
+        except ValueError as exc:
+            self.error_raised.emit(str(exc))
             return False
         if lead_ms == self.lead_ms:
             return True

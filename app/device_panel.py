@@ -11,6 +11,7 @@ from serial.tools import list_ports
 from tactile_core.device.audio import audio_outputs
 from tactile_core.device.link import SIMULATED_URLS
 from tactile_core.device.profile import profile_names
+from tactile_core.stream import MAX_LEAD_MS
 
 from .device import DeviceController
 from .texts import tip
@@ -54,7 +55,7 @@ class DevicePanel(QtWidgets.QWidget):
         self.link_label.setTextFormat(QtCore.Qt.TextFormat.RichText)  # bold, the name escaped
         self.lead_spin = QtWidgets.QDoubleSpinBox()
         self.lead_spin.setObjectName("lead")
-        self.lead_spin.setRange(0.0, 500.0)
+        self.lead_spin.setRange(0.0, MAX_LEAD_MS)
         self.lead_spin.setSingleStep(5.0)
         self.lead_spin.setDecimals(0)
         self.lead_spin.setSuffix(" ms")

@@ -2,7 +2,7 @@
 stream, and the tuner's presentations as Lab Streaming Layer markers.
 
 The server runs in the stream process, beside the output thread (the device controller's
-:class:`~tactile_core.live.LiveServices`): another program's points never pass through the GUI,
+:class:`~tactile_core.serve.LiveServices`): another program's points never pass through the GUI,
 and a flood of datagrams never reaches it. What the tuner does meanwhile:
 
 - its method, μ and γ (the controls) go to the server instead of the stream: they apply to the
@@ -23,9 +23,9 @@ from __future__ import annotations
 
 from PySide6 import QtCore
 
-from tactile_core.live import DEFAULT_PORT
 from tactile_core.rendering.methods import get_method
 from tactile_core.rendering.points import free_method
+from tactile_core.serve import DEFAULT_PORT
 
 from . import layouts
 
@@ -63,7 +63,7 @@ class LiveController(QtCore.QObject):
     changed = QtCore.Signal()
     """Serving or LSL changed (for the panel and the menu)."""
     stats_changed = QtCore.Signal(object)
-    """The server's counters (:class:`~tactile_core.live.ServeStats`)."""
+    """The server's counters (:class:`~tactile_core.serve.ServeStats`)."""
     message_posted = QtCore.Signal(str, int)
     error_raised = QtCore.Signal(str)
 

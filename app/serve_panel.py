@@ -20,7 +20,7 @@ OTHER = ("wrong_type", "out_of_range", "refused", "kernel_dropped", "errors")
 
 
 def counters_text(stats) -> str:
-    """``malformed 0 · unknown 0 · …`` for a :class:`~tactile_core.live.ServeStats`."""
+    """``malformed 0 · unknown 0 · …`` for a :class:`~tactile_core.serve.ServeStats`."""
     parts = [f"{name} {getattr(stats, key)}" for key, name in COUNTERS]
     other = sum(getattr(stats, key) for key in OTHER)
     return " · ".join([*parts, f"other {other}"])

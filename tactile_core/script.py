@@ -32,12 +32,12 @@ import time
 from ._shared import validate as _validate
 from .device.link import open_link
 from .device.profile import DeviceProfile, load_profile
-from .device.streamer import Streamer
 from .rendering.correction import check_correction
 from .rendering.points import TIMEOUT_RANGE_S as POINT_TIMEOUT_RANGE_S
 from .rendering.points import LivePoints, free_method
 from .rendering.scene import Scene
 from .rendering.shapes import Shape, parse_shape
+from .stream import Streamer, StreamOptions, check_lead_ms
 
 __all__ = ["Array", "Presentation", "open_array"]
 
@@ -123,13 +123,13 @@ class Presentation:
 class Array:
     """An open array: play shapes, drive points, turn it off. Made by :func:`open_array`."""
 
-    def __init__(self, link, profile: DeviceProfile, *, rate_hz: float, lead_s: float,
+    def __init__(self, link, profile: DeviceProfile, *, rate_hz: float, options: StreamOptions,
                  lsl: bool, lsl_levels: bool, point_timeout_s: float | None):  # fmt: skip
         self.link = link
         self.profile = profile
         self.rate_hz = _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
         self.points = LivePoints(timeout_s=point_timeout_s)
-        self.streamer = Streamer(link, profile, lead_s=lead_s, on_onset=[self._on_onset],
+        self.streamer = Streamer(link, profile, options=options, on_onset=[self._on_onset],
                                  on_status=self._on_stream_status)  # fmt: skip
         self._lost = ""  # the stream's last status once it stopped on its own
         self.lsl = None
@@ -142,7 +142,7 @@ class Array:
         self._closed = threading.Event()
         self._epochs = itertools.count(1)
         if lsl or lsl_levels:
-            from .live import LslOutlets
+            from .serve import LslOutlets
 
             self.lsl = LslOutlets(profile, rate_hz=self.rate_hz, levels=lsl_levels)
             self.lsl.attach(self.streamer)
@@ -386,13 +386,13 @@ def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_m
                          f"{_validate.shown(url)}")  # fmt: skip
     if not isinstance(profile, DeviceProfile):
         profile = load_profile(profile)
-    lead = _validate.in_range("lead_ms", lead_ms, 0.0, 500.0) / 1e3
+    options = StreamOptions(lead_ms=check_lead_ms(lead_ms))
     _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
     if point_timeout_s is not None:  # named as the caller wrote it, before anything opens
         _validate.in_range("point_timeout_s", point_timeout_s, *POINT_TIMEOUT_RANGE_S)
     link = open_link(url, profile)
     try:
-        array = Array(link, profile, rate_hz=rate_hz, lead_s=lead, lsl=lsl,
+        array = Array(link, profile, rate_hz=rate_hz, options=options, lsl=lsl,
                       lsl_levels=lsl_levels, point_timeout_s=point_timeout_s)  # fmt: skip
         return array._start()
     except BaseException:

@@ -9,9 +9,9 @@ import numpy as np
 import tactile_core as tc
 from tactile_core.device.link import SimulatedArray
 from tactile_core.device.profile import default_profile
-from tactile_core.device.streamer import Streamer
-from tactile_core.live import OscServer
 from tactile_core.rendering.scene import Scene
+from tactile_core.serve import OscServer
+from tactile_core.stream.streamer import Streamer
 
 
 def wait_for(predicate, timeout_s=10.0, what="the condition"):

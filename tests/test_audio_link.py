@@ -330,9 +330,9 @@ def test_the_callback_allocates_no_arrays():
 
 def test_the_streamer_takes_the_links_own_rate_limit():
     import tactile_core as tc
-    from tactile_core.device._stream_plan import _Plan
-    from tactile_core.device._stream_talk import ArrayTalk
     from tactile_core.rendering.scene import Scene
+    from tactile_core.stream._plan import _Plan
+    from tactile_core.stream._talk import ArrayTalk
 
     class Link:
         description = "audio:x"

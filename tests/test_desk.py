@@ -11,7 +11,7 @@ import pytest
 from PySide6 import QtCore, QtGui, QtWidgets
 
 import tactile_core as tc
-from tactile_core.device.streamer import StreamStats
+from tactile_core.stream.streamer import StreamStats
 
 from .helpers import record_sent
 

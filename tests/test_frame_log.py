@@ -13,10 +13,10 @@ import pytest
 
 from tactile_core._shared import outfile
 from tactile_core.cli import main as cli
-from tactile_core.device._frame_log import BLOCK, FrameLog
 from tactile_core.device.emulator import Emulator
+from tactile_core.device.frame_log import BLOCK, FrameLog
 from tactile_core.device.profile import default_profile
-from tactile_core.device.recorder import Recorder
+from tactile_core.files.frames import Recorder
 
 
 def frames(n, channels=30, seed=0):

@@ -14,9 +14,9 @@ from tactile_core.device.emulator import Emulator
 from tactile_core.device.host_clock import VirtualClock
 from tactile_core.device.link import SerialLink, SimulatedArray, identify
 from tactile_core.device.profile import default_profile, profile_from_dict
-from tactile_core.device.streamer import Streamer
 from tactile_core.device.wire import KEEPALIVE_S
 from tactile_core.rendering.scene import Scene
+from tactile_core.stream.streamer import Streamer
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
 
@@ -54,7 +54,7 @@ def test_identify_reads_the_emulators_info():
 def test_a_mismatched_array_is_refused_with_a_status(monkeypatch):
     import functools
 
-    from tactile_core.device import _stream_talk
+    from tactile_core.stream import _talk as _stream_talk
 
     # the emulator thread may answer the hello late on a loaded host: it is not what is tested
     monkeypatch.setattr(_stream_talk, "identify", functools.partial(identify, timeout_s=5.0))
@@ -120,7 +120,7 @@ def test_an_array_that_does_not_answer_is_driven_and_reported_unidentified():
 
 
 def test_query_answers_agree_with_the_emulators_own_counts(monkeypatch):
-    from tactile_core.device import streamer as streamer_module
+    from tactile_core.stream import streamer as streamer_module
 
     # the final counters must come back for the comparison: a loaded host may answer late
     monkeypatch.setattr(streamer_module, "FINAL_STATUS_WAIT_S", 5.0)

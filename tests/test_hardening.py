@@ -258,8 +258,8 @@ def test_stream_sighup_ends_quietly_all_off(tmp_path):
 
 def test_an_internal_error_in_the_output_thread_is_told_and_ends_all_off(monkeypatch):
     from tactile_core.device.link import SimulatedArray
-    from tactile_core.device.streamer import Streamer
     from tactile_core.rendering.scene import Scene
+    from tactile_core.stream.streamer import Streamer
 
     array = SimulatedArray()
     streamer = Streamer(array, scene=Scene(tc.Circle((2.5, 3), 2)))
@@ -279,8 +279,8 @@ def test_an_internal_error_in_the_output_thread_is_told_and_ends_all_off(monkeyp
 
 
 def test_ctrl_c_reaches_the_stream_child_without_a_traceback(capfd):
-    from tactile_core.device.process import StreamerProcess
     from tactile_core.rendering.scene import Scene
+    from tactile_core.stream.process import StreamerProcess
 
     stream = StreamerProcess(None, scene=Scene(tc.Circle((2.5, 3), 2))).start()
     try:

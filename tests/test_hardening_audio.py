@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from tactile_core.device.audio import AudioLink, audio_outputs
-from tactile_core.device.audio_file import write_wav
 from tactile_core.device.link import LinkError
 from tactile_core.device.profile import default_profile, profile_from_dict
+from tactile_core.files.wav import write_wav
 
 from .audio_fake import PortAudioError, card, fake_audio
 from .audio_support import require_audio

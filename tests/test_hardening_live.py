@@ -12,7 +12,7 @@ import pytest
 
 import tactile_core as tc
 from tactile_core.device.profile import ProfileError, default_profile
-from tactile_core.live import LslError, LslOutlets
+from tactile_core.serve import LslError, LslOutlets
 
 from .helpers import run_cli_here
 
@@ -248,7 +248,7 @@ def test_a_device_lost_while_a_presentation_plays_fails_its_wait_and_the_next_pl
 def test_lsl_source_id_locks_only_in_a_private_folder(tmp_path, monkeypatch):
     """The locks live in a folder of this user's own: in a shared /tmp another user could have
     made it first, or linked a lock file to one of this user's files, which a claim truncated."""
-    from tactile_core.live._lsl import claim_source_id
+    from tactile_core.serve._lsl import claim_source_id
 
     monkeypatch.setenv("XDG_RUNTIME_DIR", str(tmp_path))
     sid = f"tactile-test-{uuid.uuid4().hex[:8]}"
@@ -269,7 +269,7 @@ def test_lsl_source_id_lock_files_go_with_their_outlets(tmp_path, monkeypatch):
     anew rather than holding a lock on a file nobody else can see."""
     import fcntl
 
-    from tactile_core.live._lsl import _same_file, claim_source_id, release_source_id
+    from tactile_core.serve._lsl import _same_file, claim_source_id, release_source_id
 
     monkeypatch.setenv("XDG_RUNTIME_DIR", str(tmp_path))
     folder = tmp_path / f"tactile-tuner-{os.getuid()}" / "lsl"

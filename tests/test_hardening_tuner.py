@@ -34,7 +34,7 @@ def test_tuner_lsl_beside_another_program_says_which_source_id_it_took(qtbot):
     """A second program with the tuner's source id (another tuner, a tactile serve --lsl): the
     tuner's outlets take their own, and the status line says so."""
     from tactile_core.device.profile import default_profile
-    from tactile_core.live import LslOutlets
+    from tactile_core.serve import LslOutlets
 
     held = LslOutlets(default_profile())
     win = make_window(qtbot, process=True)

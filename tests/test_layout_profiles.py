@@ -11,10 +11,10 @@ import pytest
 import tactile_core as tc
 from tactile_core.device.link import SimulatedArray
 from tactile_core.device.profile import ProfileError, load_profile, profile_from_dict
-from tactile_core.device.streamer import Streamer
 from tactile_core.rendering.correction import quantize
 from tactile_core.rendering.scene import Scene
 from tactile_core.rendering.trace import Sampling, Trace, render_frames
+from tactile_core.stream.streamer import Streamer
 
 BELT = {
     "format": "tactile-device-profile",

@@ -8,8 +8,7 @@ from scipy.spatial import Delaunay
 
 import tactile_core as tc
 from tactile_core.rendering.layout import Layout, Wrap
-from tactile_core.rendering.methods import get_method
-from tactile_core.rendering.methods._layout import LAYOUT_METHODS, layout_sampler
+from tactile_core.rendering.methods import LAYOUT_METHODS, get_method, layout_sampler
 
 SETTINGS = settings(max_examples=40, deadline=None, derandomize=True, database=None)
 

@@ -16,9 +16,9 @@ import pytest
 import tactile_core as tc
 from tactile_core.device.link import SimulatedArray
 from tactile_core.device.profile import default_profile
-from tactile_core.device.streamer import Streamer
-from tactile_core.live import LslOutlets, lsl_offset_s
 from tactile_core.rendering.scene import Scene
+from tactile_core.serve import LslOutlets, lsl_offset_s
+from tactile_core.stream import Streamer, StreamOptions
 
 from .serve_support import Taps, wait_for
 
@@ -65,7 +65,9 @@ def test_lsl_markers_stamped_with_the_first_frames_send_time(lead_s):
     profile = default_profile()
     taps = Taps()
     sid = f"test-{uuid.uuid4().hex}"
-    streamer = Streamer(SimulatedArray(profile), profile, taps=[taps], lead_s=lead_s)
+    streamer = Streamer(
+        SimulatedArray(profile), profile, taps=[taps], options=StreamOptions(lead_ms=lead_s * 1e3)
+    )
     outlets = LslOutlets(profile, source_id=sid).attach(streamer)
     inlet, info = inlet_for(f"source_id='{sid}-markers'")
     assert (info.name(), info.type(), info.channel_format()) == (
@@ -213,7 +215,7 @@ def data_levels_lit(record, index):
 
 
 def test_lsl_markers_from_the_stream_process_name_the_parents_scenes():
-    from tactile_core.device.process import open_stream
+    from tactile_core.stream.process import open_stream
 
     sid = f"test-{uuid.uuid4().hex}"
     stream = open_stream(None, default_profile(), process=True)

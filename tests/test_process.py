@@ -10,8 +10,8 @@ import pytest
 
 import tactile_core as tc
 from tactile_core.device.link import LinkError
-from tactile_core.device.process import StreamerProcess, open_stream
 from tactile_core.rendering.scene import Scene
+from tactile_core.stream.process import StreamerProcess, open_stream
 
 CIRCLE = tc.Circle((2.5, 3.0), 2.0)
 
@@ -57,7 +57,7 @@ def test_killing_the_parent_turns_the_array_off_without_the_watchdog(emulator_th
     emu, path = emulator_thread
     script = (
         "import time, tactile_core as tc\n"
-        "from tactile_core.device.process import open_stream\n"
+        "from tactile_core.stream.process import open_stream\n"
         "from tactile_core.rendering.scene import Scene\n"
         f"s = open_stream({path!r}, scene=Scene(tc.Circle((2.5, 3), 2), mu=1.0, pause_s=0.0))\n"
         "print('streaming', flush=True)\n"

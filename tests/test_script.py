@@ -96,7 +96,7 @@ def test_script_lsl_marker_per_play():
 
     with tc.open_array("sim", lsl=True) as array:
         array.lsl.close()  # a fresh outlet with an id of this test's own
-        from tactile_core.live import LslOutlets
+        from tactile_core.serve import LslOutlets
 
         sid = f"test-{uuid.uuid4().hex}"
         array.lsl = LslOutlets(array.profile, source_id=sid).attach(array.streamer)

@@ -13,9 +13,9 @@ from pythonosc.udp_client import SimpleUDPClient
 
 from tactile_core.device.link import open_link
 from tactile_core.device.profile import default_profile
-from tactile_core.device.streamer import Streamer
-from tactile_core.live import OscServer
 from tactile_core.rendering.scene import Scene
+from tactile_core.serve import OscServer
+from tactile_core.stream.streamer import Streamer
 
 from .helpers import stop_with
 from .serve_support import ServerRig, Taps, levels_of, send_until_shown, wait_for

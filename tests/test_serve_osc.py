@@ -1,4 +1,4 @@
-"""The OSC server (tactile_core.live): its packet reader against python-osc's writer, the address
+"""The OSC server (tactile_core.serve): its packet reader against python-osc's writer, the address
 space, and every kind of bad message counted, never crashing the server."""
 
 import math
@@ -11,8 +11,8 @@ from hypothesis import strategies as st
 from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 from pythonosc.osc_message_builder import OscMessageBuilder
 
-from tactile_core.live import Malformed, OscServer, read_packet
 from tactile_core.rendering.scene import Scene
+from tactile_core.serve import Malformed, OscServer, read_packet
 
 from .serve_support import ServerRig, levels_of, send_until_shown, wait_for
 
@@ -163,7 +163,7 @@ def test_serve_takes_a_32_bit_mu_and_gamma_as_the_decimal_the_sender_wrote():
      (math.inf, math.inf), (1e300, 1e300)],
 )  # fmt: skip
 def test_serve_decimal32_by_hand(sent, taken):
-    from tactile_core.live._osc_addresses import decimal32
+    from tactile_core.serve._osc_addresses import decimal32
 
     assert decimal32(sent) == taken
 
@@ -171,7 +171,7 @@ def test_serve_decimal32_by_hand(sent, taken):
 @settings(max_examples=300, derandomize=True, database=None)
 @given(st.floats(width=32, allow_nan=False, allow_infinity=False))
 def test_serve_decimal32_is_the_same_32_bit_float(x):
-    from tactile_core.live._osc_addresses import decimal32
+    from tactile_core.serve._osc_addresses import decimal32
 
     y = decimal32(x)
     assert struct.pack(">f", y) == struct.pack(">f", x)
@@ -273,7 +273,7 @@ def test_serve_port_in_use_says_where():
 
 def test_serve_refuses_a_shape_method_at_the_start():
     from tactile_core.device.link import SimulatedArray
-    from tactile_core.device.streamer import Streamer
+    from tactile_core.stream.streamer import Streamer
 
     with pytest.raises(ValueError, match="needs a shape"):
         OscServer(Streamer(SimulatedArray()), scene=Scene(method="IM"))
@@ -331,7 +331,7 @@ def test_serve_reads_ipv6_loopback_when_asked():
 )  # fmt: skip
 def test_serve_warns_exactly_for_addresses_beyond_this_machine(host, local):
     # IPv4 loopback written as IPv6 drew the "beyond this machine" warning (Python < 3.13)
-    from tactile_core.live._osc_server import _loopback
+    from tactile_core.serve._osc_server import _loopback
 
     assert _loopback(host) is local
 
@@ -339,7 +339,7 @@ def test_serve_warns_exactly_for_addresses_beyond_this_machine(host, local):
 def test_serve_on_a_local_stream_and_refused_by_the_stream_process():
     from pythonosc.udp_client import SimpleUDPClient
 
-    from tactile_core.device.process import open_stream
+    from tactile_core.stream.process import open_stream
 
     from .serve_support import Taps
 

@@ -147,7 +147,7 @@ def test_normal_interpreter_exit_sends_all_off(emulator):
         "import time, tactile_core as tc\n"
         "from tactile_core.device.link import SerialLink\n"
         "from tactile_core.rendering.scene import Scene\n"
-        "from tactile_core.device.streamer import Streamer\n"
+        "from tactile_core.stream.streamer import Streamer\n"
         f"link = SerialLink({emu.path!r})\n"
         "scene = Scene(tc.Circle((2.5, 3), 2), mu=1.0, pause_s=0.0)\n"
         "s = Streamer(link, scene=scene)\n"

@@ -5,8 +5,8 @@ import pickle
 from pathlib import Path
 
 import tactile_core as tc
-from tactile_core.device._stream_plan import same_source
 from tactile_core.files.tact import load_pattern
+from tactile_core.stream._plan import same_source
 
 SAMPLE = Path(__file__).parent / "data" / "testfeedback.tact"
 

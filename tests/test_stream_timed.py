@@ -13,10 +13,11 @@ import numpy as np
 import pytest
 
 import tactile_core as tc
-from tactile_core.device import SimulatedArray, Streamer
+from tactile_core.device import SimulatedArray
 from tactile_core.device.link import SerialLink
 from tactile_core.device.wire import ClockReply, MessageReader, encode_clock, encode_hello
 from tactile_core.rendering import Scene
+from tactile_core.stream import Streamer, StreamOptions
 
 from .emulator_support import stream
 
@@ -97,7 +98,7 @@ def sim_streamer():
 
     def start(lead_s, scene):
         sim = SimulatedArray()
-        streamer = Streamer(sim, scene=scene, lead_s=lead_s).start()
+        streamer = Streamer(sim, scene=scene, options=StreamOptions(lead_ms=lead_s * 1e3)).start()
         streamers.append(streamer)
         return sim, streamer
 

@@ -16,10 +16,10 @@ import tactile_core as tc
 from tactile_core.device.host_clock import VirtualClock
 from tactile_core.device.link import SerialLink, SimulatedArray
 from tactile_core.device.profile import default_profile
-from tactile_core.device.recorder import Recorder
-from tactile_core.device.streamer import Streamer
 from tactile_core.device.wire import FrameReader
+from tactile_core.files.frames import Recorder
 from tactile_core.rendering.scene import Scene
+from tactile_core.stream import Streamer, StreamOptions
 
 from .helpers import align
 
@@ -312,7 +312,7 @@ def test_reconnects_after_the_device_drops_the_link():
     streamer = Streamer(
         link,
         scene=Scene(CIRCLE, rate_hz=100.0),
-        reconnect=True,
+        options=StreamOptions(reconnect=True),
         reconnect_interval_s=0.05,
         on_status=lambda s: statuses.append(s.status),
     )
@@ -343,7 +343,10 @@ def test_reconnects_after_the_device_drops_the_link():
 def test_realtime_priority_is_granted_or_the_status_says_why():
     taps = Taps()
     streamer = Streamer(
-        SimulatedArray(), scene=Scene(CIRCLE, rate_hz=100.0), taps=[taps], realtime=True
+        SimulatedArray(),
+        scene=Scene(CIRCLE, rate_hz=100.0),
+        taps=[taps],
+        options=StreamOptions(realtime=True),
     )
     with streamer:
         taps.wait_for(5)

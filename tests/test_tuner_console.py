@@ -54,7 +54,7 @@ def test_resuming_an_existing_participant_asks_first(window, qtbot):
 
 
 def test_a_run_refuses_to_start_while_the_array_is_disconnected(window):
-    from tactile_core.device.streamer import StreamStats
+    from tactile_core.stream.streamer import StreamStats
 
     panel = window.experiments
     panel.stats = lambda: StreamStats(state="disconnected", status="device disconnected: /dev/x")
@@ -63,7 +63,7 @@ def test_a_run_refuses_to_start_while_the_array_is_disconnected(window):
 
 
 def test_a_lost_link_pauses_the_run_and_the_trial_is_presented_again(window, qtbot, tmp_path):
-    from tactile_core.device.streamer import StreamStats
+    from tactile_core.stream.streamer import StreamStats
 
     panel = window.experiments
     choose(panel, "exp3")

@@ -19,7 +19,7 @@ import numpy as np
 
 from tactile_core.device.emulator import Emulator
 from tactile_core.device.profile import default_profile
-from tactile_core.device.recorder import Recorder
+from tactile_core.files.frames import Recorder
 
 
 class _Frame:

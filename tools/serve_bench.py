@@ -113,9 +113,9 @@ def latency_split(args) -> None:
     emulator and the sender in their own: OSC -> write, and write -> emulator."""
     from tactile_core.device.link import open_link
     from tactile_core.device.profile import default_profile
-    from tactile_core.device.streamer import Streamer
-    from tactile_core.live import OscServer
     from tactile_core.rendering.scene import Scene
+    from tactile_core.serve import OscServer
+    from tactile_core.stream.streamer import Streamer
 
     with tempfile.TemporaryDirectory() as folder:
         record = Path(folder) / "frames.npz"

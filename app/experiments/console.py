@@ -37,7 +37,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
     profile : callable
         The device profile the run plays on (recorded in the session).
     stats : callable, optional
-        The stream's :class:`~tactile_core.device.streamer.StreamStats` now.
+        The stream's :class:`~tactile_core.stream.streamer.StreamStats` now.
     device : callable, optional
         A one-line description of the link ("simulated array", a port).
     """

@@ -23,9 +23,8 @@ from ._audio import audio_table
 from ._batch import batch_table, dense_area_sampling, naive_area_sampling, ratio_table
 from ._common import FILTERS, GAMMA, MU, RATES_HZ, SCENES, Table, best_time
 from ._common import _cycling as _cycling
+from ._device import EmulatorProcess, device_tables
 from ._device import _Busy as _Busy
-from ._device import _EmulatorProcess as _EmulatorProcess
-from ._device import device_tables
 from ._layouts import layouts_table
 from ._link import link_table
 from ._live import live_table
@@ -43,6 +42,7 @@ __all__ = [
     "SCENES",
     "TUNING_OBSERVERS",
     "TUNING_PLANS",
+    "EmulatorProcess",
     "Table",
     "accuracy_table",
     "audio_table",

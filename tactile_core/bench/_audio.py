@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from ..device._audio_play import Player
+from ..device.audio import Player
 from ._common import Table
 
 SAMPLERATE = 48000

@@ -13,7 +13,7 @@ from ..rendering.shapes import Line
 from ._common import GAMMA, MU, SCENES, Table
 
 
-class _EmulatorProcess:
+class EmulatorProcess:
     """``tactile emulate`` in a subprocess, for the device benchmark. ``plain``: a format 2
     array without scheduled frames, so that what it receives shows the host's own timing.
     ``realtime``: it receives at real-time priority (``--realtime``), ``cpus``: it runs on
@@ -76,8 +76,8 @@ def device_tables(rates=(100, 200, 300), seconds: float = 10.0, changes: int = 3
     import tempfile
 
     from ..device.link import SerialLink
-    from ..device.streamer import Streamer
     from ..rendering.scene import Scene
+    from ..stream.streamer import Streamer
 
     rows = []
     latency_rows = []
@@ -86,7 +86,7 @@ def device_tables(rates=(100, 200, 300), seconds: float = 10.0, changes: int = 3
             busy = _Busy() if load != "idle" else contextlib.nullcontext()
             with busy:
                 for rate in rates:
-                    emu = _EmulatorProcess(tmpdir, rate, f"{load[:4]}-{rate}")
+                    emu = EmulatorProcess(tmpdir, rate, f"{load[:4]}-{rate}")
                     link = SerialLink(emu.path)
                     scene = Scene(SCENES["circle"], "AS", MU, GAMMA, rate_hz=rate)
                     streamer = Streamer(link, scene=scene)
@@ -117,7 +117,7 @@ def device_tables(rates=(100, 200, 300), seconds: float = 10.0, changes: int = 3
                         ]
                     )
         for rate in rates:
-            emu = _EmulatorProcess(tmpdir, rate, f"latency-{rate}")
+            emu = EmulatorProcess(tmpdir, rate, f"latency-{rate}")
             link = SerialLink(emu.path)
             corner_a = Line((0.5, 0.5), (0.5, 0.5))  # lights channel 0 only
             corner_b = Line((4.5, 5.5), (4.5, 5.5))  # lights channel 29 only

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..device.profile import load_profile
-from ..rendering.methods._layout import LAYOUT_METHODS
+from ..rendering.methods import LAYOUT_METHODS
 from ..rendering.rasterize import render
 from ..rendering.shapes import Circle, Line
 from ..rendering.trace import LiveFrames, Sampling, Trace

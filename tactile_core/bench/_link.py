@@ -79,9 +79,9 @@ def _missing() -> str:
 
 def _run_one(build: Path, lead_ms: float, busy: bool, seconds: float, rate_hz: float, pinlog):
     from ..device.link import SerialLink
-    from ..device.streamer import Streamer
     from ..rendering.scene import Scene
     from ..rendering.shapes import Circle
+    from ..stream import Streamer, StreamOptions
 
     log_path = build / f"pins-{lead_ms:g}-{int(busy)}.log"
     harness = subprocess.Popen(
@@ -99,7 +99,7 @@ def _run_one(build: Path, lead_ms: float, busy: bool, seconds: float, rate_hz: f
     link = _Spy(SerialLink(path))
     scene = Scene(Circle((2.5, 3.0), 2.0), "CT", duration_s=0.2, pause_s=0.0, rate_hz=rate_hz)
     try:
-        streamer = Streamer(link, scene=scene, lead_s=lead_ms / 1e3).start()
+        streamer = Streamer(link, scene=scene, options=StreamOptions(lead_ms=lead_ms)).start()
         streamer.identified.wait(10.0)
         time.sleep(seconds)
         stats = streamer.stop()

@@ -121,8 +121,7 @@ QUEST_TRIALS = (8, 12, 16, 20, 24, 30, 40)
 
 def _quest_run(job):
     from ..experiments.results import Session
-    from ..experiments.tuning import CorrectionTuning, SimulatedObserver, TuningPlan
-    from ..experiments.tuning._procedure import mu_from_tracks
+    from ..experiments.tuning import CorrectionTuning, SimulatedObserver, TuningPlan, mu_from_tracks
 
     observer, procedure, seed = job
     o = dict(TUNING_OBSERVERS[observer])

@@ -46,39 +46,6 @@ DEVICE_HELP = (
 """``--device`` of the commands that open one."""
 
 
-def write_frames(out, time_s, frames, names) -> None:
-    """``tactile render``'s frames file: ``.npz`` (arrays ``time`` and ``frames`` as given) or
-    CSV (``time`` then one column per tactor, headed by ``names``); a write that fails is a
-    usage error naming the file.
-
-    Parameters
-    ----------
-    out : pathlib.Path
-        A checked ``.csv`` or ``.npz`` path.
-    time_s : ndarray of float64, shape (n,)
-        Each frame's time, in seconds.
-    frames : ndarray of float64, shape (n, ...)
-        The frames; the CSV has one column per entry of a frame, in ``names``' order.
-    names : sequence of str
-        The column names of the tactors (actuators).
-    """
-    import numpy as np
-
-    from .._shared.outfile import atomic_file
-
-    try:
-        if out.suffix.lower() == ".npz":
-            with atomic_file(out, binary=True) as f:
-                np.savez(f, time=time_s, frames=frames)
-        else:
-            table = np.column_stack([time_s, frames.reshape(len(time_s), -1)])
-            with atomic_file(out) as f:
-                np.savetxt(f, table, delimiter=",", header=",".join(["time", *names]),
-                           comments="", fmt="%.10g")  # fmt: skip
-    except OSError as exc:
-        raise write_failed(out, exc) from None
-
-
 def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None:
     p.add_argument(
         "--shape",

@@ -108,9 +108,9 @@ def _tune_at_array(args, plan, seed) -> int:
     """The procedure at a real array: trials played by the streamer, answers typed."""
     from ..device.link import LinkError, open_link
     from ..device.profile import ProfileError, load_profile
-    from ..device.streamer import Streamer
     from ..experiments.results import check_participant, open_session
     from ..experiments.tuning import CorrectionTuning, save_correction
+    from ..stream.streamer import Streamer
 
     interval_s = args.interval_ms / 1e3
     if not 0.02 <= interval_s <= 5.0:  # NaN fails too

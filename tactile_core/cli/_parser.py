@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .._version import __version__
-from ..device._stream_talk import DEFAULT_LEAD_MS
+from ..stream import DEFAULT_LEAD_MS
 from ._common import DEVICE_HELP, _add_scene_arguments, number, whole
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._render import cmd_emulate, cmd_render, cmd_stream

@@ -10,16 +10,17 @@ import numpy as np
 
 from .._shared import validate as _validate
 from .._shared.outfile import check_output
+from ..files.frames import write_frames
 from ..files.tact import MAX_TABLE_FRAMES
 from ..rendering.correction import correct
 from ..rendering.rasterize import check_renders, render
+from ..stream import StreamOptions, check_lead_ms
 from ._common import (
     UsageError,
     _install_stop_handlers,
     _scene,
     _seconds,
     write_failed,
-    write_frames,
 )
 from ._tact import load_tact_arg, not_played
 
@@ -69,7 +70,10 @@ def cmd_render(args) -> int:
     what = f"{what} ({method}, mu={mu:g}, gamma={gamma:g})"
     if wav:
         return _write_wav(args, out, profile, frames, what)
-    write_frames(out, time_s, frames, names)
+    try:
+        write_frames(out, time_s, frames, names)
+    except OSError as exc:
+        raise write_failed(out, exc) from None
     print(f"wrote {len(time_s)} frames of {what} to {out}{left_out}")
     return 0
 
@@ -110,9 +114,8 @@ def _render_profile(args, wav: bool):
 def _write_wav(args, out, profile, frames, what: str) -> int:
     """``tactile render --out FILE.wav``: the corrected frames calibrated and quantised as the
     streamer does, in channel order, as the carriers an audio interface would play."""
-    from ..device._audio_synth import DEFAULT_RAMP_MS
-    from ..device._audio_url import CARRIER_RANGE_HZ, RAMP_RANGE_MS, SAMPLERATE_RANGE
-    from ..device.audio_file import write_wav
+    from ..device.audio import CARRIER_RANGE_HZ, DEFAULT_RAMP_MS, RAMP_RANGE_MS, SAMPLERATE_RANGE
+    from ..files.wav import write_wav
     from ..rendering.correction import quantize
 
     samplerate = 48000 if args.samplerate is None else args.samplerate
@@ -155,9 +158,9 @@ def _tabulate(scene, profile) -> None:
 def cmd_stream(args) -> int:
     """Stream a scene to a device without the GUI; print statistics at the end."""
     from ..device.profile import ProfileError, load_profile
-    from ..device.recorder import Recorder
-    from ..device.streamer import Streamer
+    from ..files.frames import Recorder
     from ..rendering.scene import Scene
+    from ..stream.streamer import Streamer
 
     shape, method, mu, gamma, _ = _scene(args)
     try:
@@ -191,9 +194,11 @@ def cmd_stream(args) -> int:
         raise UsageError(f"--felt-amplitude needs a motor response curve: profile "
                          f"{profile.name} has none ('response')")  # fmt: skip
     args.seconds = _seconds(args.seconds)
-    lead_ms = args.lead_ms
-    if not (isinstance(lead_ms, float) and 0.0 <= lead_ms <= 500.0):
-        raise UsageError(f"--lead-ms must be within [0, 500] milliseconds, got {lead_ms!r}")
+    try:
+        options = StreamOptions(reconnect=args.reconnect, realtime=args.realtime,
+                                lead_ms=check_lead_ms(args.lead_ms, "--lead-ms"))  # fmt: skip
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     if args.record is not None:  # '' too: refused, not ignored
         check_output(args.record, (".csv", ".npz"), "--record")
     stop = _install_stop_handlers()
@@ -211,9 +216,7 @@ def cmd_stream(args) -> int:
         profile,
         scene=scene,
         taps=[] if recorder is None else [recorder],
-        reconnect=args.reconnect,
-        realtime=args.realtime,
-        lead_s=lead_ms / 1e3,
+        options=options,
         on_status=lambda stats: print(
             f"[{stats.state}] {stats.status}", file=sys.stderr, flush=True
         ),
@@ -284,11 +287,11 @@ def cmd_emulate(args) -> int:
     if not 1 <= keep <= 1 << 31:
         raise UsageError(f"--keep-frames must be within [1, 2147483648], got {keep}")
     if args.realtime:  # before the path is printed: a caller that reads it finds it set
-        from ..device._stream_plan import _raise_priority
+        from ..device.host_clock import raise_priority
 
         # Above a host stream's output thread (10): an array's own processor never waits
         # for the host.
-        why_not = _raise_priority(EMULATOR_PRIORITY)
+        why_not = raise_priority(EMULATOR_PRIORITY)
         print(
             f"tactile emulate: {why_not}" if why_not else
             f"tactile emulate: receiving at real-time priority (SCHED_FIFO {EMULATOR_PRIORITY})",

@@ -11,9 +11,9 @@ import time
 
 from .._shared.jsonfile import write_json_atomic
 from .._shared.outfile import check_output
-from ..device._stream_talk import DEFAULT_LEAD_MS
-from ..live import SWITCH_INTERVAL_S
 from ..rendering.correction import check_correction
+from ..serve import SWITCH_INTERVAL_S
+from ..stream import DEFAULT_LEAD_MS, StreamOptions, check_lead_ms
 from ._common import (
     DEVICE_HELP,
     UsageError,
@@ -41,7 +41,7 @@ def add_lsl_arguments(p: argparse.ArgumentParser) -> None:
 
 def add_serve_parser(sub) -> None:
     """The ``serve`` sub-command."""
-    from ..live import DEFAULT_PORT
+    from ..serve import DEFAULT_PORT
 
     p = sub.add_parser(
         "serve",
@@ -129,12 +129,12 @@ def add_serve_parser(sub) -> None:
 
 def lsl_outlets(args, profile, rate_hz: float):
     """The LSL outlets ``--lsl`` / ``--lsl-levels`` ask for, or None; opened before the device
-    so that outlets that cannot open (:class:`~tactile_core.live.LslError`, which the command
+    so that outlets that cannot open (:class:`~tactile_core.serve.LslError`, which the command
     reports) never leave a device half-started. A source id taken by another program on this
     machine is said on standard error."""
     if not (getattr(args, "lsl", False) or getattr(args, "lsl_levels", False)):
         return None
-    from ..live import LslOutlets
+    from ..serve import LslOutlets
 
     outlets = LslOutlets(profile, rate_hz=rate_hz, markers=True, levels=args.lsl_levels)
     if outlets.note:
@@ -147,7 +147,7 @@ def open_outputs(args, profile, rate_hz: float):
     and ``serve``: ``(outlets or None, link)``, or None once it has said on standard error why
     one could not open (the command then exits 1, nothing left open)."""
     from ..device.link import LinkError, open_link
-    from ..live import LslError
+    from ..serve import LslError
 
     try:
         lsl = lsl_outlets(args, profile, rate_hz)
@@ -188,8 +188,10 @@ def _check(args):
     scene = Scene(method=method, mu=mu, gamma=gamma, rate_hz=args.rate)
     if not 1.0 <= args.timeout_ms <= 60_000.0:
         raise UsageError(f"--timeout-ms must be within [1, 60000], got {args.timeout_ms:g}")
-    if not 0.0 <= args.lead_ms <= 500.0:
-        raise UsageError(f"--lead-ms must be within [0, 500] milliseconds, got {args.lead_ms:g}")
+    try:
+        check_lead_ms(args.lead_ms, "--lead-ms")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     if not (args.status_s == 0 or 0.1 <= args.status_s <= 3600):
         raise UsageError(f"--status-s must be 0 or within [0.1, 3600], got {args.status_s:g}")
     if not 1.0 <= args.max_rate <= 1e7:
@@ -207,8 +209,8 @@ def _check(args):
 
 def cmd_serve(args) -> int:
     """Serve OSC until stopped; all off on every way out; print the counters."""
-    from ..device.streamer import Streamer
-    from ..live import OscServer
+    from ..serve import OscServer
+    from ..stream import Streamer
 
     profile, scene = _check(args)
     stop = _install_stop_handlers()
@@ -219,9 +221,9 @@ def cmd_serve(args) -> int:
     streamer = Streamer(
         link,
         profile,
-        reconnect=args.reconnect,
-        realtime=args.realtime,
-        lead_s=args.lead_ms / 1e3,
+        options=StreamOptions(
+            reconnect=args.reconnect, realtime=args.realtime, lead_ms=args.lead_ms
+        ),
         switch_interval_s=SWITCH_INTERVAL_S,
         on_status=lambda s: print(f"[{s.state}] {s.status}", file=sys.stderr, flush=True),
     )

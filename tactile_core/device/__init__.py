@@ -1,14 +1,15 @@
-"""The device side: device profiles, the wire format, links, the streamer and the emulator.
+"""The device side: device profiles, the wire format, links, the array's side and its emulator.
 
-Frames leave :mod:`tactile_core.rendering` as intensities; here they become device levels on a
-schedule and bytes on a link::
+Levels become bytes on a link here; :mod:`tactile_core.stream` above decides which levels go
+when::
 
-    profile (channels, levels, calibration) -> streamer (frame clock, keep-alive, all-off)
-        -> wire (COBS + CRC messages) -> link (serial port, pyserial URL, simulated array)
+    profile (layout, channels, levels, calibration) -> wire (COBS + CRC messages)
+        -> link (serial port, pyserial URL, simulated array, audio interface)
 
 ``array`` is the array's side of the wire format in Python (what the reference firmware does),
-``emulator`` puts it on a pseudo-terminal, ``process`` runs a streamer in a child process and
-``recorder`` keeps what was sent.
+``emulator`` puts it on a pseudo-terminal, ``clock`` estimates the array's clock from clock
+exchanges, ``host_clock`` is the host's (and a virtual one for tests), ``frame_log`` keeps
+frames received or sent.
 """
 
 from .link import LinkError, SimulatedArray, open_link
@@ -21,16 +22,12 @@ from .profile import (
     profile_from_dict,
     profile_names,
 )
-from .streamer import Onset, Streamer, StreamStats
 
 __all__ = [
     "DeviceProfile",
     "LinkError",
-    "Onset",
     "ProfileError",
     "SimulatedArray",
-    "StreamStats",
-    "Streamer",
     "default_profile",
     "find_profile",
     "load_profile",
@@ -38,4 +35,3 @@ __all__ = [
     "profile_from_dict",
     "profile_names",
 ]
-

@@ -30,8 +30,10 @@ import weakref
 import numpy as np
 
 from ._audio_play import Player
-from ._audio_synth import DEFAULT_CARRIER_HZ
+from ._audio_synth import DEFAULT_CARRIER_HZ, DEFAULT_RAMP_MS, synthesize
 from ._audio_url import (
+    CARRIER_RANGE_HZ,
+    RAMP_RANGE_MS,
     SAMPLERATE_RANGE,
     check_device,
     device_url,
@@ -337,3 +339,23 @@ class AudioLink:
     def amplitudes(self) -> np.ndarray:
         """The amplitudes the carriers are at or heading to, in channel order (a copy)."""
         return self.player.synth.target.copy()
+
+
+__all__ = [
+    "CARRIER_RANGE_HZ",
+    "DEFAULT_CARRIER_HZ",
+    "DEFAULT_RAMP_MS",
+    "RAMP_RANGE_MS",
+    "SAMPLERATE_RANGE",
+    "AudioLink",
+    "Player",
+    "audio_outputs",
+    "carriers_for",
+    "check_device",
+    "device_url",
+    "find_device",
+    "load_sounddevice",
+    "output_devices",
+    "parse_audio_url",
+    "synthesize",
+]

@@ -30,8 +30,8 @@ import numpy as np
 
 from .._shared.jsonfile import write_json_atomic
 from .._shared.outfile import atomic_file, check_output
-from ._frame_log import FrameLog
 from .array import ArrayModel
+from .frame_log import FrameLog
 from .profile import DeviceProfile, default_profile
 
 KEEP_FRAMES = 1_080_000

@@ -10,6 +10,7 @@ checks intervals, keep-alives and watchdogs exactly, whatever else the machine i
 
 from __future__ import annotations
 
+import os
 import threading
 import time
 
@@ -74,3 +75,32 @@ class VirtualClock(HostClock):
     def sleep(self, seconds: float) -> None:
         self.advance(seconds)
         time.sleep(0)
+
+
+def raise_priority(priority: int = 10) -> str:
+    """Try to give the calling thread real-time priority (SCHED_FIFO ``priority``, 10 for the
+    output thread); say what happened (empty when granted).
+
+    Linux grants it to root or to users with an ``rtprio`` limit (``ulimit -r``, or
+    ``/etc/security/limits.conf``). The output thread sleeps most of each frame and spins at most
+    ``spin_s``, so it cannot starve the machine.
+
+    Parameters
+    ----------
+    priority : int
+        The SCHED_FIFO priority, 1-99.
+
+    Returns
+    -------
+    str
+        Empty when granted; otherwise why not, for a status line.
+    """
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(priority))
+    except AttributeError:
+        return "real-time priority is not available on this system"
+    except PermissionError:
+        return "real-time priority not permitted (raise the rtprio limit: ulimit -r 10)"
+    except OSError as exc:
+        return f"real-time priority failed: {exc}"
+    return ""

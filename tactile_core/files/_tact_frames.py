@@ -35,8 +35,7 @@ from .._shared import validate as _validate
 from ..rendering.correction import check_correction, correct, correct1
 from ..rendering.curves import ActivationCurves, curves_from_frames
 from ..rendering.layout import Layout, as_layout
-from ..rendering.methods import get_method
-from ..rendering.methods._layout import layout_sampler
+from ..rendering.methods import get_method, layout_sampler
 from ..rendering.rasterize import (
     check_renders,
     check_target,

@@ -26,10 +26,10 @@ from pathlib import Path
 from .._shared import validate as _validate
 from .._shared.assets import assets_dir
 from .._shared.jsonfile import read_json, write_json_atomic
-from ..device._stream_talk import DEFAULT_LEAD_MS
 from ..device.profile import NAME as PROFILE_NAME
 from ..rendering.scene import Scene
 from ..rendering.shapes import shape_from_dict
+from ..stream import DEFAULT_LEAD_MS, check_lead_ms
 
 FORMAT = "tactile-preset"
 VERSION = 1
@@ -165,12 +165,10 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
         field = str(exc).split(" ")[0]
         where = f"trace.{field}" if field in _TRACE_KEYS else field
         raise PresetError(f"{source}: field '{where}': {exc}") from None
-    lead_ms = data.get("lead_ms", DEFAULT_LEAD_MS)
-    if not (_validate.is_number(lead_ms) and 0.0 <= lead_ms <= 500.0):
-        raise PresetError(
-            f"{source}: field 'lead_ms' must be a number of milliseconds within [0, 500], "
-            f"got {_validate.shown(lead_ms)}"
-        )
+    try:
+        lead_ms = check_lead_ms(data.get("lead_ms", DEFAULT_LEAD_MS), "field 'lead_ms'")
+    except ValueError as exc:
+        raise PresetError(f"{source}: {exc}") from None
     return Preset(
         scene=scene,
         name=data.get("name", Path(source).stem),

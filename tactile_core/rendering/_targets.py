@@ -6,8 +6,7 @@ from __future__ import annotations
 from .._shared import validate as _validate
 from .geometry import Grid
 from .layout import Layout
-from .methods import get_method
-from .methods._layout import layout_sampler
+from .methods import get_method, layout_sampler
 from .shapes import Shape
 
 

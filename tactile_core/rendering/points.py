@@ -47,7 +47,7 @@ from .._shared import validate as _validate
 from .correction import check_correction, correct1
 from .geometry import SNAP_REL
 from .layout import Layout
-from .methods._layout import layout_sampler
+from .methods import layout_sampler
 from .rasterize import check_target, free_method
 
 DEFAULT_TIMEOUT_S = 0.1

@@ -17,9 +17,8 @@ from ._targets import (  # noqa: F401  (the checks, where they have always been 
 )
 from .geometry import SNAP_REL, Grid
 from .layout import Layout
-from .methods import METHODS, get_method
+from .methods import METHODS, get_method, layout_sampler
 from .methods._cells import ZIP, Block, Indexed, outer
-from .methods._layout import layout_sampler
 from .shapes import Shape
 
 _DEFAULT_GRID = Grid()

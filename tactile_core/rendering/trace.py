@@ -33,8 +33,7 @@ from ._trace_clock import DIRECTIONS, Trace, check_hold, corner_warp  # noqa: F4
 from .correction import check_correction, correct, correct1
 from .geometry import Grid
 from .layout import Layout
-from .methods import get_method
-from .methods._layout import layout_sampler
+from .methods import get_method, layout_sampler
 from .rasterize import check_target, frame_shape, layout_entries, point_entries, render
 
 FILTERS = ("point", "box")

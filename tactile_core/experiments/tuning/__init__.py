@@ -71,7 +71,7 @@ from ._fits import (
 )
 from ._observer import SimulatedObserver, felt_total, interval_drive, simulate_tuning
 from ._plan import TuningPlan, default_layout
-from ._procedure import EXPERIMENT, CorrectionTuning
+from ._procedure import EXPERIMENT, CorrectionTuning, mu_from_tracks
 from ._result import TuningResult
 from ._save import save_correction
 
@@ -118,6 +118,7 @@ __all__ = [
     "interval_drive",
     "load_correction",
     "median_interval",
+    "mu_from_tracks",
     "save_correction",
     "simulate_tuning",
 ]

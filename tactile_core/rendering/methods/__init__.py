@@ -73,6 +73,8 @@ from . import (
     rolloff,
     vrch,
 )
+from ._layout import LAYOUT_METHODS as LAYOUT_METHODS
+from ._layout import layout_sampler as layout_sampler
 from ._plugin import CONTAINED as _CONTAINED
 from ._plugin import checked as _checked
 from ._plugin import max_tactors as _max_tactors

@@ -12,7 +12,7 @@ names the newest scene. A held trace (the tuner's scrubbing) and a frame source 
 The time is the one the streamer's taps get for that frame: when it was written, on the host's
 ``time.perf_counter`` clock, or, for a frame scheduled ahead (``lead_s``), the host time at
 which the array is to play it. Markers on Lab Streaming Layer
-(:class:`tactile_core.live.LslOutlets`), the OSC server's shapes and the scripting API's
+(:class:`tactile_core.serve.LslOutlets`), the OSC server's shapes and the scripting API's
 presentations all take their times from here.
 """
 

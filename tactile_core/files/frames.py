@@ -1,4 +1,5 @@
-"""Record what is sent: one row per frame with its timestamp, to CSV or NPZ."""
+"""Frame files: frames rendered (``tactile render``) and frames a stream sent (``--record``),
+to CSV or NPZ."""
 
 from __future__ import annotations
 
@@ -7,8 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from .._shared.outfile import atomic_file, check_output
+from ..device.frame_log import FrameLog
 from ..rendering.geometry import ArraySpec
-from ._frame_log import FrameLog
 
 
 class Recorder:
@@ -60,3 +61,33 @@ class Recorder:
                 for t, s, row in zip(time_s.tolist(), seq.tolist(), flat.tolist()):
                     f.write(f"{t:.6f},{s}," + ",".join(map(str, row)) + "\n")
         return path
+
+
+def write_frames(path, time_s, frames, names) -> None:
+    """Write rendered frames: ``.npz`` (arrays ``time`` and ``frames`` as given) or CSV
+    (``time`` then one column per tactor, headed by ``names``), atomically.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        A checked ``.csv`` or ``.npz`` path (:func:`~tactile_core._shared.outfile.check_output`).
+    time_s : ndarray of float64, shape (n,)
+        Each frame's time, in seconds.
+    frames : ndarray of float64, shape (n, ...)
+        The frames; the CSV has one column per entry of a frame, in ``names``' order.
+    names : sequence of str
+        The column names of the tactors (actuators).
+
+    Raises
+    ------
+    OSError
+        When the file cannot be written (nothing is left behind).
+    """
+    if path.suffix.lower() == ".npz":
+        with atomic_file(path, binary=True) as f:
+            np.savez(f, time=time_s, frames=frames)
+    else:
+        table = np.column_stack([time_s, frames.reshape(len(time_s), -1)])
+        with atomic_file(path) as f:
+            np.savetxt(f, table, delimiter=",", header=",".join(["time", *names]),
+                       comments="", fmt="%.10g")  # fmt: skip

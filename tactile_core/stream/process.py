@@ -4,7 +4,7 @@ A :class:`~.streamer.Streamer` thread shares Python's global interpreter lock wi
 every other thread of its process. A GUI repainting plots holds that lock for milliseconds at a
 time inside C++ drawing calls, and each frame waits that long: with the tuner's display running,
 an in-process stream at 300 Hz showed p99 interval errors of 10-12 ms. :class:`StreamerProcess`
-runs the same streamer in a child process (``python -m tactile_core.device.process``) with the link
+runs the same streamer in a child process (``python -m tactile_core.stream.process``) with the link
 opened there, so nothing in the parent can delay a frame.
 
 - Scenes go to the child through a pipe (a pickled :class:`~tactile_core.Scene`, ~0.1 ms).
@@ -30,16 +30,17 @@ from multiprocessing.connection import Connection
 
 import numpy as np
 
+from ..device.link import LinkError
+from ..device.profile import DeviceProfile, default_profile
 from ..rendering.scene import Scene, check_scene
-from ._local_stream import LocalStream
-from ._stream_child import BUILT_IN_EVENTS, pin_to, serve
-from .link import LinkError
-from .profile import DeviceProfile, default_profile
+from ._child import STREAM_EVENTS, pin_to, serve
+from ._local import LocalStream
+from .options import StreamOptions
 from .streamer import Onset, StreamStats
 
 _CHILDREN: weakref.WeakSet = weakref.WeakSet()
-CHILD_MODULE = "tactile_core.device.process"
-"""The stream process's entry module (``python -m``) unless a caller names another."""
+CHILD_MODULE = "tactile_core.stream.process"
+"""The stream process's entry module (``python -m``)."""
 
 PROCESS_SUPPORTED = os.name == "posix"
 """Child-process streaming needs inherited pipe descriptors (POSIX); elsewhere threads."""
@@ -63,11 +64,8 @@ def own_core() -> tuple[set, set] | None:
     return {cpus[-1]}, set(cpus[:-1])
 
 
-def main(argv=None, extension=None) -> int:
-    """Entry point of the child: ``python -m tactile_core.device.process CMD_FD EVENTS_FD``.
-
-    ``extension`` is for the entry module of a layer above (see :mod:`._stream_child`): the
-    stream's commands and events, and its own beside them.
+def main(argv=None) -> int:
+    """Entry point of the child: ``python -m tactile_core.stream.process CMD_FD EVENTS_FD``.
 
     Ctrl-C and SIGHUP from the terminal reach the whole process group; the child ignores them
     and lets the parent stop it (or notices the parent is gone when its pipe closes), so a
@@ -82,7 +80,7 @@ def main(argv=None, extension=None) -> int:
     cmd = Connection(int(argv[0]), writable=False)
     events = Connection(int(argv[1]), readable=False)
     try:
-        serve(cmd, events, extension)
+        serve(cmd, events)
     finally:
         events.close()
         cmd.close()
@@ -102,27 +100,20 @@ class StreamerProcess:
     on_status : callable, optional
         Called with a :class:`StreamStats` from a listener thread when the state or status
         changes (a GUI hands it to its own thread).
-    reconnect, realtime : bool
-        Passed to the streamer.
-    lead_s : float
-        Passed to the streamer: frames sent this far ahead to arrays that play them at their time.
-    own_core : bool
-        With two or more cores, run the child on a core of its own and this process on the
-        others until :meth:`stop` (Linux), so that nothing of the parent (a GUI repainting)
-        competes with the stream for a core.
+    options : StreamOptions, optional
+        Handed to the child's streamer as they are; with ``own_core`` and two or more cores,
+        the child runs on a core of its own and this process on the others until :meth:`stop`
+        (Linux), so that nothing of the parent (a GUI repainting) competes with the stream.
     on_onset : sequence of callables
         The streamer's ``on_onset`` hooks, called from a listener thread with an ``Onset``
         whose scene is the one handed to :meth:`set_scene` (LSL markers: the list is
         ``self.on_onset``, so ``LslOutlets.attach`` adds its marker hook; the levels stream
         needs the stream in this process).
-    child : str
-        The module the child runs (``python -m CHILD``): this one by default; an entry module
-        of a layer above adds its own commands and events (``tactile_core.live``'s runs the OSC
-        server and the LSL outlets beside the output thread). See :meth:`command` and
-        ``on_event``.
     on_event : sequence of callables
-        Called as ``hook(kind, payload)`` from the listener thread with every event of a kind
-        the stream itself does not send (an extension's); the list is ``self.on_event``.
+        Called as ``hook(kind, payload)`` from the listener thread with every event of the
+        stream's services (the OSC server and LSL outlets in the child, driven by
+        :meth:`command`; see :class:`~.services.StreamServices`); the list is
+        ``self.on_event``.
 
     Raises
     ------
@@ -137,25 +128,17 @@ class StreamerProcess:
         *,
         scene=None,
         on_status=None,
-        reconnect=False,
-        realtime=False,
-        lead_s: float = 0.0,
-        own_core: bool = False,
+        options: StreamOptions | None = None,
         on_onset=(),
-        child: str = CHILD_MODULE,
         on_event=(),
     ):
         self.on_onset = list(on_onset)
         self.on_event = list(on_event)
-        self.child = child
-        self.realtime = realtime
-        self.lead_s = lead_s
-        self.own_core = own_core
+        self.options = StreamOptions() if options is None else options
         self._saved_affinity = None
         self.url = url
         self.profile = profile or default_profile()
         self.on_status = on_status
-        self.reconnect = reconnect
         self._scene = scene
         self._scenes = {0: scene}
         self._next_id = 1
@@ -178,7 +161,7 @@ class StreamerProcess:
                 [
                     sys.executable,
                     "-m",
-                    self.child,
+                    CHILD_MODULE,
                     str(cmd_read),
                     str(events_write),
                 ],
@@ -190,14 +173,9 @@ class StreamerProcess:
             os.close(events_write)
         self._cmd = Connection(cmd_write, readable=False)
         self._events = Connection(events_read, writable=False)
-        cores = own_core() if self.own_core else None
-        options = {
-            "reconnect": self.reconnect,
-            "realtime": self.realtime,
-            "lead_s": self.lead_s,
-            "cpu": None if cores is None else cores[0],
-        }
-        self._send(("config", self.url, self.profile.to_dict(), self._scene, options))
+        cores = own_core() if self.options.own_core else None
+        cpu = None if cores is None else cores[0]
+        self._send(("config", self.url, self.profile.to_dict(), self._scene, self.options, cpu))
         if cores is not None:
             self._saved_affinity = os.sched_getaffinity(0)
             pin_to(cores[1])
@@ -247,7 +225,7 @@ class StreamerProcess:
             if kind == "onset":
                 self._onset(*payload)
                 continue
-            if kind not in BUILT_IN_EVENTS:
+            if kind not in STREAM_EVENTS:
                 self._event(kind, payload)
                 continue
             with self._lock:
@@ -291,8 +269,8 @@ class StreamerProcess:
                 pass
 
     def command(self, kind: str, *args) -> None:
-        """Send the child a command of a kind the stream does not know, for the extension of
-        its entry module (``child``); a child without one ignores it."""
+        """Send the child's services a command (``osc-start``, ``lsl``, …: see
+        :class:`~tactile_core.serve.ServicesHost`); what came of it arrives as an event."""
         if kind in ("config", "scene", "all_off", "stop"):
             raise ValueError(f"command kind {kind!r} is the stream's own")
         self._send((kind, *args))
@@ -382,30 +360,46 @@ class StreamerProcess:
         return scene, trace_time
 
 
-def open_stream(url=None, profile=None, *, scene=None, on_status=None, reconnect=False,
-                process=True, realtime=False, lead_s=0.0, own_core=False,
-                on_onset=(), child=CHILD_MODULE):  # fmt: skip
+def open_stream(url=None, profile=None, *, scene=None, on_status=None,
+                options: StreamOptions | None = None, process: bool = True, on_onset=(),
+                on_event=()):  # fmt: skip
     """Open a link and start streaming to it, in a child process (default) or a thread.
 
-    ``process`` is ignored (a thread is used) where child processes are not supported;
-    ``realtime`` asks for real-time priority of the output thread, ``lead_s`` sends frames
-    ahead to arrays that play them at their time (see ``Streamer``), ``own_core`` gives a child
-    process a core of its own (see :class:`StreamerProcess`); ``on_onset`` hooks get each
-    presentation's first frame (an ``Onset``; ``stream.on_onset`` is the list); ``child`` is
-    the module a child process runs (see :class:`StreamerProcess`; a thread has no child).
+    Parameters
+    ----------
+    url : str or None
+        A device URL (:func:`tactile_core.device.open_link`); None for the simulated array.
+    profile : DeviceProfile, optional
+        The array; the palm array by default.
+    scene : Scene, optional
+        What to play first; idle (all off) if None.
+    on_status : callable, optional
+        ``on_status(stats)`` when the stream's state or status changes, from another thread.
+    options : StreamOptions, optional
+        Reconnect, real-time priority, the lead and a core of its own, as they are for every
+        kind of stream.
+    process : bool
+        A child process (default) or a thread of this one; a thread where child processes are
+        not supported.
+    on_onset : sequence of callables
+        Hooks for each presentation's first frame (an ``Onset``; ``stream.on_onset`` is the
+        list).
+    on_event : sequence of callables
+        Hooks for the events of the stream's services (``stream.on_event`` is the list).
+
+    Returns
+    -------
+    StreamerProcess or LocalStream
+        Started; both have the same interface.
 
     Raises
     ------
     LinkError
         When the link cannot be opened; nothing keeps running.
     """
-    options = {"reconnect": reconnect, "realtime": realtime, "lead_s": lead_s,
-               "on_onset": on_onset}  # fmt: skip
-    if process and PROCESS_SUPPORTED:
-        stream = StreamerProcess(url, profile, scene=scene, on_status=on_status, **options,
-                                 own_core=own_core, child=child)  # fmt: skip
-    else:
-        stream = LocalStream(url, profile, scene=scene, on_status=on_status, **options)
+    kind = StreamerProcess if process and PROCESS_SUPPORTED else LocalStream
+    stream = kind(url, profile, scene=scene, on_status=on_status, options=options,
+                  on_onset=on_onset, on_event=on_event)  # fmt: skip
     return stream.start()
 
 

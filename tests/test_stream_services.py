@@ -1,6 +1,5 @@
-"""The OSC server and the LSL outlets beside a stream's output thread, run by commands: in a stream
-process started with the live layer's entry module (the device layer only offers the hook), and
-in this process for a thread stream; the same events either way."""
+"""The OSC server and the LSL outlets beside a stream's output thread, run by commands: in the
+stream process, and in this process for a thread stream; the same events either way."""
 
 import queue
 import socket
@@ -9,9 +8,8 @@ import uuid
 import pytest
 from pythonosc.udp_client import SimpleUDPClient
 
-from tactile_core.device.process import StreamerProcess, open_stream
-from tactile_core.live import CHILD_MODULE, LiveServices
 from tactile_core.rendering.scene import Scene
+from tactile_core.stream import StreamerProcess, StreamServices, open_stream
 
 from .serve_support import wait_for
 
@@ -59,10 +57,10 @@ def port_free(port):
 
 
 @pytest.mark.parametrize("process", [True, False])
-def test_live_services_serve_osc_on_the_stream_wherever_it_runs(process):
-    stream = open_stream(None, child=CHILD_MODULE, process=process)
+def test_services_serve_osc_on_the_stream_wherever_it_runs(process):
+    stream = open_stream(None, process=process)
     events = Events()
-    live = LiveServices(stream, events)
+    live = StreamServices(stream, events)
     client = None
     try:
         live.start_osc(Scene(method="AS", mu=0.33, gamma=0.7), port=0)
@@ -98,16 +96,15 @@ def test_live_services_serve_osc_on_the_stream_wherever_it_runs(process):
     assert stream.last_levels.sum() == 0
 
 
-def test_live_services_refuse_a_stream_process_without_them_and_its_reserved_kinds():
-    stream = StreamerProcess()  # the device layer's own child: no services
-    with pytest.raises(TypeError, match=r"tactile_core\.live\._child"):
-        LiveServices(stream, lambda kind, payload: None)
+def test_services_commands_may_not_take_the_streams_own_kinds():
+    stream = StreamerProcess()
     with pytest.raises(ValueError, match="the stream's own"):
         stream.command("scene", 0, None)
 
 
-def test_live_services_a_bad_command_is_an_event_and_the_stream_goes_on():
-    stream = open_stream(None, child=CHILD_MODULE)
+@pytest.mark.parametrize("process", [True, False])
+def test_services_a_bad_command_is_an_event_and_the_stream_goes_on(process):
+    stream = open_stream(None, process=process)
     events = Events()
     stream.on_event.append(events)
     try:

@@ -20,7 +20,7 @@ PROBLEMS = (
 
 @dataclass(frozen=True)
 class ServeStats:
-    """Counters of an :class:`~tactile_core.live.OscServer`, read at one moment.
+    """Counters of an :class:`~tactile_core.serve.OscServer`, read at one moment.
 
     Attributes
     ----------

@@ -1,20 +1,18 @@
 """The stream process's side: open the link, stream, obey the parent's commands.
 
 :func:`serve` is the whole life of the child that :class:`~.process.StreamerProcess` starts
-(``python -m tactile_core.device.process``, or an entry module of a layer above that passes an
-*extension*). It reads commands from one pipe and writes events to the other:
+(``python -m tactile_core.stream.process``). It reads commands from one pipe and writes events
+to the other:
 
-- commands: ``("config", url, profile, scene, options)`` first, then ``("scene", id, scene)``,
-  ``("all_off",)``, ``("stop",)``, and any other kind for the extension;
+- commands: ``("config", url, profile, scene, options)`` first (``options`` a
+  :class:`~.options.StreamOptions`), then ``("scene", id, scene)``, ``("all_off",)``,
+  ``("stop",)``, and the services' commands (``osc-start``, ``lsl``, …: see
+  :mod:`tactile_core.serve`);
 - events, each ``(kind, payload)``: ``opened``, ``frame`` (about 100 a second), ``stats``,
-  ``onset``, ``stopped`` last, and any other kind the extension sends.
+  ``onset``, ``stopped`` last (:data:`STREAM_EVENTS`), and the services' events.
 
-An extension lets a layer above the device (the OSC server and the LSL outlets of
-:mod:`tactile_core.live`) live in the child beside the output thread without this layer
-importing it: ``extension(streamer, profile, send)`` is called once the stream runs and returns
-an object with ``handle(message)`` (a command of a kind this module does not know) and
-``close()`` (called before the stream stops, on every way out); ``send((kind, payload))``
-writes an event to the parent from any thread.
+The OSC server and the LSL outlets (:class:`~tactile_core.serve.ServicesHost`) live here beside
+the output thread, so another program's points never cross into the parent (a GUI).
 """
 
 from __future__ import annotations
@@ -24,8 +22,9 @@ import threading
 import time
 from multiprocessing.connection import Connection
 
-from .link import LinkError
-from .profile import profile_from_dict
+from ..device.link import LinkError
+from ..device.profile import profile_from_dict
+from ..serve import SWITCH_INTERVAL_S, ServicesHost
 
 CHILD_SWITCH_INTERVAL_S = 5e-5
 """The child's interpreter switch interval: its other threads (commands, publishing) then hold
@@ -34,8 +33,8 @@ streamer's own default, 0.5 ms, suits a process with other work to do; the child
 the tuner with the mu slider dragged, 30 scenes a second, the stream's p99 interval error after
 each write was 0.29-0.33 ms at 0.5 ms and 0.12-0.20 ms at 50 us.)"""
 
-BUILT_IN_EVENTS = ("opened", "frame", "stats", "onset", "stopped")
-"""Event kinds of the stream itself; any other kind is an extension's."""
+STREAM_EVENTS = ("opened", "frame", "stats", "onset", "stopped")
+"""Event kinds of the stream itself; any other kind is its services'."""
 
 
 def pin_to(cpus) -> bool:
@@ -47,15 +46,15 @@ def pin_to(cpus) -> bool:
     return True
 
 
-def serve(cmd: Connection, events: Connection, extension=None) -> None:
+def serve(cmd: Connection, events: Connection) -> None:
     """The child: open the link, stream, obey commands until told to stop or orphaned."""
-    from .link import open_link
+    from ..device.link import open_link
     from .streamer import Streamer
 
-    _, url, profile_data, scene, options = cmd.recv()
+    _, url, profile_data, scene, options, cpu = cmd.recv()
     profile = profile_from_dict(profile_data, source="profile")
-    if options.get("cpu") is not None:
-        pin_to(options["cpu"])
+    if cpu is not None:
+        pin_to(cpu)
     lock = threading.Lock()
 
     def send(message) -> None:
@@ -80,9 +79,7 @@ def serve(cmd: Connection, events: Connection, extension=None) -> None:
         link,
         profile,
         scene=scene,
-        reconnect=options["reconnect"],
-        realtime=options["realtime"],
-        lead_s=options["lead_s"],
+        options=options,
         on_status=lambda s: send(("stats", s)),
         on_onset=[onset],
         switch_interval_s=CHILD_SWITCH_INTERVAL_S,
@@ -108,9 +105,9 @@ def serve(cmd: Connection, events: Connection, extension=None) -> None:
 
     publisher = threading.Thread(target=publish, name="publish", daemon=True)
     publisher.start()
-    helper = None
+    services = None
     try:
-        helper = None if extension is None else extension(streamer, profile, send)
+        services = ServicesHost(streamer, profile, send, switch_interval_s=SWITCH_INTERVAL_S)
         while True:
             try:
                 message = cmd.recv()
@@ -126,15 +123,15 @@ def serve(cmd: Connection, events: Connection, extension=None) -> None:
                 streamer.all_off()
             elif kind == "stop":
                 break
-            elif helper is not None:
+            else:
                 try:
-                    helper.handle(message)
-                except Exception as exc:  # an extension's bug: said, and the stream goes on
+                    services.handle(message)
+                except Exception as exc:  # a bad command or a bug: said, and the stream goes on
                     send(("error", f"{kind}: {type(exc).__name__}: {exc}"))
     finally:
-        if helper is not None:
+        if services is not None:
             try:
-                helper.close()  # its own threads end before the stream's all-off frame
+                services.close()  # its own threads end before the stream's all-off frame
             except Exception:
                 pass
         stats = streamer.stop()

@@ -1,19 +1,18 @@
 """The OSC server and the LSL outlets beside a stream's output thread, run by commands.
 
-:class:`ServicesHost` is what a program's stream carries with it when another program may drive
-it (the tuner): it lives where the stream's output thread lives, so live points never cross a
-process and a flood of datagrams never reaches the program's own (GUI) thread. In the tuner it is
-the *extension* of the stream process (``python -m tactile_core.live._child``, see
-:mod:`tactile_core.device._stream_child`); for a stream in the program's own process,
-:class:`~tactile_core.live.LiveServices` runs it there with the same commands and events.
+:class:`ServicesHost` is what every stream carries with it so that another program may drive it
+(the tuner): it lives where the stream's output thread lives, in the stream process
+(:mod:`tactile_core.stream._child`) or in this one, so free points never cross a process and a
+flood of datagrams never reaches the program's own (GUI) thread. The program that owns the
+stream drives it through :class:`~tactile_core.stream.StreamServices`.
 
 Commands (tuples; ``handle``):
 
-- ``("osc-start", options)``: start an :class:`~tactile_core.live.OscServer` on the stream
+- ``("osc-start", options)``: start an :class:`~tactile_core.serve.OscServer` on the stream
   (``options``: ``scene``, ``host``, ``port``, ``timeout_s``, ``interpolate``,
   ``max_rate_hz``); ``("osc-scene", scene)``: the owner's method, correction and the rest for the
   points; ``("osc-off",)``: release every point; ``("osc-stop",)``: close it (all off);
-- ``("lsl", options)``: open :class:`~tactile_core.live.LslOutlets` on the stream
+- ``("lsl", options)``: open :class:`~tactile_core.serve.LslOutlets` on the stream
   (``options``: ``levels``, ``rate_hz``, ``source_id``), or close them (``options`` None).
 
 Events (``send((kind, payload))``, from any thread):

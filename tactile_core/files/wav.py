@@ -14,10 +14,15 @@ import numpy as np
 
 from .._shared import validate as _validate
 from .._shared.outfile import atomic_file
-from ._audio_synth import DEFAULT_RAMP_MS, synthesize
-from ._audio_url import CARRIER_RANGE_HZ, RAMP_RANGE_MS, SAMPLERATE_RANGE
-from .audio import carriers_for
-from .profile import DeviceProfile
+from ..device.audio import (
+    CARRIER_RANGE_HZ,
+    DEFAULT_RAMP_MS,
+    RAMP_RANGE_MS,
+    SAMPLERATE_RANGE,
+    carriers_for,
+    synthesize,
+)
+from ..device.profile import DeviceProfile
 
 TAIL_S = 0.01
 """Silence after the final fade: the file ends as the stream does, in zeros."""

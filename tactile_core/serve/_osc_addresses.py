@@ -1,6 +1,6 @@
 """The address space of the OSC server: what each message does, and what is wrong with it.
 
-:class:`AddressSpace` is the half of :class:`~tactile_core.live.OscServer` that turns one
+:class:`AddressSpace` is the half of :class:`~tactile_core.serve.OscServer` that turns one
 message (an address and its arguments, already read from a datagram) into a point update, a
 release, a new scene, or one count of a problem with the reason kept as ``last_problem``. It runs
 on the server's receiver thread; everything it changes is swapped in whole (the points table,

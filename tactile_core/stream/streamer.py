@@ -37,22 +37,23 @@ import weakref
 
 import numpy as np
 
+from .._shared import validate as _validate
+from ..device.host_clock import HostClock, raise_priority
+from ..device.link import LinkError
+from ..device.profile import DeviceProfile, default_profile
+from ..device.wire import Info, Status, encode_frame, encode_timed, level_bits
 from ..rendering.correction import Dither
 from ..rendering.scene import Scene, check_scene
 from ._onsets import Onset, OnsetWatch
-from ._stream_plan import (
+from ._plan import (
     _ChannelLevels,
     _Plan,
-    _raise_priority,
     _reduce_timer_slack,
     same_source,
 )
-from ._stream_stats import StatsBook, StreamStats
-from ._stream_talk import ArrayTalk
-from .host_clock import HostClock
-from .link import LinkError
-from .profile import DeviceProfile, default_profile
-from .wire import Info, Status, encode_frame, encode_timed, level_bits
+from ._stats import StatsBook, StreamStats
+from ._talk import ArrayTalk
+from .options import StreamOptions
 
 __all__ = ["Onset", "StreamStats", "Streamer"]
 
@@ -93,23 +94,20 @@ class Streamer:
         Rate of the all-zero keep-alive frames while paused or idle (>= 10 Hz).
     spin_s : float
         The last part of each wait is a busy spin of at most this long, for sub-100-us timing.
-    reconnect : bool
-        After a link error, retry every ``reconnect_interval_s`` instead of stopping.
+    options : StreamOptions, optional
+        Reconnect, real-time priority and the lead (:class:`~.options.StreamOptions`; its
+        ``own_core`` is for a stream process). With ``reconnect``, a link error is retried
+        every ``reconnect_interval_s`` instead of stopping. A lead sends frames that far ahead,
+        timed to be played at their deadline plus the lead on the array's clock; it needs
+        ``identify`` and an array that announces scheduled frames (others get frames for now).
     switch_interval_s : float or None
         While streaming, the interpreter's thread switch interval (``sys.setswitchinterval``)
         is lowered to this so the output thread gets the GIL back quickly from a busy GUI
         thread; restored on stop. None leaves it alone.
-    realtime : bool
-        Ask for real-time scheduling (SCHED_FIFO) of the output thread, so that other busy
-        processes cannot delay a frame (Linux, with privileges; the status says if refused).
     identify : bool
         On connecting (and reconnecting), send a hello and check the array's info against the
         profile: a mismatch refuses to stream (state ``"refused"``); no answer within 0.5 s is
         an array that does not identify itself, which is driven anyway and reported so.
-    lead_s : float
-        Send frames this far ahead, timed to be played at their deadline plus ``lead_s`` on the
-        array's clock (0 to 0.5 s; 0: frames for now). Needs ``identify`` and an array that
-        announces scheduled frames; others get frames for now.
     clock : HostClock, optional
         The clock deadlines are kept on (``time.perf_counter`` by default; a
         :class:`~.host_clock.VirtualClock` makes a stream's timing exact in tests).
@@ -132,23 +130,23 @@ class Streamer:
         profile: DeviceProfile | None = None,
         *,
         scene: Scene | None = None,
+        options: StreamOptions | None = None,
         taps=(),
         on_status=None,
         idle_rate_hz: float = 20.0,
         spin_s: float = 0.0003,
-        reconnect: bool = False,
         reconnect_interval_s: float = 0.5,
         switch_interval_s: float | None = 0.0005,
-        realtime: bool = False,
         identify: bool = True,
-        lead_s: float = 0.0,
         clock: HostClock | None = None,
         on_onset=(),
     ):
         if not 10.0 <= idle_rate_hz <= 1000.0:
             raise ValueError(f"idle_rate_hz must be within [10, 1000], got {idle_rate_hz!r}")
-        if not (isinstance(lead_s, int | float) and 0.0 <= lead_s <= 0.5):
-            raise ValueError(f"lead_s must be within [0, 0.5] seconds, got {lead_s!r}")
+        options = StreamOptions() if options is None else options
+        if not isinstance(options, StreamOptions):
+            raise ValueError(f"options must be StreamOptions, got {_validate.shown(options)}")
+        self.options = options
         self.link = link
         self.profile = profile or default_profile()
         self._scene = scene
@@ -158,12 +156,12 @@ class Streamer:
         self.on_status = on_status
         self.idle_rate_hz = idle_rate_hz
         self.spin_s = spin_s
-        self.reconnect = reconnect
+        self.reconnect = options.reconnect
         self.reconnect_interval_s = reconnect_interval_s
         self.switch_interval_s = switch_interval_s
-        self.realtime = realtime
+        self.realtime = options.realtime
         self.identify = identify
-        self.lead_s = float(lead_s) if identify else 0.0
+        self.lead_s = options.lead_s if identify else 0.0
         self.clock = clock or HostClock()
         self._talk = ArrayTalk(link, self.profile, lead_s=self.lead_s, update=self._set,
                                clock=self.clock)  # fmt: skip
@@ -335,7 +333,7 @@ class Streamer:
     def _run(self) -> None:
         _reduce_timer_slack()
         if self.realtime:
-            self._priority_note = _raise_priority()
+            self._priority_note = raise_priority()
             self._set(realtime=not self._priority_note)
         self._started_at = self.clock.now()
         seq = 0

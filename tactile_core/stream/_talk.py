@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import threading
 
-from .clock import ArrayClock
-from .link import identify
-from .wire import (
+from ..device.clock import ArrayClock
+from ..device.link import identify
+from ..device.wire import (
     ClockReply,
     Info,
     MessageReader,
@@ -25,10 +25,6 @@ from .wire import (
     level_bits,
 )
 
-DEFAULT_LEAD_MS = 20.0
-"""The lead a stream uses unless told otherwise (``--lead-ms``, the tuner's setting, a preset's
-``lead_ms``): from the lead table in docs/benchmarks.md, the shortest lead that kept every timed
-frame on time with both host cores busy."""
 SYNC_BURST = 8
 """Clock exchanges before the first timed frame."""
 SYNC_EVERY_S = 0.25
@@ -55,7 +51,7 @@ class ArrayTalk:
     """
 
     def __init__(self, link, profile, *, lead_s: float, update, clock=None):
-        from .host_clock import HostClock
+        from ..device.host_clock import HostClock
 
         self.link = link
         self._clock = clock or HostClock()
@@ -214,4 +210,4 @@ class ArrayTalk:
         )
 
 
-__all__ = ["DEFAULT_LEAD_MS", "SYNC_BURST", "SYNC_EVERY_S", "ArrayTalk"]
+__all__ = ["SYNC_BURST", "SYNC_EVERY_S", "ArrayTalk"]

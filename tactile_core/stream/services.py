@@ -1,18 +1,14 @@
 """The OSC server and the LSL outlets of a stream, from the program that owns the stream.
 
-:class:`LiveServices` gives a program (the tuner) one way to run another program's points and
-the stimulus markers on its stream, wherever the stream's output thread runs:
-
-- a stream process started with ``child=CHILD_MODULE`` (``python -m tactile_core.live._child``)
-  runs a :class:`~._services_host.ServicesHost` beside its output thread; commands go down the
-  stream's pipe (``StreamerProcess.command``) and events come back through its ``on_event``
-  hooks;
-- a stream in this process (``open_stream(..., process=False)``) gets a ``ServicesHost`` here,
-  with the same commands and events.
+Every stream (:class:`~.process.StreamerProcess`, :class:`~._local.LocalStream`) carries its
+services where its output thread runs: a :class:`~tactile_core.serve.ServicesHost` in the child
+process, or in this one for a thread. :class:`StreamServices` is the owner's side: commands go
+down through the stream's ``command`` and the news comes back through its ``on_event`` hooks, so
+another program's points never pass through the owner's (GUI) thread.
 
 Everything is asynchronous: a call returns at once and what came of it arrives as an event
 ``on_event(kind, payload)`` (``osc-started``, ``osc-failed``, ``osc-stats``, ``osc-scene``,
-``lsl-opened``, …; the list is in :mod:`._services_host`), from another thread.
+``lsl-opened``, …; the list is in :mod:`tactile_core.serve`), from another thread.
 """
 
 from __future__ import annotations
@@ -20,41 +16,25 @@ from __future__ import annotations
 from .._shared import validate as _validate
 from ..rendering.points import DEFAULT_TIMEOUT_S
 from ..rendering.scene import Scene
-from ._osc_server import DEFAULT_PORT
-from ._services_host import ServicesHost
-
-CHILD_MODULE = "tactile_core.live._child"
-"""The stream process's entry module with the services: ``open_stream(..., child=...)``."""
+from ..serve import DEFAULT_PORT
 
 
-class LiveServices:
+class StreamServices:
     """The OSC server and LSL outlets of ``stream``, by commands; their news by events.
 
     Parameters
     ----------
     stream : StreamerProcess or LocalStream
-        A stream process must run :data:`CHILD_MODULE` (``TypeError`` otherwise: its child
-        would ignore the commands); a stream of this process (anything with ``streamer`` or
-        itself a ``Streamer``) gets the services in this process.
+        Anything with ``command(kind, *args)`` and an ``on_event`` list of hooks.
     on_event : callable
-        ``on_event(kind, payload)`` from another thread (or, in this process, from the caller's
-        or the server's threads): hand it to your own thread.
+        ``on_event(kind, payload)`` from another thread: hand it to your own thread.
     """
 
     def __init__(self, stream, on_event):
         self.stream = stream
         self.on_event = on_event
-        self.host: ServicesHost | None = None
-        if hasattr(stream, "command"):  # a stream process
-            if getattr(stream, "child", None) != CHILD_MODULE:
-                raise TypeError(f"the stream process runs {getattr(stream, 'child', '?')}, "
-                                f"not {CHILD_MODULE}: open it with child=CHILD_MODULE")  # fmt: skip
-            stream.on_event.append(self._event)
-            self._command = stream.command
-        else:
-            streamer = getattr(stream, "streamer", stream)
-            self.host = ServicesHost(streamer, stream.profile, lambda m: self._event(*m))
-            self._command = lambda kind, *args: self.host.handle((kind, *args))
+        stream.on_event.append(self._event)
+        self._command = stream.command
 
     def _event(self, kind, payload) -> None:
         self.on_event(kind, payload)
@@ -63,7 +43,7 @@ class LiveServices:
                   timeout_s: float = DEFAULT_TIMEOUT_S, interpolate: bool = False,
                   max_rate_hz: float = 10_000.0) -> None:  # fmt: skip
         """Start serving OSC on the stream with ``scene``'s method and correction for the
-        points (see :class:`~tactile_core.live.OscServer`); ``osc-started`` or ``osc-failed``
+        points (see :class:`~tactile_core.serve.OscServer`); ``osc-started`` or ``osc-failed``
         says how it went. ``ValueError`` here for a value that is wrong whatever the stream."""
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a Scene, got {_validate.shown(scene)}")
@@ -105,11 +85,7 @@ class LiveServices:
         self._command("lsl", None)
 
     def close(self) -> None:
-        """Before the stream stops: in this process, the server and outlets close (a stream
-        process closes its own when it stops); no more events."""
-        hooks = getattr(self.stream, "on_event", None)
-        if hooks is not None and self._event in hooks:
-            hooks.remove(self._event)
-        if self.host is not None:
-            self.host.close()
+        """No more events (the stream closes its services when it stops)."""
+        if self._event in self.stream.on_event:
+            self.stream.on_event.remove(self._event)
         self.on_event = lambda kind, payload: None

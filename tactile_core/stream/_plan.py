@@ -10,16 +10,15 @@ from __future__ import annotations
 
 import ctypes
 import math
-import os
 import sys
 import time
 
 import numpy as np
 
+from ..device.profile import DeviceProfile
+from ..device.wire import KEEPALIVE_S
 from ..rendering.correction import Dither, quantize1
 from ..rendering.scene import Scene
-from .profile import DeviceProfile
-from .wire import KEEPALIVE_S
 
 
 def _reduce_timer_slack() -> None:
@@ -29,25 +28,6 @@ def _reduce_timer_slack() -> None:
             ctypes.CDLL(None).prctl(29, 1000, 0, 0, 0)  # PR_SET_TIMERSLACK, 1 us
         except (OSError, AttributeError):
             pass
-
-
-def _raise_priority(priority: int = 10) -> str:
-    """Try to give the calling thread real-time priority (SCHED_FIFO ``priority``, 10 for the
-    output thread); say what happened (empty when granted).
-
-    Linux grants it to root or to users with an ``rtprio`` limit (``ulimit -r``, or
-    ``/etc/security/limits.conf``). The output thread sleeps most of each frame and spins at most
-    ``spin_s``, so it cannot starve the machine.
-    """
-    try:
-        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(priority))
-    except AttributeError:
-        return "real-time priority is not available on this system"
-    except PermissionError:
-        return "real-time priority not permitted (raise the rtprio limit: ulimit -r 10)"
-    except OSError as exc:
-        return f"real-time priority failed: {exc}"
-    return ""
 
 
 def same_source(a, b) -> bool:
