@@ -11,9 +11,10 @@ from pathlib import Path
 from PySide6 import QtCore, QtWidgets
 
 from tactile_core._shared.outfile import atomic_file, check_output
+from tactile_core.rendering import placement
 from tactile_core.rendering.methods import PAPER_METHODS, get_method
 
-from . import dialogs, layouts
+from . import dialogs
 from .state import TunerState
 from .widgets import MethodSetWidget
 
@@ -86,7 +87,7 @@ class BlindPanel(QtWidgets.QWidget):
         intro.setWordWrap(True)
         layout.addWidget(intro)
         self.chooser = MethodSetWidget(self.methods, 2, 8)
-        self.chooser.check = lambda spec: layouts.refusal(spec, state.layout)
+        self.chooser.check = lambda spec: placement.refusal(spec, state.layout)
         self.chooser.methods_changed.connect(self._on_methods_chosen)
         self._grid_methods = None  # the set chosen on a grid, while a layout restricts it
         layout.addWidget(self.chooser)
@@ -137,7 +138,7 @@ class BlindPanel(QtWidgets.QWidget):
         """Keep the methods that render on ``layout`` (the window allows no layout change
         during a session or with unsaved ratings)."""
         wanted = self._grid_methods or self.methods
-        methods, dropped = layouts.restricted(wanted, layout)
+        methods, dropped = placement.restricted(wanted, layout)
         if methods != self.methods:
             try:
                 self.set_methods(methods)
@@ -145,7 +146,7 @@ class BlindPanel(QtWidgets.QWidget):
                 self.chooser.refuse(str(exc))
                 return
         self._grid_methods = list(wanted) if dropped else None
-        self.chooser.refuse(layouts.restriction_note(dropped, methods, layout, "blind test of"),
+        self.chooser.refuse(placement.restriction_note(dropped, methods, layout, "blind test of"),
                             warn=False)  # fmt: skip
 
     def _build_rows(self) -> None:

@@ -8,10 +8,10 @@ import numpy as np
 from PySide6 import QtWidgets
 
 import tactile_core as tc
+from tactile_core.rendering import placement
 from tactile_core.rendering.curves import activation_curves
 from tactile_core.rendering.methods import PAPER_METHODS, get_method
 
-from . import layouts
 from .state import TunerState
 from .views import CurvesView, HeatmapView, cell_colors
 from .widgets import MethodSetWidget
@@ -46,7 +46,7 @@ class CompareView(QtWidgets.QWidget):
         self._built_for = None
         self._shown_scene = None
         self._grid_methods = None  # the set chosen on a grid, while a layout restricts it
-        self.chooser.check = lambda spec: layouts.refusal(spec, state.layout)
+        self.chooser.check = lambda spec: placement.refusal(spec, state.layout)
         self.set_methods(list(methods))
         state.layout_changed.connect(self._on_state_layout_changed)
         self._on_state_layout_changed(state.layout)
@@ -61,13 +61,13 @@ class CompareView(QtWidgets.QWidget):
         self._built_for = None  # the views are built anew for the layout (when next shown)
         self._shown_scene = None
         wanted = self._grid_methods or self.methods
-        methods, dropped = layouts.restricted(wanted, layout)
+        methods, dropped = placement.restricted(wanted, layout)
         self._grid_methods = list(wanted) if dropped else None
         if methods != self.methods:
             self.set_methods(methods)
         elif self.isVisible():
             self._build()
-        self.chooser.refuse(layouts.restriction_note(dropped, methods, layout, "comparing"),
+        self.chooser.refuse(placement.restriction_note(dropped, methods, layout, "comparing"),
                             warn=False)  # fmt: skip
 
     # The views are built the first time they are needed (the tab shown, or asked for): a tuner
@@ -141,7 +141,7 @@ class CompareView(QtWidgets.QWidget):
             self._curves[spec].setXLink(first)
         # A strip (a belt: wider than tall) needs less height than a grid; the curves get it.
         w, h = self._heatmaps[methods[0]].extent()
-        strip = self.state.layout.grid is None and h < 0.6 * w
+        strip = not self.state.layout.is_grid and h < 0.6 * w
         grid.setRowStretch(0, 1 if strip else 3)
         grid.setRowStretch(1, 2)
         self._shown_scene = None
@@ -172,7 +172,7 @@ class CompareView(QtWidgets.QWidget):
                 mu=mu,
                 gamma=gamma,
                 samples=600,
-                grid=self.state.target,
+                grid=self.state.layout,
             )
             colors = cell_colors(curves.cells)
             self.curves[name].set_curves(
@@ -196,7 +196,7 @@ class CompareView(QtWidgets.QWidget):
                 heat.set_frame(np.zeros(heat.values.shape))
                 heat.set_point(None)
             else:
-                frame = tc.render(scene.shape, name, t, grid=self.state.target)
+                frame = tc.render(scene.shape, name, t, grid=self.state.layout)
                 mu, gamma = get_method(name).own_correction(scene.mu, scene.gamma)
                 heat.set_frame(tc.correct(frame, mu, gamma, gain=scene.gain))
                 heat.set_point(scene.shape.point(t))

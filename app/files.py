@@ -231,7 +231,7 @@ class FileActions(QtCore.QObject):
         except (TactError, ValueError) as exc:
             self.error_raised.emit(str(exc))
             return False
-        target = self.device.profile.target
+        target = self.device.profile.layout
         paths, dots = pattern.paths(target), pattern.dots(target)
         if not paths and not dots:
             self.error_raised.emit(f"{path}: no paths or dots to play")
@@ -262,7 +262,7 @@ class FileActions(QtCore.QObject):
         current array's actuators."""
         path = Path(path)
         try:
-            written = write_tact(path, path_of_scene(self.state.scene), self.device.profile.target,
+            written = write_tact(path, path_of_scene(self.state.scene), self.device.profile.layout,
                                  name=path.stem[: tact.MAX_NAME_CHARS])  # fmt: skip
         except (OSError, ValueError) as exc:
             self.error_raised.emit(f"could not export {path}: {exc}")

@@ -23,11 +23,10 @@ from __future__ import annotations
 
 from PySide6 import QtCore
 
+from tactile_core.rendering import placement
 from tactile_core.rendering.methods import get_method
 from tactile_core.rendering.points import free_method
 from tactile_core.serve import DEFAULT_PORT
-
-from . import layouts
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
@@ -107,7 +106,7 @@ class LiveController(QtCore.QObject):
             return False
         method = self.state.scene.method
         if get_method(method).needs_shape:
-            instead = "AS" if self.state.layout.grid is not None else layouts.FALLBACK
+            instead = placement.default_method(self.state.layout, free_points=True)
             self.state.update(method=instead)
             self._post(f"{method} needs a shape: the driven points play {instead}")
         self.serving = "starting"
@@ -154,7 +153,7 @@ class LiveController(QtCore.QObject):
     def _divert(self, scene) -> None:
         why = self._method_guard(scene.method)
         if why:  # a whole scene (a preset) with MM or IM: the points keep theirs, and so the state
-            instead = "AS" if self.state.layout.grid is not None else layouts.FALLBACK
+            instead = placement.default_method(self.state.layout, free_points=True)
             QtCore.QTimer.singleShot(0, lambda: self.state.update(method=instead))
             self._post(f"{why}; playing {instead}")
             return

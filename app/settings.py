@@ -32,7 +32,7 @@ def restore_window(window) -> None:
     if window_state is not None:
         window.restoreState(window_state)
     mode = settings.value("view_mode")
-    if mode and (mode != "predicted" or window.state.layout.grid is not None):  # grids only
+    if mode and (mode != "predicted" or window.state.layout.is_grid):  # grids only
         window.state.set_view_mode(str(mode))
     lanes = str(settings.value("lanes", "false")).lower() == "true"
     window.tune.lanes_check.setChecked(lanes)

@@ -5,11 +5,10 @@ from __future__ import annotations
 from PySide6 import QtCore
 
 import tactile_core as tc
+from tactile_core.rendering import placement
 from tactile_core.rendering.geometry import Grid
 from tactile_core.rendering.layout import Layout
 from tactile_core.rendering.scene import Scene
-
-from . import layouts
 
 DEFAULT_SCENE = Scene(tc.Line((0.5, 1.84), (4.5, 4.16)), "AS", mu=0.33, gamma=0.7)
 """The Experiment 1 line with area sampling at the paper's mu and gamma."""
@@ -87,7 +86,7 @@ class TunerState(QtCore.QObject):
         self._scene = scene or DEFAULT_SCENE
         self._view_mode = "corrected"
         self._show_levels = False
-        self._layout = Layout.from_grid(Grid())
+        self._layout = Grid()
         self.last_message = ""
         """The last status message (one posted before anything listened: shown at start-up)."""
         self.method_guard = None
@@ -135,7 +134,7 @@ class TunerState(QtCore.QObject):
             changes["hold_s"] = None
         if changes.get("shape") is not None and "source" not in changes:
             changes["source"] = None  # a shape picked replaces a pattern, which would win
-        why = layouts.refusal(changes["method"], self._layout) if "method" in changes else ""
+        why = placement.refusal(changes["method"], self._layout) if "method" in changes else ""
         if why:
             self.error_raised.emit(why)
             return False
@@ -167,10 +166,10 @@ class TunerState(QtCore.QObject):
         if not isinstance(scene, Scene):
             self.error_raised.emit(f"scene must be a Scene, got {scene!r}")
             return False
-        why = layouts.refusal(scene.method, self._layout)
+        why = placement.refusal(scene.method, self._layout)
         if why:  # a preset's or an earlier scene's method: the layout's smooth method instead
-            self._post(layouts.fallback_note(scene.method, self._layout))
-            scene = scene.replace(method=layouts.FALLBACK)
+            self._post(placement.fallback_note(scene.method, self._layout))
+            scene = scene.replace(method=placement.FALLBACK)
         old = self._scene
         if scene == old:
             return True
@@ -202,13 +201,9 @@ class TunerState(QtCore.QObject):
 
     @property
     def layout(self) -> Layout:
-        """Where the device's actuators are (a grid's layout for a grid)."""
+        """Where the device's actuators are, and what the scene renders onto (a
+        :class:`~tactile_core.rendering.geometry.Grid` is one)."""
         return self._layout
-
-    @property
-    def target(self):
-        """What the scene renders onto: the :class:`Grid` of a grid, else the layout."""
-        return layouts.target(self._layout)
 
     def set_layout(self, layout: Layout) -> None:
         """Follow the device's layout: a method that cannot render on it becomes BA, a shape
@@ -217,7 +212,7 @@ class TunerState(QtCore.QObject):
         if layout == self._layout:
             return
         self._layout = layout
-        if layout.grid is None and self._view_mode == "predicted":
+        if not layout.is_grid and self._view_mode == "predicted":
             self._view_mode = "corrected"
             self.view_mode_changed.emit("corrected")
             self._post("the predicted view needs a grid: showing corrected intensities")
@@ -229,8 +224,8 @@ class TunerState(QtCore.QObject):
         layout's default shape for a shape that lies off it (a scene made for another array),
         each said in a status message."""
         scene, layout = self._scene, self._layout
-        if scene.shape is not None and not layouts.fits(scene.shape, layout):
-            shape = layouts.default_shape(layout)
+        if scene.shape is not None and not placement.fits(scene.shape, layout):
+            shape = placement.default_shape(layout)
             self._post(f"the shape lies off this layout ({layout.describe()}): {shape} instead")
             scene = scene.replace(shape=shape, hold_s=None)
         self.set_scene(scene)
@@ -251,7 +246,7 @@ class TunerState(QtCore.QObject):
                 f"view mode must be one of {', '.join(VIEW_MODES)}, got {mode!r}"
             )
             return
-        if mode == "predicted" and self._layout.grid is None:
+        if mode == "predicted" and not self._layout.is_grid:
             self.error_raised.emit(
                 "the predicted view needs a grid (the percept model sums tactors of a grid); "
                 f"this layout is {self._layout.describe()}"

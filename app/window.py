@@ -14,9 +14,10 @@ from __future__ import annotations
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from tactile_core.device.profile import default_profile
+from tactile_core.rendering import placement
 from tactile_core.rendering.methods import get_method
 
-from . import dialogs, layouts
+from . import dialogs
 from .blind import BlindPanel
 from .compare import CompareView
 from .controls import ControlsPanel
@@ -282,7 +283,7 @@ class MainWindow(QtWidgets.QMainWindow):
         if key > len(names):
             return False
         name = names[key - 1]
-        why = layouts.refusal(name, self.state.layout)
+        why = placement.refusal(name, self.state.layout)
         if why:
             self.show_error(why)
             return True

@@ -33,6 +33,7 @@ from ._shared import validate as _validate
 from .device.link import open_link
 from .device.profile import DeviceProfile, load_profile
 from .rendering.correction import check_correction
+from .rendering.placement import default_method
 from .rendering.points import TIMEOUT_RANGE_S as POINT_TIMEOUT_RANGE_S
 from .rendering.points import LivePoints, free_method
 from .rendering.scene import Scene
@@ -195,14 +196,14 @@ class Array:
         self._check_open()
         wait = _validate.boolean("wait", wait)  # "no" would block, None would not
         if method is None:
-            method = "IM" if self.profile.is_grid else "BA"
+            method = default_method(self.profile.layout)
         if isinstance(shape, str):
             shape = parse_shape(shape)
         kind = {"shape": shape} if isinstance(shape, Shape) else {"source": shape}
         scene = Scene(method=method, mu=mu, gamma=gamma, duration_s=duration_s, pause_s=0.0,
                       repeat=False, rate_hz=self.rate_hz, gain=gain, direction=direction,
                       marker=marker, epoch=next(self._epochs), **kind)  # fmt: skip
-        live = scene.live(self.profile.target, self.rate_hz)  # refused here, by name
+        live = scene.live(self.profile.layout, self.rate_hz)  # refused here, by name
         if "source" in kind:  # a pattern: its table now, not beside the output thread
             live.precompute()  # (the stream plays from it: the same frames, see TactPattern.live)
         presentation = Presentation(scene, self)
@@ -221,7 +222,7 @@ class Array:
         layout that is not one."""
         self._check_open()
         if method is None:
-            method = "AS" if self.profile.is_grid else "BA"
+            method = default_method(self.profile.layout, free_points=True)
         spec = free_method(method).spec
         mu, gamma = check_correction(mu, gamma)  # a refused call must not light the point
         self.points.set(point_id, x, y, intensity)

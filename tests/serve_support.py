@@ -70,7 +70,7 @@ def levels_of(method, points, mu, gamma, profile=None):
     profile = profile or default_profile()
     best = np.zeros(profile.channels)
     for x, y, a in points:
-        raw = tc.render_xy(method, x, y, grid=profile.target).reshape(-1)
+        raw = tc.render_xy(method, x, y, grid=profile.layout).reshape(-1)
         value = np.where(raw > 0, np.minimum(mu + a * (1 - mu) * raw**gamma, 1.0), 0.0)
         best = np.maximum(best, value)
     cells = tc.quantize(best, profile.levels)

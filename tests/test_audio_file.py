@@ -98,7 +98,7 @@ def test_wav_follows_the_profiles_channel_order_carriers_and_calibration(tmp_pat
     x, rate = read_wav(out)
     assert rate == 8000 and x.shape[1] == 4
     prof = load_profile(path)
-    frames = tc.render(tc.Line((0.5, 0.5), (1.5, 1.5)), "AS", np.arange(51) / 50, grid=prof.grid)
+    frames = tc.render(tc.Line((0.5, 0.5), (1.5, 1.5)), "AS", np.arange(51) / 50, grid=prof.layout)
     cells = tc.quantize(prof.calibrate(frames.reshape(51, 4)), 16)
     # column-major: channel 0 is cell 0 (r0c0), channel 1 cell 2 (r1c0), 2 cell 1, 3 cell 3
     levels = cells[:, [0, 2, 1, 3]]

@@ -27,7 +27,7 @@ def test_render_writes_the_patterns_frames(tmp_path, capsys):
     header = out.read_text().splitlines()[0].split(",")
     assert header == ["time", *VEST.layout.names]
     data = np.loadtxt(out, delimiter=",", skiprows=1)
-    time_s, frames = load_pattern(SAMPLE).frames("BA", VEST.target, rate_hz=50.0, mu=0.2,
+    time_s, frames = load_pattern(SAMPLE).frames("BA", VEST.layout, rate_hz=50.0, mu=0.2,
                                                  gamma=0.8)  # fmt: skip
     np.testing.assert_allclose(data[:, 0], time_s)
     np.testing.assert_allclose(data[:, 1:], frames, atol=1e-9)
@@ -112,7 +112,7 @@ def test_export_tact_writes_a_presets_drawn_path(tmp_path):
     out = tmp_path / "drawn.tact"
     assert main(["export-tact", "--preset", str(preset), "--position", "VestBack",
                  "--out", str(out)]) == 0  # fmt: skip
-    (back,) = load_pattern(out).paths(VEST.target)
+    (back,) = load_pattern(out).paths(VEST.layout)
     assert np.array(back.points) == pytest.approx(np.array(drawn.points), abs=1e-3)
     assert back.times_s == pytest.approx(drawn.times_s) and back.intensities == drawn.intensities
 

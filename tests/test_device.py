@@ -22,7 +22,7 @@ def palm_dict():
 
 def test_bundled_palm_profile_is_the_papers_array():
     p = default_profile()
-    assert (p.grid.cols, p.grid.rows) == (5, 6)
+    assert (p.layout.cols, p.layout.rows) == (5, 6)
     assert p.array.pitch_mm == 18.0 and p.levels == 23 and p.baud == 115200
     assert p.array.channels == tuple(range(30))  # channel = row * cols + col
     assert p.frame_bytes == 37
@@ -170,7 +170,7 @@ def test_fuzzed_profiles_never_crash_the_loader(overrides):
         profile = profile_from_dict(data)
     except ProfileError:
         return
-    assert profile.grid.size == len(profile.array.channels)
+    assert profile.layout.size == len(profile.array.channels)
 
 
 @given(json_values)

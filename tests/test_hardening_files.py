@@ -172,7 +172,7 @@ def test_a_pattern_of_many_long_paths_is_not_outlined(tmp_path):
     points = [ts.point(i / 999, (i % 2) * 0.5, 1.0, i) for i in range(1000)]
     effects = [ts.effect({"VestFront": ts.path_mode(points)}) for _ in range(21)]
     pattern = load_pattern(ts.write(tmp_path, ts.document(*effects)))
-    target = load_profile(None).target
+    target = load_profile(None).layout
     assert sum(len(p.points) for p in pattern.paths(target)) > MAX_OUTLINE_POINTS
     assert pattern_outlines(pattern, target) is None
     few = load_pattern(ts.write(tmp_path, ts.document(*effects[:2]), "few.tact"))

@@ -44,7 +44,7 @@ def with_layout(**changes):
 def test_shipped_profiles(name, size, grid):
     profile = load_profile(name)
     assert profile.channels == profile.layout.size == size
-    assert profile.is_grid is grid
+    assert profile.layout.is_grid is grid
 
 
 def test_sleeve_positions_in_pitches_and_groups():

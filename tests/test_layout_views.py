@@ -12,7 +12,7 @@ import pytest
 import tactile_core as tc
 from tactile_core.device.profile import find_profile
 from tactile_core.rendering.curves import activation_curves
-from tactile_tuner.layouts import default_shape, fits, shape_defaults, unrolled
+from tactile_core.rendering.placement import default_shape, fits, shape_defaults, unrolled
 
 from .helpers import record_sent
 

@@ -177,7 +177,7 @@ def test_triangle_ba_weights_sum_to_one_inside(u, v):
 def grid_points_layout(grid):
     """The grid's tactor centres as a layout that is not flagged a grid (so the layout path
     computes everything from the tessellation)."""
-    return Layout(Layout.from_grid(grid).positions)
+    return Layout(grid.positions)
 
 
 @settings(max_examples=60, deadline=None, derandomize=True, database=None)
@@ -215,13 +215,43 @@ def test_pk_on_a_layout_takes_the_three_nearest_that_exist():
     assert np.count_nonzero(f) == 3
 
 
-def test_a_grid_layout_renders_as_the_grid():
+def test_a_grid_is_a_layout_of_its_cell_centres():
     grid = tc.Grid(4, 3)
-    t = np.linspace(0, 1, 101)
+    assert isinstance(grid, Layout) and grid.is_grid
+    centres = [(c + 0.5, r + 0.5) for r in range(3) for c in range(4)]  # row-major, by hand
+    assert grid.positions == tuple(centres) and grid.size == 12
+    assert grid.names[:5] == ("r0c0", "r0c1", "r0c2", "r0c3", "r1c0")
+    assert grid.frame_shape == (3, 4) and grid.wire_shape == (4, 3)
+    np.testing.assert_array_equal(grid.xy, np.array(centres))
+    assert grid.distances(0.5, 0.5)[5] == pytest.approx(np.hypot(1.0, 1.0))  # to (1.5, 1.5)
+
+
+def test_a_layout_at_a_grids_centres_is_not_a_grid():
+    grid = tc.Grid(4, 3)
+    same = Layout(grid.positions)
+    assert not same.is_grid and same != grid and same.frame_shape == (12,)
     line = tc.Line((0.2, 0.4), (3.7, 2.6))
-    np.testing.assert_array_equal(
-        tc.render(line, "IM", t, grid=Layout.from_grid(grid)), tc.render(line, "IM", t, grid=grid)
+    with pytest.raises(ValueError, match="IM"):
+        tc.render(line, "IM", [0.5], grid=same)
+    # a method that renders anywhere gives the same values (to float rounding), flat
+    t = np.linspace(0, 1, 11)
+    np.testing.assert_allclose(
+        tc.render(line, "GS", t, grid=same),
+        tc.render(line, "GS", t, grid=grid).reshape(11, 12),
+        rtol=0,
+        atol=1e-15,
     )
+
+
+def test_grids_are_equal_by_size_immutable_and_survive_pickling():
+    import pickle
+
+    grid = tc.Grid(4, 3)
+    assert grid == tc.Grid(cols=4, rows=3) and hash(grid) == hash(tc.Grid(4, 3))
+    assert grid != tc.Grid(3, 4) and repr(grid) == "Grid(cols=4, rows=3)"
+    assert pickle.loads(pickle.dumps(grid)) == grid
+    with pytest.raises(AttributeError, match="immutable"):
+        grid.cols = 5
 
 
 # -- refusals -----------------------------------------------------------------------------------

@@ -171,10 +171,10 @@ def test_points_bad_values_are_refused_by_name():
 def test_points_on_a_layout_equal_render_xy_there():
     profile = load_profile("belt-8")
     points = LivePoints(clock=Clock())
-    live = Scene(method="GS", mu=0.1, gamma=0.8, source=points).live(profile.target, 300)
+    live = Scene(method="GS", mu=0.1, gamma=0.8, source=points).live(profile.layout, 300)
     for x in (0.0, 2.3, 7.9, 8.2):  # across the belt's seam too
         points.set("p", x, 0.0)
-        want = expected("GS", x, 0.0, 0.1, 0.8, grid=profile.target)
+        want = expected("GS", x, 0.0, 0.1, 0.8, grid=profile.layout)
         np.testing.assert_allclose(frame_of(live, 8), want, atol=1e-12)
 
 

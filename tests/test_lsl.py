@@ -55,7 +55,7 @@ def first_frame_after(taps, index, seq):
 def first_levels(scene, profile):
     """Channel-ordered levels of frame 0 of ``scene``."""
     cells = np.zeros(profile.channels)
-    for i, v in scene.live(profile.target, 300).entries(0):
+    for i, v in scene.live(profile.layout, 300).entries(0):
         cells[i] = v
     return bytes(tc.quantize(cells, profile.levels)[profile.array.channel_index].tolist())
 

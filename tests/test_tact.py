@@ -34,8 +34,8 @@ def test_coordinates_map_onto_the_actuator_extent_y_downward():
     assert layout_box(PALM) == (0.5, 4.5, 0.5, 5.5)
     assert unit_to_layout(0.0, 0.0, layout_box(PALM)) == (0.5, 5.5)  # top left
     assert unit_to_layout(1.0, 1.0, layout_box(PALM)) == (4.5, 0.5)  # bottom right
-    assert layout_box(VEST.target) == pytest.approx((0.0, 3.0, 0.0, 4.0))
-    belt = find_profile("belt-8").target
+    assert layout_box(VEST.layout) == pytest.approx((0.0, 3.0, 0.0, 4.0))
+    belt = find_profile("belt-8").layout
     _, _, y0, y1 = layout_box(belt)
     assert y0 == y1 and unit_to_layout(0.5, 0.3, layout_box(belt))[1] == y0
 
@@ -80,8 +80,8 @@ def test_a_dot_on_the_vest_lights_the_nearest_actuator_over_its_span():
         ts.effect({"VestFront": ts.dot_mode([(6, 0.8)], 100, 300)}, start_ms=200, length_ms=400)
     )
     pattern = pattern_of(data)
-    assert pattern.dots(VEST.target) == ((0.3, 0.5, 14, 0.8, "NONE"),)
-    time_s, frames = pattern.frames("EN", VEST.target, rate_hz=100.0)
+    assert pattern.dots(VEST.layout) == ((0.3, 0.5, 14, 0.8, "NONE"),)
+    time_s, frames = pattern.frames("EN", VEST.layout, rate_hz=100.0)
     on = np.flatnonzero(frames.any(axis=1))
     assert on.tolist() == list(range(30, 50))  # frame k's middle (k + 0.5) / 100 s in [0.3, 0.5)
     assert (frames[30:50, 14] == 0.8).all() and frames[30:50].sum() == pytest.approx(20 * 0.8)
@@ -123,18 +123,18 @@ def test_paths_and_dots_combine_by_the_maximum_per_actuator():
             ts.effect({"VestFront": ts.path_mode(rest)}),
             ts.effect({"VestFront": ts.dot_mode([(13, level)], 0, 1000)}),
         )
-        _, frames = pattern_of(data).frames("VRCH:r=0.5", VEST.target, rate_hz=10.0)
+        _, frames = pattern_of(data).frames("VRCH:r=0.5", VEST.layout, rate_hz=10.0)
         assert frames[:, 5] == pytest.approx(np.full(10, expected))
         assert np.count_nonzero(frames) == 10
 
 
 def test_fades_ramp_dots_and_paths_linearly_over_their_span():
     data = ts.document(ts.effect({"VestFront": ts.dot_mode([(0, 1.0)], 0, 1000, "FADE_IN")}))
-    _, frames = pattern_of(data).frames("EN", VEST.target, rate_hz=10.0)
+    _, frames = pattern_of(data).frames("EN", VEST.layout, rate_hz=10.0)
     assert frames[:, 16] == pytest.approx(np.arange(10) / 10 + 0.05)  # motor 0: top left
     rest = [ts.point(0, 0, 1.0, 0), ts.point(0, 0, 1.0, 1000)]
     data = ts.document(ts.effect({"VestFront": ts.path_mode(rest, fade="FADE_OUT")}))
-    _, frames = pattern_of(data).frames("EN", VEST.target, rate_hz=10.0)
+    _, frames = pattern_of(data).frames("EN", VEST.layout, rate_hz=10.0)
     assert frames[:, 16] == pytest.approx(1.0 - (np.arange(10) / 10 + 0.05))
 
 
@@ -142,7 +142,7 @@ def test_a_single_point_is_held_to_the_end_of_its_effect():
     data = ts.document(
         ts.effect({"VestFront": ts.path_mode([ts.point(1, 1, 0.7, 250)])}, length_ms=500)
     )
-    _, frames = pattern_of(data).frames("EN", VEST.target, rate_hz=20.0)
+    _, frames = pattern_of(data).frames("EN", VEST.layout, rate_hz=20.0)
     on = np.flatnonzero(frames[:, 3])  # bHaptics (1, 1): bottom right, actuator r0c3
     assert on.tolist() == [5, 6, 7, 8, 9] and frames[5, 3] == pytest.approx(0.7)
 
@@ -163,10 +163,10 @@ def test_positions_disabled_tracks_and_the_end():
     data["project"]["tracks"].reverse()  # positions in the order the file plays them
     assert pattern_of(data).position == "VestBack"
     data["project"]["tracks"].reverse()
-    assert pattern_of(data, "VestBack").dots(VEST.target)[0][2] == 16
+    assert pattern_of(data, "VestBack").dots(VEST.layout)[0][2] == 16
     with pytest.raises(TactError, match="position 'Head' holds no paths or dots"):
         pattern_of(data, "Head")
-    live = pattern_of(data).live("EN", VEST.target, tc.Sampling(100.0), 0.0, 1.0)
+    live = pattern_of(data).live("EN", VEST.layout, tc.Sampling(100.0), 0.0, 1.0)
     assert live.n_frames == 500 and live.entries(500) == () and live.entries(-1) == ()
 
 
@@ -181,16 +181,16 @@ def test_a_position_whose_paths_follow_another_positions_dots_is_found():
     )
     assert parse_tact(data).positions == ("VestBack", "VestFront")
     front = pattern_of(data, "VestFront")
-    assert len(front.paths(VEST.target)) == 1 and front.skipped == ("VestBack",)
+    assert len(front.paths(VEST.layout)) == 1 and front.skipped == ("VestBack",)
 
 
 def test_layout_only_methods_are_refused_on_a_layout():
     with pytest.raises(ValueError, match="AS"):
-        pattern_of(ts.simple()).live("AS", VEST.target, tc.Sampling(100.0), 0.0, 1.0)
+        pattern_of(ts.simple()).live("AS", VEST.layout, tc.Sampling(100.0), 0.0, 1.0)
 
 
 @pytest.mark.parametrize(
-    ("method", "target"), [("IM", PALM), ("AS", PALM), ("GS", VEST.target), ("BA", VEST.target)]
+    ("method", "target"), [("IM", PALM), ("AS", PALM), ("GS", VEST.layout), ("BA", VEST.layout)]
 )
 def test_table_and_scalar_frames_agree(method, target):
     pattern = pattern_of(ts.simple())
@@ -209,7 +209,7 @@ def test_the_designer_sample_imports():
     assert len(path.points) == 20 and path.pattern == "CONST_SPEED"
     assert path.points[3] == (1.0, 0.0) and path.times_s[3] == 0.17
     pattern = load_pattern("tests/data/testfeedback.tact")
-    _, frames = pattern.frames("BA", VEST.target, rate_hz=100.0)
+    _, frames = pattern.frames("BA", VEST.layout, rate_hz=100.0)
     assert frames.shape == (100, 20) and (frames.sum(axis=1) > 0).all()
 
 
@@ -217,7 +217,7 @@ def test_a_pattern_streamed_into_the_simulated_array_matches_the_batch_frames():
     pattern = pattern_of(ts.simple())
     scene = Scene(None, "EN", mu=0.2, gamma=0.8, rate_hz=100.0, source=pattern)
     n = 100  # the file ends at 1.0 s
-    _, frames = pattern.frames("EN", VEST.target, sampling=scene.sampling(), mu=0.2, gamma=0.8)
+    _, frames = pattern.frames("EN", VEST.layout, sampling=scene.sampling(), mu=0.2, gamma=0.8)
     expected = tc.quantize(frames, VEST.levels)[:, VEST.array.channel_index]
     taps = Taps()
     sim = SimulatedArray(VEST)
@@ -259,8 +259,8 @@ def test_many_overlapping_dots_match_a_dot_by_dot_computation():
                  for motor, level in items]  # fmt: skip
     pattern = pattern_of(ts.document(*effects))
     # (each motor's nearest actuator: tested above; the dots come in the file's order)
-    actuators = [d[2] for d in pattern.dots(VEST.target)]
-    time_s, frames = pattern.frames("EN", VEST.target, rate_hz=200.0, corrected=False)
+    actuators = [d[2] for d in pattern.dots(VEST.layout)]
+    time_s, frames = pattern.frames("EN", VEST.layout, rate_hz=200.0, corrected=False)
     expected = np.zeros_like(frames)
     ramp = {"NONE": lambda u: 1.0, "FADE_IN": lambda u: u, "FADE_OUT": lambda u: 1.0 - u,
             "FADE_IN_OUT": lambda u: 1.0 - abs(2.0 * u - 1.0)}  # fmt: skip
@@ -269,7 +269,7 @@ def test_many_overlapping_dots_match_a_dot_by_dot_computation():
             if s <= t < e:
                 expected[k, i] = max(expected[k, i], level * ramp[fade]((t - s) / (e - s)))
     assert frames == pytest.approx(expected, abs=1e-12) and expected.any()
-    live = pattern.live("EN", VEST.target, tc.Sampling(200.0, "point"), 0.0, 1.0)
+    live = pattern.live("EN", VEST.layout, tc.Sampling(200.0, "point"), 0.0, 1.0)
     scalar = np.array([live.frame(k) for k in range(live.n_frames)])
     assert scalar == pytest.approx(expected, abs=1e-12)
 

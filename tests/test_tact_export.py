@@ -20,7 +20,7 @@ from tactile_core.rendering.shapes import TimedPath, path_from_samples
 
 SAMPLE = "tests/data/testfeedback.tact"
 PALM = tc.Grid(5, 6)
-VEST = find_profile("vest-4x5").target
+VEST = find_profile("vest-4x5").layout
 POSITION_KEYS = ("layouts", "modes")
 
 

@@ -78,7 +78,7 @@ def test_live_path_equals_batch_on_a_grid_and_a_layout(method):
     )
     targets = [GRID]
     if method not in tc.METHOD_NAMES:
-        targets.append(find_profile("vest-4x5").target)
+        targets.append(find_profile("vest-4x5").layout)
     for target in targets:
         trace = tc.Trace(path, path.duration_s, 0.25)
         sampling = tc.Sampling(200.0, "box", 3)

@@ -42,7 +42,7 @@ def test_a_one_path_file_becomes_the_scenes_shape_and_exports_back(window, tmp_p
     assert scene.shape.points == ((0.5, 0.5), (4.5, 5.5)) and scene.shape.times_s == (0.0, 0.8)
     assert scene.duration_s == pytest.approx(0.8) and window.files.preset_name == "sweep"
     assert window.files.export_tact_file(tmp_path / "back.tact")
-    (back,) = load_pattern(tmp_path / "back.tact").paths(window.device.profile.target)
+    (back,) = load_pattern(tmp_path / "back.tact").paths(window.device.profile.layout)
     assert back.points == ((0.5, 0.5), (4.5, 5.5)) and back.times_s == (0.0, 0.8)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from PySide6 import QtCore, QtWidgets
 
+from tactile_core.rendering import placement
 from tactile_core.rendering.methods import (
     METHODS,
     PAPER_METHODS,
@@ -12,7 +13,6 @@ from tactile_core.rendering.methods import (
     method_names,
 )
 
-from .. import layouts
 from ..texts import DRAW_HELP, tip
 from ._common import SceneGroupWidget, spin_box
 
@@ -115,7 +115,7 @@ class MethodWidget(SceneGroupWidget):
             text = METHOD_TIPS.get(name, method.title)
             if method.plugin:
                 text += f" Plug-in ({method.source.removeprefix('plugin ')})."
-            why = layouts.refusal(name, self.state.layout)
+            why = placement.refusal(name, self.state.layout)
             model.item(combo.count() - 1).setEnabled(not why)
             combo.setItemData(combo.count() - 1, tip(why or text),
                               QtCore.Qt.ItemDataRole.ToolTipRole)  # fmt: skip
@@ -152,7 +152,7 @@ class MethodWidget(SceneGroupWidget):
         self._set(method=spec)
 
     def _on_state_layout_changed(self, layout) -> None:
-        grid = layout.grid is not None
+        grid = layout.is_grid
         self.setTitle("Method (keys 1-4)" if grid else "Method (keys 1-4 need a grid)")
         self.fill_other_methods()
         self._enable_buttons()
@@ -162,7 +162,7 @@ class MethodWidget(SceneGroupWidget):
         """Each of the paper's buttons on unless the layout, draw mode or a blind test says no;
         its tooltip says why."""
         for i, name in enumerate(PAPER_METHODS):
-            why = layouts.refusal(name, self.state.layout)
+            why = placement.refusal(name, self.state.layout)
             if not why and self._drawing and name in ("MM", "IM"):
                 why = DRAW_HELP
             if not why and self._free_only and name in ("MM", "IM"):

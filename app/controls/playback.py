@@ -80,15 +80,15 @@ class PlaybackWidget(SceneGroupWidget):
     def _on_state_layout_changed(self, layout) -> None:
         """'predicted' needs a grid (the percept model sums a grid's tactors)."""
         button = self.view_buttons.button(VIEW_MODES.index("predicted"))
-        button.setEnabled(layout.grid is not None)
+        button.setEnabled(layout.is_grid)
         button.setToolTip(tip(
-            VIEW_TIPS["predicted"] if layout.grid is not None else
+            VIEW_TIPS["predicted"] if layout.is_grid else
             f"Not available on this layout ({layout.describe()}): the predicted percept is "
             "modelled on a grid of tactors."
         ))  # fmt: skip
         # (the same words on a layout: a longer label would widen the dock past its width)
         self.levels_check.setToolTip(tip(
-            "Write each cell's value (or device level) in it" if layout.grid is not None
+            "Write each cell's value (or device level) in it" if layout.is_grid
             else "Write each actuator's value (or device level) on its disc, where it fits"
         ))  # fmt: skip
         self.refresh()

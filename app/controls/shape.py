@@ -5,8 +5,8 @@ from __future__ import annotations
 from PySide6 import QtCore, QtWidgets
 
 import tactile_core as tc
+from tactile_core.rendering import placement
 
-from .. import layouts
 from ..texts import count, tip
 from ._common import SceneGroupWidget, spin_box
 
@@ -64,7 +64,7 @@ class ShapeWidget(SceneGroupWidget):
         self.refresh()
 
     def _on_state_layout_changed(self, layout) -> None:
-        grid = layout.grid is not None
+        grid = layout.is_grid
         self.setTitle("Shape (grid units)" if grid else "Shape (layout units: pitches)")
         if layout.wrap is not None:
             self.setToolTip(tip(
@@ -80,7 +80,7 @@ class ShapeWidget(SceneGroupWidget):
         kind = SHAPES[index]
         scene = self.state.scene
         # Defaults that fit the layout (the paper's on the palm array).
-        defaults = layouts.shape_defaults(self.state.layout)
+        defaults = placement.shape_defaults(self.state.layout)
         if (
             scene.shape is None
             or scene.source is not None
@@ -116,7 +116,7 @@ class ShapeWidget(SceneGroupWidget):
         if kind not in SHAPES:
             self.shape_combo.setCurrentIndex(len(SHAPES))
             self.shape_stack.setCurrentIndex(len(SHAPES))
-            self.other_label.setText(describe_content(scene, self.state.target))
+            self.other_label.setText(describe_content(scene, self.state.layout))
             return
         self.shape_combo.setCurrentIndex(SHAPES.index(kind))
         self.shape_stack.setCurrentIndex(SHAPES.index(kind))

@@ -95,7 +95,7 @@ class ExperimentsPanel(QtWidgets.QWidget):
     def _on_state_layout_changed(self, layout) -> None:
         """The paper's experiments (and tuning by feel) run on a grid: on another layout Start
         is off and the run box says why; the analysis still works."""
-        grid = layout.grid is not None
+        grid = layout.is_grid
         why = ("" if grid else f"The paper's experiments and tuning by feel need a grid profile "
                f"such as palm-5x6; this profile is a layout ({layout.describe()}). The analysis "
                "of a results folder works on any profile.")  # fmt: skip

@@ -20,7 +20,7 @@ def planned_trials(plan: TuningPlan | None = None, grid=None) -> int:
     of every tactor, the gamma trials of both places and the corner trials (the runner's
     ``total``, which the console's progress bar counts)."""
     plan = plan or TuningPlan()
-    tactors, _ = default_layout(grid or default_profile().grid)
+    tactors, _ = default_layout(grid or default_profile().layout)
     if plan.tactors is not None:
         tactors = plan.tactors
     return 2 + len(tactors) * plan.threshold_trials + 2 * plan.gamma_trials + plan.corner_trials

@@ -5,9 +5,9 @@ from __future__ import annotations
 from PySide6 import QtCore
 
 import tactile_core as tc
+from tactile_core.rendering import placement
 from tactile_core.rendering.methods import get_method
 
-from .. import layouts
 from ..texts import DRAW_HELP
 
 
@@ -128,7 +128,7 @@ class HeatmapGestures(QtCore.QObject):
             self._draw_backup = self.state.scene
             changes = {"pause_s": 0.0, "playing": False}
             if get_method(self.state.scene.method).needs_shape:
-                free = "AS" if self.state.layout.grid is not None else layouts.FALLBACK
+                free = placement.default_method(self.state.layout, free_points=True)
                 changes["method"] = free
                 self.message_posted.emit(f"draw mode uses {free}: {DRAW_HELP}", 10_000)
             centre = self.heatmap.centre()

@@ -12,9 +12,8 @@ from tactile_core.rendering.correction import correct1
 from tactile_core.rendering.methods import get_method, mark_unavailable
 from tactile_core.rendering.methods._layout import layout_sampler
 from tactile_core.rendering.percept import REFERENCE
+from tactile_core.rendering.placement import default_method
 from tactile_core.rendering.rasterize import point_entries
-
-from ..layouts import FALLBACK
 
 DISPLAY_HZ = 60
 
@@ -139,10 +138,9 @@ class LiveDisplay(QtCore.QObject):
         """The lit tactors at ``t``: ``((flat index, raw value), ...)``, on the grid or, on a
         layout, through the method's sampler for it (built once per method and layout)."""
         layout = self.state.layout
-        grid = layout.grid
-        if grid is not None:
+        if layout.is_grid:
             sample1 = get_method(scene.method).sample1
-            return point_entries(scene.shape, sample1, t, grid.cols, grid.rows)
+            return point_entries(scene.shape, sample1, t, layout.cols, layout.rows)
         method, on, sampler = self._sampler
         if method != scene.method or on is not layout:
             sampler = layout_sampler(get_method(scene.method), layout)
@@ -196,7 +194,7 @@ class LiveDisplay(QtCore.QObject):
         """A plug-in method failed while playing: say so, list it as unavailable, and go back
         to AS (BA on a layout) with the array paused (all off)."""
         mark_unavailable(scene.method, str(exc))
-        back = "AS" if self.state.layout.grid is not None else FALLBACK
+        back = default_method(self.state.layout, free_points=True)
         self.error_raised.emit(f"{exc}; the plug-in is listed as unavailable, back to {back} "
                                "(paused)")  # fmt: skip
         self.state.update(method=back, playing=False)

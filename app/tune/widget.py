@@ -179,7 +179,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
     def _caption(self) -> None:
         """Under a layout, its profile's description (which way it runs, where it wraps)."""
         profile = self.device.profile
-        grid = self.state.layout.grid is not None
+        grid = self.state.layout.is_grid
         self.heatmap.set_caption("" if grid else f"{profile.name}: {profile.description}")
 
     def refresh(self) -> None:
@@ -201,7 +201,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         if self.state.view_mode == "predicted":
             if pattern is not None:
                 self._no_trace("the predicted view needs a shape, not a pattern")
-                heatmap.set_outline(pattern_outlines(pattern, self.state.target))
+                heatmap.set_outline(pattern_outlines(pattern, self.state.layout))
                 return
             self._show_predicted(scene)
             return
@@ -214,8 +214,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
                 if pattern.effects > MAX_PLOTTED_EFFECTS:
                     self._no_trace(f"{pattern.effects} paths and dots: too many to plot")
                     return
-                outline = pattern_outlines(pattern, self.state.target)
-                curves = pattern.curves(scene.method, self.state.target, mu=scene.mu,
+                outline = pattern_outlines(pattern, self.state.layout)
+                curves = pattern.curves(scene.method, self.state.layout, mu=scene.mu,
                                         gamma=scene.gamma, motor=motor)  # fmt: skip
                 period = pattern.duration_s
             else:
@@ -228,7 +228,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
                     mu=scene.mu,
                     gamma=scene.gamma,
                     samples=400,
-                    grid=self.state.target,
+                    grid=self.state.layout,
                     motor=motor,
                 )
         except ValueError as exc:  # a plug-in that cannot render here (the state checks ours)
@@ -263,7 +263,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         felt intensity over time in the curves view; in the title the ripple and centroid
         error, and the ripple's range over the grid of participants."""
         profile = self.device.profile
-        sent = dict(grid=profile.grid, rate_hz=min(scene.rate_hz, 1000.0), levels=profile.levels,
+        sent = dict(grid=profile.layout, rate_hz=min(scene.rate_hz, 1000.0), levels=profile.levels,
                     motor=profile.motor, duration_s=scene.duration_s)  # fmt: skip
         try:
             percept = predict(scene.shape, scene.method, scene.mu, scene.gamma, **sent)

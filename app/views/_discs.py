@@ -9,7 +9,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from ..layouts import unrolled
+from tactile_core.rendering.placement import unrolled
 
 WRAP_MARGIN = 0.6
 """How far the strip goes past the seam on each side, in layout units (shaded there)."""

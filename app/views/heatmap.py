@@ -147,7 +147,7 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         self._hovered = None
         self.layout = None
         self.cells = None
-        self.set_layout(layout if layout is not None else Layout.from_grid(Grid(cols, rows)))
+        self.set_layout(layout if layout is not None else Grid(cols, rows))
         self.scene().sigMouseMoved.connect(self._on_mouse_moved)
         self.plot.vb.sigResized.connect(self._on_plot_resized)
         self.apply_palette()
@@ -164,8 +164,7 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         if self.cells is not None:
             self.cells.remove()
         self._hovered = None
-        grid = layout.grid
-        self.cells = GridCells(self, grid) if grid is not None else Discs(self, layout)
+        self.cells = GridCells(self, layout) if layout.is_grid else Discs(self, layout)
         x0, x1, y0, y1 = self.cells.range
         self.plot.setRange(xRange=(x0, x1), yRange=(y0, y1), padding=0.0)
         bottom, left = self.cells.ticks()
@@ -187,12 +186,12 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
     @property
     def cols(self) -> int:
         """Columns of the grid drawn (on a layout: its actuators, as one row)."""
-        return self.layout.grid.cols if self.layout.grid is not None else self.layout.size
+        return self.layout.wire_shape[0]
 
     @property
     def rows(self) -> int:
         """Rows of the grid drawn (1 on a layout)."""
-        return self.layout.grid.rows if self.layout.grid is not None else 1
+        return self.layout.wire_shape[1]
 
     @property
     def values(self) -> np.ndarray:
@@ -233,7 +232,7 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
             label.setAttr("color", colors["foreground"].name())
             label.setText(label.text)
         self._wrap_caption()
-        outline = colors["foreground"] if self.layout.grid is None else QtGui.QColor("white")
+        outline = colors["foreground"] if not self.layout.is_grid else QtGui.QColor("white")
         self.outline.setPen(pg.mkPen(outline, width=2, style=QtCore.Qt.PenStyle.DashLine))
         self.cells.set_palette(colors)
 
@@ -247,7 +246,7 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         fills the view as it always has."""
         vb = self.plot.vb
         self._wrap_caption()
-        if self.layout.grid is not None or vb.width() <= 0:
+        if self.layout.is_grid or vb.width() <= 0:
             self.plot.setMaximumHeight(self._tallest)
             return
         w, h = self.extent()
@@ -307,7 +306,7 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         key = self.cells.key_at(x, y)
         if key is None:
             return
-        if self.layout.grid is not None:
+        if self.layout.is_grid:
             self.cell_clicked.emit(key[0], key[1], shift)
         else:
             self.actuator_clicked.emit(key, shift)

@@ -24,7 +24,7 @@ def layouts_table(rate_hz: float = 300.0, samples: int = 2000) -> Table:
     of each layout method on each shipped layout."""
     rows = []
     for name, shape in LAYOUT_SCENES.items():
-        layout = load_profile(name).target
+        layout = load_profile(name).layout
         trace = Trace(shape, duration_s=2.0, pause_s=0.0)
         t = np.linspace(0.0, 1.0, samples)
         for method in LAYOUT_METHODS:

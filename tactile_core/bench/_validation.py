@@ -33,7 +33,7 @@ def right_gamma(observer, mu: float) -> float:
     from ..rendering.correction import correct
     from ..rendering.rasterize import render_xy
 
-    grid = observer.profile.grid
+    grid = observer.profile.layout
     _, places = default_layout(grid)
     found = []
     for name in ("side", "above"):

@@ -49,7 +49,7 @@ def cmd_render(args) -> int:
     shape, method, mu, gamma, grid = _scene(args)
     names = [grid.cell_name(i) for i in range(grid.size)]
     if profile is not None:  # its grid or layout, and its actuators' names
-        grid = profile.target
+        grid = profile.layout
         check_renders(method, grid)
         names = list(profile.layout.names)
     pattern = load_tact_arg(args)
@@ -95,16 +95,17 @@ def _render_profile(args, wav: bool):
             profile = load_profile(args.profile) if args.profile is not None else default_profile()
         except ProfileError as exc:
             raise UsageError(str(exc)) from None
-        grid = profile.grid
-        for name, value in (("cols", grid.cols), ("rows", grid.rows)):
+        layout = profile.layout
+        cols, rows = layout.wire_shape
+        for name, value in (("cols", cols), ("rows", rows)):
             given = getattr(args, name)
-            if given is not None and not profile.is_grid:  # its actuators, not a grid's cells
+            if given is not None and not layout.is_grid:  # its actuators, not a grid's cells
                 raise UsageError(f"--{name} applies to a grid; the profile {profile.name} is a "
                                  f"layout of {profile.channels} actuators")  # fmt: skip
             if given is not None and given != value:
                 raise UsageError(f"--{name} {given} disagrees with the profile {profile.name}'s "
-                                 f"{grid.cols} x {grid.rows} grid")  # fmt: skip
-            if profile.is_grid:  # a layout's channel strip (up to 255 x 1) is not --cols
+                                 f"{layout.describe()}")  # fmt: skip
+            if layout.is_grid:  # a layout's channel strip (up to 255 x 1) is not --cols
                 setattr(args, name, value)
     args.cols = 5 if args.cols is None else args.cols
     args.rows = 6 if args.rows is None else args.rows
@@ -142,7 +143,7 @@ def _tabulate(scene, profile) -> None:
     effects at once can cost more than a frame lasts, and a table built in the background
     meanwhile takes the output thread's turns: 400 paths at once made 197 of 285 frames late.
     A pattern longer than the table holds plays as before (frame by frame)."""
-    live = scene.live(profile.target, scene.rate_hz)
+    live = scene.live(profile.layout, scene.rate_hz)
     if live.n_frames > MAX_TABLE_FRAMES:
         return
     if live.busiest_frame_s() * live.n_frames > 1.0:  # (an upper bound: the table is faster)
@@ -167,7 +168,7 @@ def cmd_stream(args) -> int:
         profile = load_profile(args.profile)
     except ProfileError as exc:
         raise UsageError(str(exc)) from None
-    check_renders(method, profile.target)
+    check_renders(method, profile.layout)
     pattern = load_tact_arg(args)
     if pattern is not None:
         print(f"playing {pattern.position} of {args.shape[len('tact:') :]}"

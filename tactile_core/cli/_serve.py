@@ -172,6 +172,7 @@ def _plain(data: dict) -> dict:
 def _check(args):
     """Everything the command line says, checked before anything opens."""
     from ..device.profile import ProfileError, load_profile
+    from ..rendering.placement import default_method
     from ..rendering.points import free_method
     from ..rendering.rasterize import check_renders
     from ..rendering.scene import Scene
@@ -181,9 +182,9 @@ def _check(args):
     except ProfileError as exc:
         raise UsageError(str(exc)) from None
     if args.method is None:  # AS, or its generalisation where AS needs the grid it lacks
-        args.method = "AS" if profile.is_grid else "BA"
+        args.method = default_method(profile.layout, free_points=True)
     method = free_method(args.method).spec
-    check_renders(method, profile.target)
+    check_renders(method, profile.layout)
     mu, gamma = check_correction(args.mu, args.gamma)
     scene = Scene(method=method, mu=mu, gamma=gamma, rate_hz=args.rate)
     if not 1.0 <= args.timeout_ms <= 60_000.0:

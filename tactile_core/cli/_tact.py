@@ -100,7 +100,7 @@ def cmd_export_tact(args) -> int:
         scene = preset.scene
         if profile_name is None and args.cols is None:
             try:
-                target = find_profile(preset.device_profile).target
+                target = find_profile(preset.device_profile).layout
             except ProfileError as exc:
                 raise UsageError(f"{exc} (name the array with --profile)") from None
     else:
@@ -125,7 +125,7 @@ def cmd_export_tact(args) -> int:
         target = Grid(cols, rows)
     elif profile_name is not None or args.preset is None:
         try:
-            target = load_profile(profile_name).target
+            target = load_profile(profile_name).layout
         except ProfileError as exc:
             raise UsageError(str(exc)) from None
     path = path_of_scene(scene)

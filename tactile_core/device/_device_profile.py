@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from .._shared.jsonfile import write_json_atomic
-from ..rendering.geometry import ArraySpec, Grid
+from ..rendering.geometry import ArraySpec
+from ..rendering.layout import Layout
 from ..rendering.motor import MotorResponse
 from ._layout_json import layout_to_json
 from ._profile_json import FORMAT, VERSION, profile_fields
@@ -27,7 +28,7 @@ class DeviceProfile:
     ----------
     name : str
     array : ArraySpec
-        Grid, pitch, levels and channel order.
+        Layout (a grid, or actuators anywhere), pitch, levels and channel order.
     baud : int
         Serial link speed in bit/s (8N1: 10 bits per byte).
     response : tuple of (tuple of float, tuple of float) or None
@@ -63,25 +64,11 @@ class DeviceProfile:
     carrier_hz: tuple | None = None
 
     @property
-    def grid(self) -> Grid:
-        """The tactor grid."""
-        return self.array.grid
-
-    @property
-    def layout(self):
-        """Where the actuators are (:class:`~tactile_core.rendering.layout.Layout`): the
-        grid's tactor centres for a grid profile."""
+    def layout(self) -> Layout:
+        """Where the actuators are, and what frames are rendered onto: a
+        :class:`~tactile_core.rendering.geometry.Grid` (the paper's methods and experiments
+        apply: ``layout.is_grid``) or actuators anywhere."""
         return self.array.layout
-
-    @property
-    def is_grid(self) -> bool:
-        """True for a grid of tactors (the paper's methods and experiments apply)."""
-        return self.array.is_grid
-
-    @property
-    def target(self):
-        """What frames are rendered onto: the Grid, or the Layout when it is not a grid."""
-        return self.array.target
 
     @property
     def levels(self) -> int:
@@ -91,7 +78,7 @@ class DeviceProfile:
     @property
     def channels(self) -> int:
         """Number of channels (one per tactor)."""
-        return self.array.grid.size
+        return self.array.size
 
     @property
     def frame_bytes(self) -> int:
@@ -165,21 +152,21 @@ class DeviceProfile:
 
     def to_dict(self) -> dict:
         """The JSON form of the profile."""
-        grid = self.grid
-        identity = self.array.channels == tuple(range(grid.size))
+        cols, rows = self.layout.wire_shape
+        identity = self.array.channels == tuple(range(self.array.size))
         data = {
             "format": FORMAT,
             "version": VERSION,
             "name": self.name,
             "description": self.description,
-            "columns": grid.cols,
-            "rows": grid.rows,
+            "columns": cols,
+            "rows": rows,
             "pitch_mm": self.array.pitch_mm,
             "levels": self.levels,
             "baud": self.baud,
             "channel_order": "row-major" if identity else list(self.array.channels),
         }
-        if not self.is_grid:
+        if not self.layout.is_grid:
             del data["columns"], data["rows"]
             data["layout"] = layout_to_json(self.layout, self.array.pitch_mm)
         if self.response is not None:
@@ -223,9 +210,9 @@ class DeviceProfile:
             "sha256_of": "file" if self.file_sha256 is not None else "json",
             "path": self.path,
             "levels": self.levels,
-            "columns": self.grid.cols,
-            "rows": self.grid.rows,
-            "layout": None if self.is_grid else self.layout.describe(),
+            "columns": self.layout.wire_shape[0],
+            "rows": self.layout.wire_shape[1],
+            "layout": None if self.layout.is_grid else self.layout.describe(),
             "calibration": calibration,
         }
 

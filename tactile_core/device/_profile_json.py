@@ -185,8 +185,8 @@ def profile_fields(data, source: str = "profile") -> dict:
             f"{source}: field 'channel_order' must be 'row-major', 'column-major' or a list, "
             f"got {_validate.shown(order)}"
         )
-    grid = None if layout is not None else Grid(cols=cols, rows=rows)
-    array = ArraySpec(grid, pitch_mm=pitch, levels=levels, channels=channels, layout=layout)
+    layout = Grid(cols=cols, rows=rows) if layout is None else layout
+    array = ArraySpec(layout, pitch_mm=pitch, levels=levels, channels=channels)
 
     response = None
     if data.get("response") is not None:

@@ -101,9 +101,9 @@ class ArrayModel:
         self.onsets: deque[tuple[float, Timed, bool]] = deque(maxlen=ONSETS_KEPT)
         """Timed frames played: ``(host time, frame, late)``, for emulators that log them (the
         latest :data:`ONSETS_KEPT`: a simulated array nobody reads must not grow)."""
-        grid = self.profile.grid
+        cols, rows = self.profile.layout.wire_shape
         name = self.profile.name.encode("ascii", "replace")[:64].decode("ascii")
-        self.info = Info(0, PROTOCOL_VERSION, grid.cols, grid.rows, self.profile.levels,
+        self.info = Info(0, PROTOCOL_VERSION, cols, rows, self.profile.levels,
                          round(watchdog_s * 1000), pwm_hz, name,
                          FEATURE_SCHEDULED if self.scheduled else 0,
                          QUEUE if self.scheduled else 0)  # fmt: skip

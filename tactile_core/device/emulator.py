@@ -266,8 +266,8 @@ class Emulator:
             period = float(np.median(intervals)) if len(intervals) else 0.0
         errors = np.abs(intervals - period) if len(intervals) else np.zeros(0)
         span = float(times[-1] - times[0]) if n > 1 else 0.0
-        grid = self.profile.grid
-        cells = np.zeros(grid.size, dtype=int)
+        cells = np.zeros(self.profile.channels, dtype=int)
+        cols, rows = self.profile.layout.wire_shape
         cells[self.profile.array.channel_index] = np.frombuffer(self.current, dtype=np.uint8)
         return {
             "path": self.path,
@@ -297,7 +297,7 @@ class Emulator:
             "info": self.model.info.describe(),
             # list() copies in one step: the emulator's thread may append while this is read
             "events": [(round(t - (self.started or 0.0), 6), e) for t, e in list(self.events)],
-            "last_levels": cells.reshape(grid.shape)[::-1].tolist(),  # top row first, as seen
+            "last_levels": cells.reshape(rows, cols)[::-1].tolist(),  # top row first, as seen
         }
 
     def summary(self) -> str:

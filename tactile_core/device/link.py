@@ -295,12 +295,12 @@ def identify(link, profile: DeviceProfile, seq: int = 0, timeout_s: float = HELL
     info = exchange(link, encode_hello(seq), Info, timeout_s)
     if info is None:
         return None, ""
-    grid = profile.grid
-    if (info.cols, info.rows, info.levels) != (grid.cols, grid.rows, profile.levels):
+    cols, rows = profile.layout.wire_shape
+    if (info.cols, info.rows, info.levels) != (cols, rows, profile.levels):
         return info, (
             f"array mismatch: the array reports {info.cols} x {info.rows} with {info.levels} "
             f"levels ({info.name or 'unnamed'}), the profile {profile.name} expects "
-            f"{grid.cols} x {grid.rows} with {profile.levels} levels; not streaming"
+            f"{cols} x {rows} with {profile.levels} levels; not streaming"
         )
     return info, ""
 

@@ -34,12 +34,10 @@ import numpy as np
 from .._shared import validate as _validate
 from ..rendering.correction import check_correction, correct, correct1
 from ..rendering.curves import ActivationCurves, curves_from_frames
-from ..rendering.layout import Layout, as_layout
 from ..rendering.methods import get_method, layout_sampler
 from ..rendering.rasterize import (
     check_renders,
     check_target,
-    frame_shape,
     layout_entries,
     point_entries,  # fmt: skip
     render,
@@ -56,7 +54,7 @@ patterns are computed frame by frame as they play."""
 def layout_box(target) -> tuple[float, float, float, float]:
     """``(x0, x1, y0, y1)``: the extent of the actuator centres of a Grid or Layout, in layout
     units (a grid's ``(0.5, cols - 0.5, 0.5, rows - 0.5)``)."""
-    xy = as_layout(check_target(target)).xy
+    xy = check_target(target).xy
     return (float(xy[:, 0].min()), float(xy[:, 0].max()), float(xy[:, 1].min()),
             float(xy[:, 1].max()))  # fmt: skip
 
@@ -244,7 +242,7 @@ def _paths(pattern: TactPattern, target) -> tuple:
 @lru_cache(maxsize=16)
 def _dots(pattern: TactPattern, target) -> tuple:
     box = layout_box(target)
-    layout = as_layout(target)
+    layout = target
     motors = pattern.file.layouts.get(pattern.position, {})
     out = []
     for dot in pattern.file.dots:
@@ -307,7 +305,7 @@ class PatternFrames:
         self._dot_starts = [d[0] for d in self._dots]
         self._dot_longest = max((e - s for s, e, *_ in self._dots), default=0.0)
         self._dot_columns = _dot_columns(self._dots)
-        if isinstance(self.grid, Layout):
+        if not self.grid.is_grid:
             entries1 = layout_sampler(self.method, self.grid).entries1
             self._entries = lambda shape, t: layout_entries(shape, entries1, t)
         else:
@@ -434,7 +432,7 @@ class PatternFrames:
         out = np.zeros(self.grid.size)
         for i, v in self.entries(k):
             out[i] = v
-        return out.reshape(frame_shape(self.grid))
+        return out.reshape(self.grid.frame_shape)
 
     def render(self, first: int, count: int, *, corrected: bool = True):
         """Frames ``first .. first + count - 1`` at once: ``(time_s, frames)`` as
@@ -462,4 +460,4 @@ class PatternFrames:
         if corrected:
             raw = correct(raw, self.mu, self.gamma, gain=self.gain)
         frames = raw.reshape(count, s, size).mean(axis=1)
-        return start, frames.reshape((count, *frame_shape(self.grid)))
+        return start, frames.reshape((count, *self.grid.frame_shape))

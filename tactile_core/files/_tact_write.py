@@ -26,7 +26,6 @@ import numpy as np
 from .._shared import validate as _validate
 from .._shared.jsonfile import write_json_atomic
 from .._shared.outfile import check_output
-from ..rendering.layout import as_layout
 from ..rendering.rasterize import check_target
 from ..rendering.shapes import MAX_POINTS, Line, Polyline, Shape, Square, TimedPath
 from ..rendering.trace import Trace
@@ -137,7 +136,7 @@ def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
         points[-1] = {"x": _r(u), "y": _r(v), "intensity": _r(path.intensities[-1]), "time": end}
     motors = [{"index": i, "x": _r(u), "y": _r(v)}
               for i, (u, v) in enumerate(layout_to_unit(x, y, box)
-                                         for x, y in as_layout(target).positions)]  # fmt: skip
+                                         for x, y in target.positions)]  # fmt: skip
     mode = {
         "mode": "PATH_MODE",
         "dotMode": {"dotConnected": False, "feedback": [

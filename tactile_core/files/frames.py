@@ -27,7 +27,7 @@ class Recorder:
 
     def __init__(self, array: ArraySpec):
         self.array = array
-        self.log = FrameLog(array.grid.size)
+        self.log = FrameLog(array.size)
 
     def __call__(self, time_s: float, seq: int, levels: bytes) -> None:
         """Tap interface: record one frame (channel-ordered levels)."""
@@ -49,15 +49,15 @@ class Recorder:
         """Write ``.csv`` (``time,seq,r0c0,...``) or ``.npz`` (``time``, ``seq``, ``levels``)."""
         path = check_output(path, (".csv", ".npz"), "record file")
         time_s, seq, levels = self.arrays()
-        grid = self.array.grid
+        size = self.array.size
         if path.suffix.lower() == ".npz":
             with atomic_file(path, binary=True) as f:
                 np.savez(f, time=time_s, seq=seq, levels=levels)
         else:
-            names = ["time", "seq", *(self.array.layout.cell_name(i) for i in range(grid.size))]
+            names = ["time", "seq", *(self.array.layout.cell_name(i) for i in range(size))]
             with atomic_file(path) as f:
                 f.write(",".join(names) + "\n")
-                flat = levels.reshape(len(seq), grid.size)
+                flat = levels.reshape(len(seq), size)
                 for t, s, row in zip(time_s.tolist(), seq.tolist(), flat.tolist()):
                     f.write(f"{t:.6f},{s}," + ",".join(map(str, row)) + "\n")
         return path

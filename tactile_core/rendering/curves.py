@@ -9,7 +9,6 @@ import numpy as np
 from .._shared import validate as _validate
 from .correction import check_correction, correct
 from .geometry import Grid
-from .layout import Layout
 from .rasterize import check_target, render
 from .trace import DIRECTIONS
 
@@ -140,7 +139,7 @@ def curves_from_frames(frames, time_s, *, mu: float, gamma: float, grid: Grid = 
     if motor is not None:
         rate = (samples - 1) / (time_s[-1] - time_s[0])
         felt, _ = motor.select(order).effective(corrected, rate)
-    if isinstance(grid, Layout):
+    if not grid.is_grid:
         cells = tuple(int(i) for i in order)
         names = tuple(grid.names[i] for i in cells)
     else:

@@ -1,4 +1,4 @@
-"""The tactor grid and the description of a physical array.
+"""The tactor grid, the description of a physical array, and snapping float noise to cells.
 
 Coordinates follow the paper (section 2.1) and the contract: tactors sit at the centres of unit
 cells of an axis-aligned grid whose lower-left cell corner is the origin. Cell ``(col, row)``
@@ -20,26 +20,24 @@ from .layout import Layout
 
 @dataclass(frozen=True)
 class ArraySpec:
-    """A physical tactor array: its grid, spacing, intensity levels and channel wiring.
+    """A physical tactor array: where its actuators are, their spacing, intensity levels and
+    channel wiring.
 
     Parameters
     ----------
-    grid : Grid
-        The tactor grid.
+    layout : Layout
+        Where the actuators are: a :class:`Grid` (the paper's palm array by default) or
+        actuators anywhere (:class:`~tactile_core.rendering.layout.Layout`, in pitches).
     pitch_mm : float
-        Centre-to-centre tactor spacing in millimetres (18 mm on the paper's palm array).
+        Centre-to-centre actuator spacing in millimetres (18 mm on the paper's palm array):
+        one layout unit.
     levels : int
         Number of intensity levels the drive electronics resolve, 2..256 (one byte per channel
         on the wire). Level 0 is off and ``levels - 1`` is full intensity.
     channels : tuple of int, optional
-        ``channels[k]`` is the flat cell index (``row * cols + col``) that drive channel ``k``
-        feeds. It must be a permutation of ``range(grid.size)``. The default is the identity:
-        channel = ``row * cols + col``.
-    layout : Layout, optional
-        Actuators anywhere (:class:`~tactile_core.rendering.layout.Layout`, in pitches)
-        instead of a grid. The grid is then ``size`` columns by 1 row, the *channel strip*
-        that flat indices, the wire format's info (``size x 1``) and the channel order use;
-        the paper's methods do not render on it. Without one, :attr:`layout` is the grid's.
+        ``channels[k]`` is the actuator index (on a grid the flat cell index
+        ``row * cols + col``) that drive channel ``k`` feeds. It must be a permutation of
+        ``range(layout.size)``. The default is the identity.
 
     Notes
     -----
@@ -47,35 +45,21 @@ class ArraySpec:
     roughly 300 Hz with 23 levels. The device link reuses this description.
     """
 
-    grid: Grid = None
+    layout: Layout = None
     pitch_mm: float = 18.0
     levels: int = 23
     channels: tuple[int, ...] | None = None
-    layout: Layout | None = None
 
     def __post_init__(self):
-        if self.layout is not None and not isinstance(self.layout, Layout):
-            raise ValueError(f"layout must be a Layout, got {_validate.shown(self.layout)}")
-        if self.layout is not None and self.layout.grid is not None:
-            strip = self.layout.grid
-        elif self.layout is not None:
-            strip = Grid(cols=self.layout.size, rows=1)
-        else:
-            strip = None
-        if self.grid is None:
-            object.__setattr__(self, "grid", strip or Grid())
-        if not isinstance(self.grid, Grid):
-            raise ValueError(f"grid must be a Grid, got {_validate.shown(self.grid)}")
-        if strip is not None and self.grid != strip:
-            raise ValueError(
-                f"grid must be the layout's channel strip, {strip.cols} x {strip.rows}, got "
-                f"{self.grid.cols} x {self.grid.rows}"
-            )
         if self.layout is None:
-            object.__setattr__(self, "layout", Layout.from_grid(self.grid))
+            object.__setattr__(self, "layout", Grid())
+        if not isinstance(self.layout, Layout):
+            raise ValueError(
+                f"layout must be a Grid or a Layout, got {_validate.shown(self.layout)}"
+            )
         object.__setattr__(self, "pitch_mm", _validate.positive("pitch_mm", self.pitch_mm))
         object.__setattr__(self, "levels", _validate.integer("levels", self.levels, 2, 256))
-        size = self.grid.size
+        size = self.layout.size
         if self.channels is None:
             channels = tuple(range(size))
         else:
@@ -96,18 +80,13 @@ class ArraySpec:
         object.__setattr__(self, "channels", channels)
 
     @property
-    def is_grid(self) -> bool:
-        """True when the actuators are a grid (the paper's methods apply)."""
-        return self.layout.grid is not None
-
-    @property
-    def target(self):
-        """What frames are rendered onto: the :class:`Grid`, or the layout that is not one."""
-        return self.grid if self.is_grid else self.layout
+    def size(self) -> int:
+        """Number of actuators (and drive channels)."""
+        return self.layout.size
 
     @property
     def channel_index(self) -> np.ndarray:
-        """``(size,)`` int array: flat cell index of each channel, for ``flat[channel_index]``."""
+        """``(size,)`` int array: actuator index of each channel, for ``flat[channel_index]``."""
         return np.asarray(self.channels, dtype=np.intp)
 
 

@@ -1,28 +1,27 @@
-"""Actuator layouts: actuators anywhere, the grid as one case among them.
+"""Actuator layouts: where the actuators of an array are, the grid as one kind among them.
 
 A :class:`Layout` lists actuator positions in *layout units*, where one unit is the device
-profile's pitch (so a grid's layout is its tactor centres ``(col + 0.5, row + 0.5)``, and
-shapes, radii and sigmas mean the same on a grid and on a layout). Sleeves and belts wrap
-around one axis (:class:`Wrap`): coordinates along it are taken modulo the circumference and
-distances are measured the short way round, so a point crossing the seam moves on without a
-jump. Vests group actuators (a front and a back panel).
+profile's pitch (so shapes, radii and sigmas mean the same on a grid and on any layout). Sleeves
+and belts wrap around one axis (:class:`Wrap`): coordinates along it are taken modulo the
+circumference and distances are measured the short way round, so a point crossing the seam
+moves on without a jump. Vests group actuators (a front and a back panel).
 
-Frames on a layout are flat, ``(..., size)`` in actuator order; on a grid (``layout.grid`` set)
-they keep the grid's ``(..., rows, cols)``. The paper's four methods are defined on a grid; the
-methods that depend only on the point (EN, PK, RO, GS, VRCH and BA) work on any layout
-(:mod:`tactile_core.rendering.methods`).
+A :class:`~tactile_core.rendering.geometry.Grid` *is* a layout (its actuators at the cell
+centres ``(col + 0.5, row + 0.5)``, in row-major order) whose :attr:`Layout.is_grid` is True:
+the one property the paper's four methods ask for. Everything else — size, frame shape,
+positions, distances, bounds — is asked of any layout the same way. Frames on a layout are
+flat, ``(..., size)`` in actuator order; on a grid they keep ``(..., rows, cols)``
+(:attr:`Layout.frame_shape`).
 """
 
 from __future__ import annotations
 
 import functools
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._shared import validate as _validate
-from ._grid import Grid
 
 MAX_ACTUATORS = 1024
 """Most actuators of a layout (a device profile allows at most 255: one byte on the wire)."""
@@ -83,26 +82,20 @@ class Layout:
     groups : mapping of str to sequence of int, optional
         Named groups of actuator indices (a vest's ``front`` and ``back``); an actuator may be
         in no group or in several.
-    grid : Grid, optional
-        Set by :meth:`from_grid` only: the layout *is* that grid (positions at its cell
-        centres, row-major order), and the paper's methods apply.
 
     Examples
     --------
     >>> belt = Layout([(k + 0.5, 0.5) for k in range(8)], wrap=Wrap("x", 8.0))
-    >>> belt.size, belt.frame_shape
-    (8, (8,))
+    >>> belt.size, belt.frame_shape, belt.is_grid
+    (8, (8,), False)
     >>> round(float(belt.distances(0.2, 0.5)[7]), 6)  # across the seam: 0.2 - (-0.5)
     0.7
-    >>> Layout.from_grid(Grid(2, 3)).frame_shape
-    (3, 2)
     """
 
     positions: tuple
     names: tuple = ()
     wrap: Wrap | None = None
     groups: tuple = ()
-    grid: Grid | None = None
 
     def __post_init__(self):
         pts = _positions(self.positions)
@@ -135,17 +128,7 @@ class Layout:
                     f"{along[i]:g} lies outside the circumference [0, {c:g})"
                 )
         object.__setattr__(self, "groups", _groups(self.groups, n))
-        if self.grid is not None and not isinstance(self.grid, Grid):
-            raise ValueError(
-                f"layout grid must be a Grid or None, got {_validate.shown(self.grid)}"
-            )
         _check_spacing(pts, self.wrap, names)
-
-    @classmethod
-    def from_grid(cls, grid: Grid) -> Layout:
-        """The layout of a grid: tactor ``(col, row)`` at ``(col + 0.5, row + 0.5)``, actuator
-        ``row * cols + col``, named ``"r{row}c{col}"``."""
-        return _grid_layout(grid)
 
     @property
     def size(self) -> int:
@@ -154,13 +137,20 @@ class Layout:
 
     @property
     def is_grid(self) -> bool:
-        """True for a grid's layout (:meth:`from_grid`): the paper's methods apply."""
-        return self.grid is not None
+        """True for a :class:`~tactile_core.rendering.geometry.Grid`: the paper's methods
+        apply. False for actuators anywhere."""
+        return False
 
     @property
     def frame_shape(self) -> tuple:
-        """Shape of one frame: the grid's ``(rows, cols)``, else ``(size,)``."""
-        return self.grid.shape if self.grid is not None else (self.size,)
+        """Shape of one frame: ``(size,)`` (a grid's is ``(rows, cols)``)."""
+        return (self.size,)
+
+    @property
+    def wire_shape(self) -> tuple[int, int]:
+        """``(cols, rows)`` the wire format's info announces: ``(size, 1)``, the *channel
+        strip* (a grid announces its own columns and rows)."""
+        return (self.size, 1)
 
     @property
     def xy(self) -> np.ndarray:
@@ -208,18 +198,6 @@ class Layout:
         dx, dy = self.deltas(x, y)
         return np.hypot(dx, dy)
 
-    def delta1(self, x: float, y: float, index: int) -> tuple[float, float]:
-        """Scalar :meth:`deltas` for one point and one actuator, with plain floats."""
-        ax, ay = self.positions[index]
-        dx, dy = x - ax, y - ay
-        if self.wrap is not None:
-            c = self.wrap.circumference
-            if self.wrap.axis == "x":
-                dx -= c * round(dx / c)
-            else:
-                dy -= c * round(dy / c)
-        return dx, dy
-
     def nearest(self, x: float, y: float) -> int:
         """Index of the actuator nearest to ``(x, y)`` (the lowest index on a tie)."""
         return int(np.argmin(self.distances(float(x), float(y))))
@@ -227,8 +205,6 @@ class Layout:
     def bounds(self, margin: float = 0.5) -> tuple[float, float, float, float]:
         """``(x0, x1, y0, y1)``: the actuators' extent plus ``margin``; along a wrap, one
         turn ``[0, circumference]``."""
-        if self.grid is not None:
-            return (0.0, float(self.grid.cols), 0.0, float(self.grid.rows))
         xy = self.xy
         lo = xy.min(axis=0) - margin
         hi = xy.max(axis=0) + margin
@@ -239,8 +215,6 @@ class Layout:
 
     def describe(self) -> str:
         """A few words: ``"8 actuators, wrapping in x (circumference 8)"``."""
-        if self.grid is not None:
-            return f"{self.grid.cols} x {self.grid.rows} grid"
         text = f"{self.size} actuator{'s' if self.size != 1 else ''}"
         if self.wrap is not None:
             text += f", wrapping in {self.wrap.axis} (circumference {self.wrap.circumference:g})"
@@ -357,31 +331,15 @@ def _deltas(xy: np.ndarray, wrap: Wrap | None, x, y) -> tuple[np.ndarray, np.nda
 
 
 @functools.lru_cache(maxsize=64)
-def _grid_layout(grid: Grid) -> Layout:
-    if not isinstance(grid, Grid):
-        raise ValueError(f"grid must be a Grid, got {_validate.shown(grid)}")
-    cols, rows = np.meshgrid(np.arange(grid.cols) + 0.5, np.arange(grid.rows) + 0.5)
-    positions = np.stack([cols.ravel(), rows.ravel()], axis=1)
-    names = tuple(grid.cell_name(i) for i in range(grid.size))
-    return Layout(positions, names, grid=grid)
-
-
-@functools.lru_cache(maxsize=64)
 def _xy(layout: Layout) -> np.ndarray:
     xy = np.array(layout.positions, dtype=np.float64).reshape(-1, 2)
     xy.flags.writeable = False
     return xy
 
 
-def as_layout(target) -> Layout:
-    """A :class:`Layout` for a Grid or a Layout (``ValueError`` naming ``grid`` otherwise)."""
+def check_layout(target, name: str = "grid") -> Layout:
+    """``target`` if it is a :class:`Layout` (a :class:`~tactile_core.rendering.geometry.Grid`
+    is one); otherwise ``ValueError`` naming ``name``."""
     if isinstance(target, Layout):
         return target
-    if isinstance(target, Grid):
-        return _grid_layout(target)
-    raise ValueError(f"grid must be a Grid or a Layout, got {_validate.shown(target)}")
-
-
-def wrap_distance(d: float, circumference: float) -> float:
-    """``d`` taken the short way round: within ``[-C/2, C/2]``."""
-    return d - circumference * math.floor(d / circumference + 0.5)
+    raise ValueError(f"{name} must be a Grid or a Layout, got {_validate.shown(target)}")

@@ -46,7 +46,6 @@ from typing import NamedTuple
 from .._shared import validate as _validate
 from .correction import check_correction, correct1
 from .geometry import SNAP_REL
-from .layout import Layout
 from .methods import layout_sampler
 from .rasterize import check_target, free_method
 
@@ -193,7 +192,7 @@ class PointFrames:
         offsets = sampling.offsets_s().tolist()
         period = 1.0 / sampling.rate_hz
         self._lags = [period - o for o in offsets] if len(offsets) > 1 else [0.0]
-        if isinstance(self.target, Layout):
+        if not self.target.is_grid:
             entries1 = layout_sampler(self.method, self.target).entries1
             self._entries1 = lambda x, y, tol: [(i, v) for i, v in entries1(x, y, tol) if v > 0]
         else:

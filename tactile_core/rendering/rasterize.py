@@ -7,14 +7,8 @@ import functools
 import numpy as np
 
 from .._shared import validate as _validate
-from ._targets import (  # noqa: F401  (the checks, where they have always been imported from)
-    check_grid,
-    check_renders,
-    check_shape,
-    check_target,
-    frame_shape,
-    target_size,
-)
+from ._targets import check_renders as check_renders
+from ._targets import check_shape, check_target
 from .geometry import SNAP_REL, Grid
 from .layout import Layout
 from .methods import METHODS, get_method, layout_sampler
@@ -268,7 +262,7 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     shape = check_shape(shape, m)
     t = _validate.parameter_array(t)
     _check_size(t.size, grid)
-    if isinstance(grid, Layout):
+    if not grid.is_grid:
         return _render_layout(shape, m, t, grid)
     return _render_valid(shape, m, t, grid)
 
@@ -414,7 +408,7 @@ def render_xy(method, x, y, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
     x, y = x.reshape(-1), y.reshape(-1)
     _check_size(x.size, grid)
     tol = SNAP_REL * np.maximum(np.maximum(np.abs(x), np.abs(y)), 1.0)
-    if isinstance(grid, Layout):
+    if not grid.is_grid:
         return layout_sampler(m, grid).frames(x, y, tol).reshape((*shape, grid.size))
     frames = _sample_and_scatter(m, None, np.stack([x, y]), None, tol, grid)
     return frames.reshape(shape + grid.shape)
@@ -437,7 +431,7 @@ def render_point(shape, method, t: float, grid: Grid = _DEFAULT_GRID) -> tuple:
     shape = check_shape(shape, m)
     if not 0.0 <= t <= 1.0:
         raise ValueError(f"t must be finite and within [0, 1], got {_validate.shown(t)}")
-    if isinstance(grid, Layout):
+    if not grid.is_grid:
         return layout_entries(shape, layout_sampler(m, grid).entries1, float(t))
     return point_entries(shape, m.sample1, float(t), grid.cols, grid.rows)
 

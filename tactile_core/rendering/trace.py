@@ -32,9 +32,8 @@ from .._shared import validate as _validate
 from ._trace_clock import DIRECTIONS, Trace, check_hold, corner_warp  # noqa: F401
 from .correction import check_correction, correct, correct1
 from .geometry import Grid
-from .layout import Layout
 from .methods import get_method, layout_sampler
-from .rasterize import check_target, frame_shape, layout_entries, point_entries, render
+from .rasterize import check_target, layout_entries, point_entries, render
 
 FILTERS = ("point", "box")
 MAX_SAMPLES = 20_000_000
@@ -159,7 +158,7 @@ def render_frames(
     start = (np.arange(n_frames) + first_frame) / sampling.rate_hz + phase_s
     times = (start[:, None] + sampling.offsets_s()[None, :]).reshape(-1)
     t, on = trace.parameter(times)
-    shape = frame_shape(grid)
+    shape = grid.frame_shape
     samples = np.zeros((times.size, *shape))
     samples[on] = render(trace.shape, m, t[on], grid=grid)
     if corrected and (mu != 0.0 or gamma != 1.0 or gain != 1.0):
@@ -230,9 +229,7 @@ class LiveFrames:
         self.mu, self.gamma = check_correction(mu, gamma)
         self.gain = _validate.in_range("gain", gain, 0.0, 1.0)
         self.grid = check_target(grid)
-        self._layout = (
-            layout_sampler(self.method, self.grid) if isinstance(self.grid, Layout) else None
-        )
+        self._layout = None if self.grid.is_grid else layout_sampler(self.method, self.grid)
         self.cycle = frames_per_cycle(trace.period_s, sampling.rate_hz) if trace.repeat else None
         self._offsets = sampling.offsets_s().tolist()
         self._scale = 1.0 / len(self._offsets)
@@ -341,4 +338,4 @@ class LiveFrames:
         out = np.zeros(self.grid.size)
         for i, v in self.entries(k):
             out[i] = v
-        return out.reshape(frame_shape(self.grid))
+        return out.reshape(self.grid.frame_shape)

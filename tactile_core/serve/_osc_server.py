@@ -262,7 +262,7 @@ class OscServer(AddressSpace):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a Scene, got {_validate.shown(scene)}")
         method = free_method(scene.method)
-        check_renders(method.spec, self.profile.target)
+        check_renders(method.spec, self.profile.layout)
         return scene.replace(shape=None, source=self.points, marker="osc-points", hold_s=None)
 
     def _swap(self, scene: Scene) -> None:

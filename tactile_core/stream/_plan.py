@@ -56,7 +56,7 @@ class _Plan:
         if self.active:
             self.rate = min(scene.rate_hz, self.max_rate)
             self.capped = scene.rate_hz > self.max_rate
-            self.live = scene.live(profile.target, self.rate)
+            self.live = scene.live(profile.layout, self.rate)
         else:
             self.rate = idle_rate_hz
             self.capped = False

@@ -84,11 +84,11 @@ class ArrayTalk:
             self._update(state="refused", status=problem, array=info.describe())
             return False
         if info is None:
-            grid = self.profile.grid
+            cols, rows = self.profile.layout.wire_shape
             self._update(
                 array=(
                     "unidentified: no answer to hello within 0.5 s; driven as "
-                    f"{self.profile.name} ({grid.cols} x {grid.rows}, {self.profile.levels} "
+                    f"{self.profile.name} ({cols} x {rows}, {self.profile.levels} "
                     "levels)"
                 )
             )

@@ -103,7 +103,7 @@ class Runner:
         self.session = session
         self.pipeline = session.get_pipeline()
         self.profile = profile or default_profile()
-        if not self.profile.is_grid:
+        if not self.profile.layout.is_grid:
             raise ValueError(
                 f"profile {self.profile.name} is a layout ({self.profile.layout.describe()}): the "
                 f"paper's experiments compare its grid methods (CT, MM, AS, IM) and need a grid "

@@ -63,7 +63,7 @@ def interval_drive(scene, profile) -> np.ndarray:
     ndarray of float64, shape (rows, cols)
         Mean level / (levels - 1), in [0, 1].
     """
-    grid = profile.grid
+    grid = profile.layout
     if scene is None or not scene.active:
         return np.zeros(grid.shape)
     n = max(1, round(scene.duration_s * scene.rate_hz))
@@ -148,7 +148,7 @@ class SimulatedObserver:
         self.rng = random.Random(self.seed)
         if self.profile is None:
             self.profile = default_profile()
-        shape = self.profile.grid.shape
+        shape = self.profile.layout.frame_shape
         offsets = np.zeros(shape)
         if self.tactor_sd > 0.0:
             offsets = np.random.default_rng([self.seed, 20]).normal(0.0, self.tactor_sd, shape)
@@ -198,7 +198,7 @@ class SimulatedObserver:
     def drive(self, scene) -> np.ndarray:
         """:func:`interval_drive` of ``scene``, remembered (threshold stimuli repeat)."""
         if scene is None:
-            return np.zeros(self.profile.grid.shape)
+            return np.zeros(self.profile.layout.frame_shape)
         hit = self._cache.get(scene)
         if hit is None:
             hit = self._cache[scene] = interval_drive(scene, self.profile)

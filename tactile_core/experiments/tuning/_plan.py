@@ -70,14 +70,11 @@ def default_layout(grid) -> tuple[tuple, dict]:
     places : dict
         ``{name: {"point": (x, y), "reference": (x, y), "start": gamma}}``.
     """
-    from ...rendering.layout import Layout
-
-    if isinstance(grid, Layout) and grid.grid is None:
+    if not grid.is_grid:
         raise ValueError(
             f"tuning the correction needs a grid of at least 3 x 3 (its checks sit between "
             f"tactors in rows and columns), got a layout: {grid.describe()}"
         )
-    grid = grid.grid if isinstance(grid, Layout) else grid
     cols, rows = grid.cols, grid.rows
     if cols < 3 or rows < 3:
         raise ValueError(

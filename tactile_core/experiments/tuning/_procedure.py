@@ -92,13 +92,13 @@ class CorrectionTuning(Runner):
         self.plan = plan or TuningPlan()
         profile = kwargs.get("profile") or default_profile()
         kwargs["profile"] = profile
-        tactors, self.places = default_layout(profile.target)
+        tactors, self.places = default_layout(profile.layout)
         if self.plan.tactors is not None:
             tactors = tuple((int(c), int(r)) for c, r in self.plan.tactors)
             for c, r in tactors:
-                if not (0 <= c < profile.grid.cols and 0 <= r < profile.grid.rows):
-                    raise ValueError(f"tactor ({c},{r}) is not on the {profile.grid.cols} x "
-                                     f"{profile.grid.rows} grid")  # fmt: skip
+                if not (0 <= c < profile.layout.cols and 0 <= r < profile.layout.rows):
+                    raise ValueError(f"tactor ({c},{r}) is not on the {profile.layout.cols} x "
+                                     f"{profile.layout.rows} grid")  # fmt: skip
         self.tactors = tactors
         if self.plan.corner_trials == 0:
             self.places = {k: v for k, v in self.places.items() if k != "corner"}
@@ -305,4 +305,4 @@ class CorrectionTuning(Runner):
         measured = {cell: fit.location for cell, (fit, ok, _) in self.threshold_fits.items() if ok}
         if not measured:
             raise ValueError("calibration: no tactor threshold was measured")
-        return calibration_from_thresholds(measured, self.profile.grid)
+        return calibration_from_thresholds(measured, self.profile.layout)

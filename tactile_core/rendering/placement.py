@@ -1,10 +1,10 @@
-"""What the tuner does with the device's layout: which methods render on it, a shape that fits
-it, and a path drawn round a wrap.
+"""What goes on a layout: which methods render on it and which one a scene gets, a shape that
+fits it, and a path drawn round a wrap.
 
 A device profile's actuators sit on a grid (the paper's palm array, a 3 x 3 grid) or anywhere
 (:class:`~tactile_core.rendering.layout.Layout`: a belt, a sleeve, a vest panel). Coordinates are
-layout units (pitches) either way. No Qt here: the state (:mod:`.state`) and the views call
-these functions.
+layout units (pitches) either way. The command line, the scripting API, the OSC server and the
+tuner all ask here, so a scene on a belt gets the same method wherever it is made.
 """
 
 from __future__ import annotations
@@ -14,15 +14,23 @@ import math
 
 import numpy as np
 
-import tactile_core as tc
-from tactile_core.rendering.geometry import Grid
-from tactile_core.rendering.layout import Layout
-from tactile_core.rendering.methods import method_names
-from tactile_core.rendering.rasterize import check_renders
+from ._grid import Grid
+from ._targets import check_renders
+from .layout import Layout
+from .methods import method_names
+from .shapes import Circle, Line, Square
 
 FALLBACK = "BA"
 """The method a scene falls back to on a layout its method cannot render on: barycentric
 weights, AS's weights generalised to actuators anywhere."""
+
+SHAPE_METHOD = "IM"
+"""The method a shape gets on a grid when none is chosen: the paper's interpolated midpoint, the
+anti-aliased method with the fewest tactors lit."""
+
+POINT_METHOD = "AS"
+"""The method free points get on a grid when none is chosen: area sampling (MM and IM follow a
+stroke, which a free point does not have)."""
 
 LAYOUT_SETS = ("BA", "RO", "GS", "EN")
 """Compare's and Blind A/B's methods on a layout that is not a grid, when theirs cannot render
@@ -30,21 +38,42 @@ there: the smooth method and the peer methods of other systems."""
 
 PALM = Grid()
 PALM_SHAPES = {
-    "line": tc.Line((0.5, 1.84), (4.5, 4.16)),
-    "circle": tc.Circle((2.5, 3.0), 2.0),
-    "square": tc.Square((2.5, 3.5), 4.0),
+    "line": Line((0.5, 1.84), (4.5, 4.16)),
+    "circle": Circle((2.5, 3.0), 2.0),
+    "square": Square((2.5, 3.5), 4.0),
 }
 """The shape box's defaults on the paper's palm array (the Experiment 1 line)."""
 
 
-def target(layout: Layout):
-    """What to render onto: the grid of a grid's layout, the layout itself otherwise."""
-    return layout.grid if layout.grid is not None else layout
+def default_method(layout: Layout, *, free_points: bool = False) -> str:
+    """The method a scene gets on ``layout`` when none is chosen.
+
+    Parameters
+    ----------
+    layout : Layout
+        Where it plays (a :class:`Grid` is one).
+    free_points : bool
+        For points another program or the user drives (no shape) rather than a traced shape.
+
+    Returns
+    -------
+    str
+        :data:`SHAPE_METHOD` (IM) for a shape on a grid, :data:`POINT_METHOD` (AS) for free
+        points on a grid, :data:`FALLBACK` (BA) on a layout that is not a grid.
+
+    Examples
+    --------
+    >>> default_method(Grid()), default_method(Grid(), free_points=True)
+    ('IM', 'AS')
+    """
+    if not layout.is_grid:
+        return FALLBACK
+    return POINT_METHOD if free_points else SHAPE_METHOD
 
 
 def refusal(method, layout: Layout) -> str:
     """Why ``method`` (a spec) cannot render on ``layout``, or "" when it can."""
-    if layout.grid is not None:
+    if layout.is_grid:
         return ""
     try:
         check_renders(method, layout)
@@ -102,7 +131,7 @@ def shape_defaults(layout: Layout) -> dict:
     """A line, a circle and a square that fit ``layout``: the palm array's own on the palm
     array; round a wrap, the line goes once round (crossing the seam, from one end of the other
     axis to the other: a helix on a sleeve); elsewhere, centred on the actuators."""
-    if layout.grid == PALM:
+    if layout == PALM:
         return dict(PALM_SHAPES)
     xy = layout.xy
     lo, hi = xy.min(axis=0), xy.max(axis=0)
@@ -112,16 +141,16 @@ def shape_defaults(layout: Layout) -> dict:
     if layout.wrap is not None:
         c = layout.wrap.circumference
         if layout.wrap.axis == "x":
-            line = tc.Line((0.0, float(lo[1])), (c, float(hi[1])))
+            line = Line((0.0, float(lo[1])), (c, float(hi[1])))
         else:
-            line = tc.Line((float(lo[0]), 0.0), (float(hi[0]), c))
+            line = Line((float(lo[0]), 0.0), (float(hi[0]), c))
     else:
-        line = tc.Line(tuple(map(float, lo)), tuple(map(float, hi)))
+        line = Line(tuple(map(float, lo)), tuple(map(float, hi)))
     point = tuple(map(float, centre))
     return {
         "line": line,
-        "circle": tc.Circle(point, round(0.4 * small, 3)),
-        "square": tc.Square(point, round(0.8 * small, 3)),
+        "circle": Circle(point, round(0.4 * small, 3)),
+        "square": Square(point, round(0.8 * small, 3)),
     }
 
 
@@ -129,7 +158,7 @@ def default_shape(layout: Layout):
     """The shape a scene gets on a layout its shape does not fit: the line (round a wrap) or
     the circle (elsewhere) of :func:`shape_defaults`."""
     shapes = shape_defaults(layout)
-    if layout.grid == PALM or layout.wrap is not None:
+    if layout == PALM or layout.wrap is not None:
         return shapes["line"]
     xy = layout.xy
     flat = np.ptp(xy[:, 0]) == 0 or np.ptp(xy[:, 1]) == 0  # actuators in a row: the line
