@@ -340,9 +340,9 @@ class MainWindow(QtWidgets.QMainWindow):
         if playing:
             self.statusBar().showMessage("playing", 2000)
 
-    def _on_live_frame_shown(self, scene, t, phase_s) -> None:
+    def _on_live_frame_shown(self, scene, start_s, rate_hz, phase_s) -> None:
         if self.tabs.currentWidget() is self.compare:
-            self.compare.tick(scene, t, phase_s)
+            self.compare.tick(scene, start_s, rate_hz, phase_s)
 
     def _update_tune_page(self) -> None:
         """The tune tab's views, or why they are hidden (a run, a blind test)."""
