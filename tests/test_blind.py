@@ -12,8 +12,7 @@ import pytest
 
 import tactile_core as tc
 from tactile_core.device.host_clock import VirtualClock
-from tactile_core.experiments import BlindSession
-from tactile_core.experiments import blind as blind_module
+from tactile_core.experiments import BlindSession, _blind_file
 from tactile_core.experiments.blind import AUTOSAVE_COLUMNS, COLUMNS, shuffled
 from tactile_core.rendering.scene import Scene
 
@@ -265,7 +264,7 @@ def test_a_failed_autosave_keeps_the_rating_and_the_previous_file(session, clock
         f.write("session,key")
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(blind_module, "_write_rows", full_disk)
+    monkeypatch.setattr(_blind_file, "write_rows", full_disk)
     session.rate(1, "quality", 20)
     assert session.rating(1, "quality") == 20 and session.unsaved
     assert "could not autosave the ratings" in session.autosave_error

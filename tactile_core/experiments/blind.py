@@ -10,11 +10,12 @@ tuner's *Blind A/B* tab is its view, and a plain script drives it just as well (
   the mapping is known is not blind);
 - the **ratings**: 0-100 for each of :data:`RATINGS` per key, None while not rated (never a
   value that could pass for a rating);
-- the **rules**: *Reveal* and *Save* need every key that was felt rated; a key never played is
-  saved as not rated;
+- the **rules**: only a key that was played can be rated; *Reveal* and *Save* need every key
+  that was felt rated; a key never played is saved as not rated;
 - the **autosave**: every rating is written at once, atomically, to a CSV in ``autosave_dir``
   whose ``method`` column stays empty until *Reveal*; :meth:`BlindSession.from_autosave` reads
-  one back (the mapping recovered from its ``methods`` and ``seed`` columns).
+  one back (the mapping recovered from its ``methods`` and ``seed`` columns). The files'
+  columns, writing and reading are in ``_blind_file``.
 
 >>> clock = iter([0.0, 2.5]).__next__  # seconds: a fake clock
 >>> session = BlindSession(["AS", "IM"], clock=clock)
@@ -30,31 +31,27 @@ True
 
 from __future__ import annotations
 
-import csv
 import datetime as dt
-import io
 import random
 import time
 from pathlib import Path
 
 from .._shared import validate as _validate
-from .._shared.jsonfile import read_bytes
-from .._shared.outfile import atomic_file, check_output
 from ..rendering.methods import PAPER_METHODS, get_method
+from ._blind_file import (
+    AUTOSAVE_COLUMNS,
+    COLUMNS,
+    RATINGS,
+    append_rows,
+    read_autosave,
+    scene_columns,
+    write_autosave,
+)
 
-RATINGS = ("quality", "smoothness", "thickness")
-"""What each key is rated on, 0-100 (the paper's Experiment 1)."""
+__all__ = ["AUTOSAVE_COLUMNS", "COLUMNS", "RATINGS", "BlindSession", "shuffled"]
+
 MIN_METHODS, MAX_METHODS = 2, 8
 """How many methods a session shuffles onto keys."""
-SCENE_COLUMNS = ("shape", "mu", "gamma", "duration_s", "pause_s")
-"""The scene the ratings were given on, as each row records it."""
-COLUMNS = ("session", "key", "method", "felt", "felt_s", *RATINGS, *SCENE_COLUMNS, "seed",
-           "revealed_before_save")  # fmt: skip
-"""The columns of a saved ratings file, one row per key."""
-AUTOSAVE_COLUMNS = (*COLUMNS, "methods")
-"""An autosave's columns: those of :data:`COLUMNS` and the methods in the order shuffled."""
-MAX_AUTOSAVE_BYTES = 1 << 16
-"""Largest autosave read back (one of 8 keys is under 2 KB)."""
 
 
 def shuffled(methods, seed: int) -> list[str]:
@@ -64,20 +61,6 @@ def shuffled(methods, seed: int) -> list[str]:
     mapping = list(methods)
     random.Random(seed).shuffle(mapping)
     return mapping
-
-
-def scene_columns(scene) -> dict:
-    """The :data:`SCENE_COLUMNS` of ``scene`` (a :class:`~tactile_core.rendering.scene.Scene`,
-    or None: all empty); a pattern without a shape has an empty ``shape``."""
-    if scene is None:
-        return dict.fromkeys(SCENE_COLUMNS, "")
-    return {
-        "shape": scene.shape.spec if scene.shape is not None else "",
-        "mu": scene.mu,
-        "gamma": scene.gamma,
-        "duration_s": scene.duration_s,
-        "pause_s": scene.pause_s,
-    }
 
 
 def _check_methods(methods) -> tuple[str, ...]:
@@ -363,9 +346,7 @@ class BlindSession:
                 row["method"] = ""
             row["methods"] = " ".join(self._methods)
         try:
-            self.autosave_path.parent.mkdir(parents=True, exist_ok=True)
-            with atomic_file(self.autosave_path) as f:
-                _write_rows(f, rows, header=True)
+            write_autosave(self.autosave_path, rows)
         except (OSError, ValueError) as exc:
             self.autosave_error = f"could not autosave the ratings: {exc}"
             return False
@@ -385,13 +366,7 @@ class BlindSession:
         why = self.refusal("Save")
         if why:
             raise ValueError(why)
-        path = check_output(path, (".csv",), "ratings file")
-        old = path.read_text(encoding="utf-8") if path.exists() else ""
-        if old and not old.startswith(",".join(COLUMNS) + "\n"):
-            raise ValueError(f"{path} holds other columns: save the ratings to a new file")
-        with atomic_file(path) as f:
-            f.write(old)
-            _write_rows(f, self.rows(), header=not old)
+        path = append_rows(path, self.rows())
         self.unsaved = False
         if self.autosave_path is not None:
             self.autosave_path.unlink(missing_ok=True)
@@ -402,44 +377,18 @@ class BlindSession:
     def from_autosave(cls, path, *, clock=time.monotonic) -> BlindSession:
         """The session an autosave holds, to go on with (no key selected; further ratings are
         autosaved to the same file). ``ValueError`` names what is wrong with the file."""
-        text = read_bytes(path, max_bytes=MAX_AUTOSAVE_BYTES).decode("utf-8", errors="replace")
-        reader = csv.DictReader(io.StringIO(text))
-        if tuple(reader.fieldnames or ()) != AUTOSAVE_COLUMNS:
-            raise ValueError(f"{path}: not a blind A/B autosave (columns {reader.fieldnames}, "
-                             f"expected {list(AUTOSAVE_COLUMNS)})")  # fmt: skip
-        rows = list(reader)
-        try:
-            methods = rows[0]["methods"].split()
-            seed = int(rows[0]["seed"])
-        except (IndexError, ValueError):
-            raise ValueError(f"{path}: no rows, or no whole-number seed") from None
-        session = cls(methods, clock=clock)
-        session.seed = seed
-        session._reset(tuple(shuffled(methods, seed)))
-        first = rows[0]
-        if len(rows) != len(methods) or any(
-            (r["key"], r["methods"], r["seed"], r["session"])
-            != (str(k + 1), first["methods"], first["seed"], first["session"])
-            for k, r in enumerate(rows)
-        ):
-            raise ValueError(f"{path}: expected one row per key 1-{len(methods)} of one session")
-        if any(r["method"] not in ("", m) for r, m in zip(rows, session.mapping)):
+        held = read_autosave(path)
+        session = cls(held["methods"], clock=clock)
+        session.seed = held["seed"]
+        session._reset(tuple(shuffled(held["methods"], held["seed"])))
+        revealed = [m for m in held["revealed_methods"] if m]
+        if revealed and list(held["revealed_methods"]) != list(session.mapping):
             raise ValueError(f"{path}: its methods do not follow from its seed and methods")
-        try:
-            for k, row in enumerate(rows):
-                felt_s = _validate.real(f"felt_s of key {k + 1}", float(row["felt_s"]))
-                session._felt[k] = _validate.non_negative(f"felt_s of key {k + 1}", felt_s)
-                for name in RATINGS:
-                    text = row[name]
-                    session._ratings[k][name] = (
-                        None if text == "" else
-                        _validate.integer(f"{name} of key {k + 1}", int(text), 0, 100)
-                    )  # fmt: skip
-        except ValueError as exc:
-            raise ValueError(f"{path}: {exc}") from None
-        session.session = first["session"]
-        session.revealed = first["revealed_before_save"] == "True"
-        session._scene_columns = {name: first[name] for name in SCENE_COLUMNS}
+        session._felt = list(held["felt_s"])
+        session._ratings = [dict(r) for r in held["ratings"]]
+        session.session = held["session"]
+        session.revealed = held["revealed"]
+        session._scene_columns = dict(held["scene"])
         session.unsaved = True
         session.autosave_path = Path(path)
         return session
@@ -481,10 +430,3 @@ class BlindSession:
     def _changed(self) -> None:
         for listener in list(self.listeners):
             listener()
-
-
-def _write_rows(f, rows: list[dict], *, header: bool) -> None:
-    writer = csv.DictWriter(f, fieldnames=list(rows[0]), lineterminator="\n")
-    if header:
-        writer.writeheader()
-    writer.writerows(rows)
