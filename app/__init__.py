@@ -10,12 +10,14 @@ knows the state, the device controller and the core, never another part:
 
 - :mod:`.tune` - the Tune tab: heatmap, activation curves, correction curve; the live display;
   pulses, draw mode and scrubbing on the plots.
-- :mod:`.compare` - methods side by side; :mod:`.blind` - blind A/B on the array.
+- :mod:`.compare` - methods side by side; :mod:`.blind` - blind A/B on the array, the view of
+  a :class:`tactile_core.experiments.BlindSession`.
 - :mod:`.experiments` - the experimenter's console, the participant's window, guided tuning.
 - :mod:`.controls` - the controls dock; :mod:`.device_panel` - the device dock.
 - :mod:`.files` - presets, exports, profiles; :mod:`.menus` - the menu bar; :mod:`.keys` - the
   application-wide keys.
 
 What the parts share: :mod:`.views` (plot widgets), :mod:`.widgets` (small widgets),
-:mod:`.texts`, :mod:`.dialogs`, :mod:`.theme`.
+:mod:`.frames` (a scene's frames as the stream renders them), :mod:`.texts`, :mod:`.dialogs`,
+:mod:`.theme`.
 """

@@ -7,11 +7,11 @@ import time
 import numpy as np
 from PySide6 import QtWidgets
 
-import tactile_core as tc
 from tactile_core.rendering import placement
 from tactile_core.rendering.curves import activation_curves
 from tactile_core.rendering.methods import PAPER_METHODS, get_method
 
+from .frames import SceneFrames
 from .state import TunerState
 from .views import CurvesView, HeatmapView, cell_colors
 from .widgets import MethodSetWidget
@@ -45,6 +45,8 @@ class CompareView(QtWidgets.QWidget):
         self._curves: dict = {}
         self._built_for = None
         self._shown_scene = None
+        self._frames: dict = {}  # per method, its frames as the stream renders them
+        self._frames_scene, self._variants = None, {}
         self._grid_methods = None  # the set chosen on a grid, while a layout restricts it
         self.chooser.check = lambda spec: placement.refusal(spec, state.layout)
         self.set_methods(list(methods))
@@ -181,8 +183,9 @@ class CompareView(QtWidgets.QWidget):
             self.heatmaps[name].set_cell_frames(colors)
             self.heatmaps[name].set_outline(outline)
 
-    def tick(self, scene, t, phase_s) -> None:
-        """Show every method's corrected frame at trace parameter ``t`` (None while off).
+    def tick(self, scene, start_s, rate_hz, phase_s) -> None:
+        """Show every method's corrected frame, the one that starts ``start_s`` seconds into
+        the trace clock (None while off), as the stream renders it at ``rate_hz``.
 
         Called by the display timer only while the view is visible; its curves are brought up
         to date here, at most every 100 ms, so a hidden compare view costs nothing."""
@@ -190,14 +193,29 @@ class CompareView(QtWidgets.QWidget):
         if scene is not self._shown_scene and now - getattr(self, "_last_refresh", 0.0) > 0.1:
             self._last_refresh = now
             self._refresh()
+        on = start_s is not None and scene.shape is not None
+        t = scene.trace().parameter1(start_s) if on else None
+        point = None if t is None else scene.shape.point(t)
         for name in self.methods:
             heat = self.heatmaps[name]
-            if t is None or scene.shape is None:
-                heat.set_frame(np.zeros(heat.values.shape))
-                heat.set_point(None)
-            else:
-                frame = tc.render(scene.shape, name, t, grid=self.state.layout)
-                mu, gamma = get_method(name).own_correction(scene.mu, scene.gamma)
-                heat.set_frame(tc.correct(frame, mu, gamma, gain=scene.gain))
-                heat.set_point(scene.shape.point(t))
+            frame = np.zeros(heat.values.shape)
+            if on:
+                for i, v in self._frames_of(name, scene, rate_hz, start_s):
+                    frame.flat[i] = v
+            heat.set_frame(frame)
+            heat.set_point(point)
             self.curves[name].set_cursor(phase_s)
+
+    def _frames_of(self, name, scene, rate_hz, start_s) -> tuple:
+        """Method ``name``'s lit tactors of that frame: the scene with ``name`` and its own
+        correction, rendered as the stream renders a scene."""
+        frames = self._frames.get(name)
+        if frames is None:
+            frames = self._frames[name] = SceneFrames()
+        if self._frames_scene is not scene:  # one variant of the scene per method, made once
+            self._frames_scene, self._variants = scene, {}
+        variant = self._variants.get(name)
+        if variant is None:
+            mu, gamma = get_method(name).own_correction(scene.mu, scene.gamma)
+            variant = self._variants[name] = scene.replace(method=name, mu=mu, gamma=gamma)
+        return frames.at(variant, self.state.layout, rate_hz, start_s)

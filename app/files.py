@@ -48,8 +48,10 @@ class FileActions(QtCore.QObject):
         self.device = device
         self.preset_name = "Experiment 1 line"
         self.preset_notes = ""
-        self.preset_scene = None
-        """The scene of the preset (or last session) the tuning came from, or None."""
+        self.preset_scene = state.scene
+        """The scene of the preset (or last session) the tuning came from: at first the scene
+        the window starts from (the Experiment 1 line unless a preset is set), so that the
+        title's "modified" star shows from the first change."""
         self.curves = lambda: None
         """The activation curves on show (the window connects the tune tab's)."""
         self.before_load = lambda: None

@@ -187,7 +187,7 @@ def install_live(window) -> LiveController:
     def blocked() -> str:
         if window.experiments.running:
             return "the OSC server cannot run during an experiment run"
-        if window.blind.active:
+        if window.blind.session.active:
             return "the OSC server cannot run during a Blind A/B session"
         return ""
 

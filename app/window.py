@@ -42,8 +42,10 @@ from .tune import TuneWidget
 
 
 def _same_tuning(a, b) -> bool:
-    """Whether two scenes are the same tuning (playing state and restarts aside)."""
-    return a.replace(playing=True, epoch=0) == b.replace(playing=True, epoch=0)
+    """Whether two scenes are the same tuning (playing state, restarts and the kind of
+    presentation, such as a Blind A/B play's ``ab``, aside)."""
+    return a.replace(playing=True, epoch=0, marker="") == b.replace(playing=True, epoch=0,
+                                                                     marker="")  # fmt: skip
 
 
 class MainWindow(QtWidgets.QMainWindow):
@@ -216,7 +218,7 @@ class MainWindow(QtWidgets.QMainWindow):
         device.status_changed.connect(self.experiments.on_device_status)
         tune.error_raised.connect(self.show_error)
         tune.live.frame_shown.connect(self._on_live_frame_shown)
-        gestures.can_pulse = lambda: not (self.experiments.running or self.blind.active)
+        gestures.can_pulse = lambda: not (self.experiments.running or self.blind.session.active)
         gestures.draw_mode_changed.connect(self.controls.set_draw_mode)
         gestures.message_posted.connect(status)
         self.controls.all_off_requested.connect(self.all_off)
@@ -225,8 +227,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.device_panel.profile_chosen.connect(self.files.use_profile)
         self.files.profile_blocked = self._profile_blocked
         self.files.curves = lambda: tune.shown_curves
+        blind = self.blind.session
         self.files.blocked = lambda: (
-            BLIND_FILES if self.blind.active else RUN_FILES if self.experiments.running else ""
+            BLIND_FILES if blind.active else RUN_FILES if self.experiments.running else ""
         )
         self.files.before_load = lambda: gestures.set_draw_mode(False)
         tune.heatmap.point_drawn.connect(self.files.record_drawn_point)
@@ -274,8 +277,8 @@ class MainWindow(QtWidgets.QMainWindow):
     def press_number(self, key: int) -> bool:
         """Number keys: the method, or in blind A/B the shuffled method behind the key; True if
         the key meant something."""
-        if self.blind.mapping and not self.blind.revealed:
-            if key > len(self.blind.mapping):
+        if self.blind.session.active:
+            if key > len(self.blind.session.mapping):
                 return False
             self.blind.select_key(key)
             return True
@@ -315,7 +318,7 @@ class MainWindow(QtWidgets.QMainWindow):
         """Why the device profile may not change now ("" when it may)."""
         if self.experiments.running:
             return PROFILE_BLOCKED.format("during an experiment run")
-        if self.blind.active or self.blind.unsaved:
+        if self.blind.session.active or self.blind.session.unsaved:
             return PROFILE_BLOCKED.format("while a Blind A/B session is on or unsaved")
         return ""
 
@@ -338,14 +341,14 @@ class MainWindow(QtWidgets.QMainWindow):
         if playing:
             self.statusBar().showMessage("playing", 2000)
 
-    def _on_live_frame_shown(self, scene, t, phase_s) -> None:
+    def _on_live_frame_shown(self, scene, start_s, rate_hz, phase_s) -> None:
         if self.tabs.currentWidget() is self.compare:
-            self.compare.tick(scene, t, phase_s)
+            self.compare.tick(scene, start_s, rate_hz, phase_s)
 
     def _update_tune_page(self) -> None:
         """The tune tab's views, or why they are hidden (a run, a blind test)."""
         running = self.experiments.running
-        if running or self.blind.active:
+        if running or self.blind.session.active:
             self.tune.hide_views(HIDDEN_EXPERIMENT if running else HIDDEN_BLIND)
         else:
             self.tune.show_views()
@@ -404,7 +407,7 @@ class MainWindow(QtWidgets.QMainWindow):
     def _update_title(self) -> None:
         """``tactile-tuner - preset[*] - method, mu, gamma``: current, with a star once the
         scene differs from the preset it came from."""
-        if self.blind.active:  # the method, and whether it is the preset's, stay hidden
+        if self.blind.session.active:  # the method, and whether it is the preset's, stay hidden
             self.setWindowTitle("tactile-tuner - Blind A/B (the method is hidden)")
             return
         scene, files = self.state.scene, self.files
@@ -471,10 +474,10 @@ class MainWindow(QtWidgets.QMainWindow):
         if self.experiments.running:
             reasons.append("An experiment is running: it stops (every answer so far is on "
                            "disk, and Start resumes it).")  # fmt: skip
-        if self.blind.unsaved:
+        if self.blind.session.unsaved:
             reasons.append("The Blind A/B ratings are not saved" + (
-                f" (they are autosaved in {self.blind.autosave_path})."
-                if self.blind.autosave_path else "."))  # fmt: skip
+                f" (they are autosaved in {self.blind.session.autosave_path})."
+                if self.blind.session.autosave_path else "."))  # fmt: skip
         if not reasons or not self._ask_before_closing:
             return True
         return self.confirm("Quit tactile-tuner", "\n\n".join([*reasons, "Quit anyway?"]))

@@ -83,3 +83,13 @@ def record_sent(window):
         lambda _t, _seq, levels: frames.append(np.frombuffer(levels, np.uint8))
     )
     return frames
+
+
+def dealt(methods, seed):
+    """The methods on keys 1-N of a blind A/B session with ``seed``, dealt as docs/tuner.md
+    says an autosave's mapping is recovered: ``random.Random(seed).shuffle``."""
+    import random
+
+    mapping = list(methods)
+    random.Random(seed).shuffle(mapping)
+    return mapping

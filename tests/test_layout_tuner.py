@@ -132,13 +132,13 @@ def test_compare_and_blind_ab_run_ba_ro_gs_on_the_belt(belt, qtbot):  # noqa: F8
     assert np.allclose(ba.sum(axis=1), 1.0)  # BA's weights sum to 1 round the belt
     # Blind A/B: the same three, shuffled onto keys, each playing on the belt
     belt.tabs.setCurrentWidget(blind)
-    assert blind.methods == ["BA", "RO", "GS", "EN"]
+    assert blind.session.methods == ("BA", "RO", "GS", "EN")
     blind.set_methods(["BA", "RO", "GS"])
     assert blind.start(seed=5)
-    assert sorted(blind.mapping) == ["BA", "GS", "RO"]
+    assert sorted(blind.session.mapping) == ["BA", "GS", "RO"]
     for key in (1, 2, 3):
         belt.press_number(key)
-        assert belt.state.scene.method == blind.mapping[key - 1]
+        assert belt.state.scene.method == blind.session.mapping[key - 1]
         qtbot.waitUntil(lambda: belt.device.sent_levels().any(), timeout=3000)
     assert belt.files.use_profile("palm-5x6") is False  # not during a blind session
     assert "Blind A/B" in belt.last_error and belt.device.profile.name == "belt-8"
@@ -148,7 +148,7 @@ def test_compare_and_blind_ab_run_ba_ro_gs_on_the_belt(belt, qtbot):  # noqa: F8
 def test_the_grid_sets_come_back_on_a_grid(belt):  # noqa: F811
     assert belt.compare.chosen_methods == list(PAPER_METHODS)  # remembered for the next start
     assert belt.files.use_profile("palm-5x6")
-    assert belt.compare.methods == list(PAPER_METHODS) == belt.blind.methods
+    assert belt.compare.methods == list(PAPER_METHODS) == list(belt.blind.session.methods)
     assert belt.compare.chooser.problem.text() == ""
 
 

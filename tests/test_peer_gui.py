@@ -39,7 +39,7 @@ def test_blind_ab_hides_the_other_method_and_its_parameter(window):  # noqa: F81
     method_box = window.controls.method
     assert method_box.other_combo.currentIndex() == -1 and not method_box.other_combo.isEnabled()
     assert not method_box.param_spin.isVisible()
-    window.blind.select_key(2 if window.blind.mapping[1].startswith("GS") else 1)
+    window.blind.select_key(2 if window.blind.session.mapping[1].startswith("GS") else 1)
     assert window.state.scene.method == "GS:sigma=0.8"
     assert method_box.other_combo.currentIndex() == -1 and not method_box.param_spin.isVisible()
 

@@ -182,7 +182,7 @@ def test_a_plugin_appears_in_the_tuner_streams_and_compares(site, qtbot, monkeyp
     assert win.compare.curves["HALF"].listDataItems()  # its activation curves are drawn
     win.blind.set_methods(["AS", "HALF"])
     win.blind.start(seed=1)
-    assert sorted(win.blind.mapping) == ["AS", "HALF"]
+    assert sorted(win.blind.session.mapping) == ["AS", "HALF"]
     win.close()
 
 

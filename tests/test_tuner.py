@@ -271,62 +271,6 @@ def test_compare_view_renders_all_four_methods_at_the_same_time(window, qtbot):
     assert len(cursors) == 1  # one time axis
 
 
-def test_blind_ab_hides_the_mapping_and_records_it(window, qtbot, tmp_path):
-    window.tabs.setCurrentWidget(window.blind)
-    window.blind.start(seed=7)
-    mapping = window.blind.mapping
-    assert sorted(mapping) == ["AS", "CT", "IM", "MM"]
-    assert all(label.text() == "?" for label in window.blind.method_labels)
-    assert window.tune.currentIndex() == 1  # the display that would give it away is hidden
-    assert window.controls.method.method_buttons.checkedButton() is None
-    assert not window.device_panel.status_label.isVisible()
-    # Every rating starts empty: nothing could pass for a rating that was never given.
-    assert all(s.value() == -1 and s.text() == "not rated" for r in window.blind.rating_spins
-               for s in r)  # fmt: skip
-    for key in (3, 1, 4, 2):
-        qtbot.keyClick(window.blind, getattr(QtCore.Qt.Key, f"Key_{key}"))
-        assert window.state.scene.method == mapping[key - 1]
-        qtbot.wait(30)
-    assert not window.blind.reveal()  # felt keys are not rated yet
-    assert "key 1 quality" in window.blind.status.text()
-    assert window.blind.save(tmp_path / "blind.csv") is None
-    for k, spins in enumerate(window.blind.rating_spins):
-        for j, spin in enumerate(spins):
-            spin.setValue(10 * k + j)
-    window.blind.rating_spins[0][0].setValue(80)
-    window.blind.save(tmp_path / "blind.csv")
-    assert window.blind.reveal()
-    assert window.tune.currentIndex() == 0
-    assert [label.text().split()[0] for label in window.blind.method_labels] == mapping
-    window.blind.save(tmp_path / "blind.csv")  # appended, one header
-    rows = list(csv.DictReader((tmp_path / "blind.csv").read_text().splitlines()))
-    assert len(rows) == 8
-    assert [r["method"] for r in rows[:4]] == mapping
-    assert rows[0]["quality"] == "80" and rows[2]["smoothness"] == "21"
-    assert rows[0]["revealed_before_save"] == "False" and rows[4]["revealed_before_save"] == "True"
-    assert rows[0]["seed"] == "7"
-    assert all(r["felt"] == "1" and float(r["felt_s"]) > 0.02 for r in rows[:4])
-
-
-def test_blind_ab_saves_a_key_never_played_as_not_rated(window, qtbot, tmp_path):
-    window.blind.start(seed=3)  # key 1 plays at once
-    qtbot.wait(50)
-    qtbot.keyClick(window.blind, QtCore.Qt.Key.Key_2)
-    qtbot.wait(50)
-    window.state.update(playing=False)  # paused: felt time stops
-    felt = list(window.blind.felt_s)
-    qtbot.wait(100)
-    assert window.blind.ratings()[1]["felt_s"] == f"{felt[1]:.2f}"
-    for k in (0, 1):
-        for spin in window.blind.rating_spins[k]:
-            spin.setValue(60)
-    assert window.blind.save(tmp_path / "b.csv") is not None  # keys 3 and 4 were never felt
-    rows = list(csv.DictReader((tmp_path / "b.csv").read_text().splitlines()))
-    assert [r["felt"] for r in rows] == ["1", "1", "0", "0"]
-    assert rows[2]["quality"] == rows[3]["thickness"] == ""  # not rated, not 50
-    assert float(rows[2]["felt_s"]) == 0.0
-
-
 def test_draw_mode_moves_a_free_point_with_ct_and_as_only(window, qtbot):
     window.state.update(method="MM")
     window.controls.playback.draw_check.setChecked(True)

@@ -65,7 +65,7 @@ def test_tuner_lsl_marks_each_blind_ab_play_at_its_first_frames_send_time(qtbot,
         assert marker["seq"] == onset.seq
         assert marker["method"] == onset.scene.method
         assert abs(stamp - offset - onset.time_s) < 1e-3
-    assert [m["method"] for m, _ in ab] == [window.blind.mapping[0], window.blind.mapping[1]]
+    assert [m["method"] for m, _ in ab] == list(window.blind.session.mapping[:2])
     window.serve.set_lsl(False)
     qtbot.waitUntil(lambda: window.serve.lsl_status == "off", timeout=WAIT_MS)
 

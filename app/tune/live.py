@@ -8,21 +8,13 @@ import time
 import numpy as np
 from PySide6 import QtCore
 
-from tactile_core.rendering.correction import correct1
-from tactile_core.rendering.methods import get_method, mark_unavailable
-from tactile_core.rendering.methods._layout import layout_sampler
-from tactile_core.rendering.percept import REFERENCE
+from tactile_core.rendering.methods import mark_unavailable
+from tactile_core.rendering.percept import REFERENCE, felt_magnitude
 from tactile_core.rendering.placement import default_method
-from tactile_core.rendering.rasterize import point_entries
+
+from ..frames import SceneFrames, stream_rate
 
 DISPLAY_HZ = 60
-
-
-def felt1(drive: float, threshold: float, exponent: float) -> float:
-    """Scalar :func:`tactile_core.rendering.percept.felt_magnitude` (checked in the tests)."""
-    if drive <= threshold:
-        return 0.0
-    return ((drive - threshold) / (1.0 - threshold)) ** exponent
 
 
 class LiveDisplay(QtCore.QObject):
@@ -42,9 +34,10 @@ class LiveDisplay(QtCore.QObject):
         nothing is shown.
     """
 
-    frame_shown = QtCore.Signal(object, object, object)
-    """``(scene, t, phase_s)`` after each frame shown: the trace parameter and the time into
-    the period (None while off), for other views of the same instant."""
+    frame_shown = QtCore.Signal(object, object, object, object)
+    """``(scene, start_s, rate_hz, phase_s)`` after each frame shown: where on the trace clock
+    the frame shown starts and the rate it is rendered at (``start_s`` None while off), and the
+    time into the period (None while off), for other views of the same frame."""
     error_raised = QtCore.Signal(str)
 
     def __init__(self, tune, parent=None):
@@ -55,9 +48,9 @@ class LiveDisplay(QtCore.QObject):
         self.tick_times: list[float] = []
         """``time.perf_counter()`` of the recent ticks (for :meth:`display_rate`)."""
         self._trace_cache = (None, None)
-        self._last = None  # (t, phase) of the last frame played: paused, the views stay there
+        self._last = None  # (start, phase) of the last frame played: paused, the views stay there
         self._buffer = np.zeros(0)
-        self._sampler = (None, None, None)  # (method, layout, its sampler on that layout)
+        self._frames = {raw: SceneFrames(raw) for raw in (False, True)}
         self.timer = QtCore.QTimer(self)
         self.timer.setTimerType(QtCore.Qt.TimerType.PreciseTimer)
         self.timer.timeout.connect(self._on_timer_timeout)
@@ -88,29 +81,30 @@ class LiveDisplay(QtCore.QObject):
             return
         _, trace_time = self.device.streamer.last_frame
         trace = self._trace(scene)
-        t = phase = None
+        start = phase = None  # the frame shown: where it starts on the trace clock
         if trace is not None and scene.hold_s is not None:
-            phase = min(scene.hold_s, trace.period_s)  # scrubbed: the instant the array holds
-            t = trace.parameter1(phase)
+            start = phase = min(scene.hold_s, trace.period_s)  # scrubbed: the array holds it
         elif trace is not None and trace_time is not None and scene.playing:
-            t = trace.parameter1(trace_time)
+            start = trace_time
             phase = math.fmod(trace_time, trace.period_s) if trace.repeat else trace_time
-            self._last = (t, phase)
+            self._last = (start, phase)
         elif trace is not None and not scene.playing and self._last is not None:
-            t, phase = self._last  # paused (Space, Esc): where it was, the array off
+            start, phase = self._last  # paused (Space, Esc): where it was, the array off
         if heatmap.drawing or tune.gestures.pulsing:
             phase = None  # a free point or a pulse: no trace, so no time cursor
-        values, labels = self._values(scene, t)
+        rate_hz = stream_rate(scene, self.device.stats)
+        values, labels = self._values(scene, start, rate_hz)
         if values is None:
             return
         if not tune.method_hidden:
             heatmap.set_frame(values, labels)
-            point = None if t is None or heatmap.drawing else scene.shape.point(t)
+            t = None if start is None or heatmap.drawing else trace.parameter1(start)
+            point = None if t is None else scene.shape.point(t)
             if heatmap.drawing and scene.playing and scene.shape is not None:
                 point = scene.shape.point(0.0)
             heatmap.set_point(point)
             tune.curves.set_cursor(phase)
-            self.frame_shown.emit(scene, t, phase)
+            self.frame_shown.emit(scene, start, rate_hz, phase)
 
     def _show_driven(self) -> bool:
         """Another program's points, as the stream sends them (True), or not driven (False)."""
@@ -131,27 +125,19 @@ class LiveDisplay(QtCore.QObject):
         points = self.device.driven_points
         tune.heatmap.set_point(points[0][1:3] if points else None)
         tune.curves.set_cursor(None)
-        self.frame_shown.emit(self.state.scene, None, None)
+        self.frame_shown.emit(self.state.scene, None, None, None)
         return True
 
-    def _entries(self, scene, t) -> tuple:
-        """The lit tactors at ``t``: ``((flat index, raw value), ...)``, on the grid or, on a
-        layout, through the method's sampler for it (built once per method and layout)."""
-        layout = self.state.layout
-        if layout.is_grid:
-            sample1 = get_method(scene.method).sample1
-            return point_entries(scene.shape, sample1, t, layout.cols, layout.rows)
-        method, on, sampler = self._sampler
-        if method != scene.method or on is not layout:
-            sampler = layout_sampler(get_method(scene.method), layout)
-            self._sampler = (scene.method, layout, sampler)
-        x, y = scene.shape.point(t)
-        return sampler.entries1(x, y, scene.shape.snap_tol)
-
-    def _values(self, scene, t):
+    def _values(self, scene, start_s, rate_hz):
         """The heatmap's values (``(rows, cols)`` on a grid, ``(size,)`` on a layout) and
         per-tactor labels (or None) in the view mode; None for the values when a plug-in
-        failed."""
+        failed.
+
+        *raw*, *corrected* and *predicted* are the frame that starts ``start_s`` seconds into
+        the trace clock as the stream renders it at ``rate_hz`` (its temporal filter too):
+        before the correction, as corrected, and that through
+        :func:`~tactile_core.rendering.percept.felt_magnitude` for the reference participant.
+        *sent* and *felt* are the levels the stream sent last."""
         mode = self.state.view_mode
         shape = self.state.layout.frame_shape
         show_levels = self.state.show_levels
@@ -163,18 +149,17 @@ class LiveDisplay(QtCore.QObject):
             values = self._buffer
             flat = values.reshape(-1)
             flat.fill(0.0)
-            if t is not None:
+            if start_s is not None:
                 try:
-                    entries = self._entries(scene, t)
+                    entries = self._frames[mode == "raw"].at(scene, self.state.layout, rate_hz,
+                                                             start_s)  # fmt: skip
                 except ValueError as exc:  # only a plug-in raises here (it is checked first)
                     self._plugin_failed(scene, exc)
                     return None, None
                 for i, v in entries:
-                    if mode != "raw":
-                        v = correct1(v, scene.mu, scene.gamma, scene.gain)
-                    if mode == "predicted":
-                        v = felt1(v, REFERENCE.threshold, REFERENCE.exponent)
                     flat[i] = v
+                if mode == "predicted":
+                    values[...] = felt_magnitude(values, REFERENCE.threshold, REFERENCE.exponent)
             if show_levels:
                 labels = np.char.mod("%.2f", values)
         else:

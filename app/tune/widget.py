@@ -139,8 +139,12 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self.setCurrentIndex(0)
 
     def set_method_hidden(self, hidden: bool) -> None:
-        """Blind A/B: no live frames and no curve titles, which would give the method away."""
-        self.method_hidden = bool(hidden)
+        """Blind A/B: no live frames and no curve titles, which would give the method away;
+        shown again (a reveal), the plots and their titles are redrawn for the scene now, not
+        left naming the method from before the session."""
+        was_hidden, self.method_hidden = self.method_hidden, bool(hidden)
+        if was_hidden and not self.method_hidden:
+            self.refresh()
 
     def fit_heatmap(self) -> None:
         """Give the heatmap the width at which its square cells fill its height."""

@@ -3,7 +3,8 @@
 The sub-packages, each importing only those before it in this list: ``results`` (a participant's
 session and results files), ``runners`` (the experiments and the calibration as runners),
 ``tuning`` (measuring mu and gamma by feel, itself a runner) and ``analysis`` (the paper's tables
-and figures); beside them ``stats``, ``staircase`` and ``participants`` (simulated ones).
+and figures); beside them ``stats``, ``staircase``, ``participants`` (simulated ones) and
+``blind`` (a blind A/B session: :class:`BlindSession`).
 ``_correction_record`` (a participant's measured correction on disk) is read by the runners and
 written by the tuning.
 
@@ -13,6 +14,7 @@ written by the tuning.
 2.0
 """
 
+from .blind import BlindSession
 from .participants import Psychometric, SimulatedParticipant
 from .results import Session, open_session
 from .runners import RUNNERS, Calibration, Experiment1, Experiment2, Experiment3, Trial
@@ -32,6 +34,7 @@ RUNNERS["correction"] = CorrectionTuning
 __all__ = [
     "ORDERS",
     "RUNNERS",
+    "BlindSession",
     "Calibration",
     "CorrectionTuning",
     "Experiment1",

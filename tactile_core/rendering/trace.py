@@ -288,7 +288,13 @@ class LiveFrames:
 
     def compute(self, k: int) -> tuple:
         """Frame ``k`` by the scalar path, whether or not a table exists."""
-        start = k / self.sampling.rate_hz
+        return self.entries_at(k / self.sampling.rate_hz)
+
+    def entries_at(self, start_s: float) -> tuple:
+        """Lit tactors of the frame that starts ``start_s`` seconds into the trace clock, by the
+        scalar path: frame ``k`` is ``entries_at(k / rate_hz)``. What a view of a streamed
+        instant (a streamer's ``last_frame``) shows, computed as the stream computed it."""
+        start = start_s
         trace, shape, sample1 = self.trace, self.trace.shape, self._sample1
         if self._layout is not None:
             return self._compute_layout(start)

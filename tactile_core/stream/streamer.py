@@ -21,9 +21,9 @@ lead; the array's timer decides when it reaches the motors. Pausing, all-off and
 frame stay frames for now (they also drop what is scheduled). An array without the extension is
 driven with frames for now, and the status says so.
 
-Here is the thread; its statistics (:class:`StreamStats` and their book) live in ``_stream_stats``,
-what it derives from a scene (rate, period, device levels) in ``_stream_plan``, and what it says
-to the array besides frames (hello, counters, the clock) in ``_stream_talk``.
+Here is the thread; its statistics (:class:`StreamStats` and their book) live in ``_stats``,
+what it derives from a scene (rate, period, device levels) in ``_plan``, and what it says
+to the array besides frames (hello, counters, the clock) in ``_talk``.
 """
 
 from __future__ import annotations
