@@ -12,14 +12,14 @@ import numpy as np
 import pytest
 
 import tactile_core as tc
-from tactile_core.device._stream_plan import _Plan
-from tactile_core.device._stream_stats import StreamStats
 from tactile_core.device.profile import load_profile
 from tactile_core.rendering.correction import quantize
 from tactile_core.rendering.methods import get_method
 from tactile_core.rendering.percept import felt_magnitude
 from tactile_core.rendering.shapes import parse_shape
 from tactile_core.rendering.trace import Sampling, render_frames
+from tactile_core.stream import StreamStats
+from tactile_core.stream._plan import _Plan
 
 pytestmark = pytest.mark.usefixtures("qt_settings")
 LINE = tc.Line((0.5, 1.84), (4.5, 4.16))
