@@ -100,7 +100,7 @@ def test_the_views_show_the_frame_the_stream_renders_for_the_same_scene_and_time
     _stream_reports(win, scene, k / plan.rate)
     win.tune.live._on_timer_timeout()
     shown = win.tune.heatmap.values
-    batch = _batch(scene, profile.target, k, plan.rate, corrected=mode != "raw")
+    batch = _batch(scene, profile.layout, k, plan.rate, corrected=mode != "raw")
     # predicted: for the reference participant, TH 0.2 and K 1 (docs/tuner.md)
     expected = {"raw": batch, "corrected": batch, "predicted": felt_magnitude(batch, 0.2, 1.0)}
     assert expected[mode].any()
