@@ -25,12 +25,6 @@ TACTOR_COLORS = (
 )  # fmt: skip
 
 
-def is_dark(palette: QtGui.QPalette | None = None) -> bool:
-    """True when the palette's window colour is dark."""
-    palette = palette or QtWidgets.QApplication.palette()
-    return palette.color(QtGui.QPalette.ColorRole.Window).lightness() < 128
-
-
 def plot_colors(palette: QtGui.QPalette | None = None) -> dict:
     """Background, foreground (axes, text, cursor) and a faint shade for the plots."""
     palette = palette or QtWidgets.QApplication.palette()

@@ -13,8 +13,9 @@ from pathlib import Path
 import pytest
 
 from tactile_core.experiments import RUNNERS, open_session
-from tactile_core.experiments.results import ParticipantLock, SessionError, _alive
+from tactile_core.experiments.results import ParticipantLock, SessionError
 from tactile_core.experiments.results import _lock as lock_module
+from tactile_core.experiments.results._lock import _alive
 
 TOOLS = Path(__file__).resolve().parents[1] / "tools"
 

@@ -25,7 +25,6 @@ from tactile_core.experiments.tuning import (
     CorrectionTuning,
     SimulatedObserver,
     TuningPlan,
-    felt_magnitude,
     felt_total,
     fit_cumulative,
     fit_gamma,
@@ -36,6 +35,7 @@ from tactile_core.experiments.tuning import (
 )
 from tactile_core.files.presets import load_preset
 from tactile_core.rendering.geometry import Grid
+from tactile_core.rendering.percept import felt_magnitude
 from tactile_core.rendering.scene import Scene
 
 EXP1_LINE = tc.Line((0.5, 1.84), (4.5, 4.16))

@@ -56,11 +56,6 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
         self.apply_palette()
         self._ready = True
 
-    @property
-    def dragging(self) -> bool:
-        """True while the cursor is being dragged."""
-        return self.cursor.moving
-
     def apply_palette(self) -> None:
         """Take the background and text colours from the application palette."""
         colors = plot_colors(self.palette())

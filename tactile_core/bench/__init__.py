@@ -16,22 +16,17 @@ from __future__ import annotations
 from importlib.metadata import entry_points
 
 # ``_name as _name``: helpers of the module before the split, still importable from here.
-from ._accuracy import _frame_metrics as _frame_metrics
-from ._accuracy import _reference as _reference
 from ._accuracy import accuracy_table
 from ._audio import audio_table
 from ._batch import batch_table, dense_area_sampling, naive_area_sampling, ratio_table
 from ._common import FILTERS, GAMMA, MU, RATES_HZ, SCENES, Table, best_time
-from ._common import _cycling as _cycling
 from ._device import EmulatorProcess, device_tables
-from ._device import _Busy as _Busy
 from ._layouts import layouts_table
 from ._link import link_table
 from ._live import live_table
 from ._methods import methods_table, winners_table
 from ._staircase import fit_table, staircase_table
 from ._tuning import TUNING_OBSERVERS, TUNING_PLANS, tuning_table
-from ._tuning import _tuning_run as _tuning_run
 from ._validation import quest_table, validation_table
 
 __all__ = [

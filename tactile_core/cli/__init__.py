@@ -17,13 +17,6 @@ from .._shared.threads import one_blas_thread
 from ._common import Ended, UsageError, ending_signals
 
 # ``_name as _name``: helpers of the module before the split, still importable from here.
-from ._common import _add_scene_arguments as _add_scene_arguments
-from ._common import _install_stop_handlers as _install_stop_handlers
-from ._common import _scene as _scene
-from ._common import _seconds as _seconds
-from ._experiments import _print_tuning as _print_tuning
-from ._experiments import _tune_at_array as _tune_at_array
-from ._experiments import _tuning_plan as _tuning_plan
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._parser import build_parser
 from ._render import MAX_RENDER_FRAMES, cmd_emulate, cmd_render, cmd_stream

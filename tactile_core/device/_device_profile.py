@@ -82,12 +82,14 @@ class DeviceProfile:
 
     @property
     def frame_bytes(self) -> int:
-        """Bytes on the wire per frame (36 for 30 channels)."""
+        """Bytes on the wire per frame (37 for 30 channels: 35 payload bytes, COBS and the
+        delimiter)."""
         return frame_length(self.channels)
 
     @property
     def max_rate_hz(self) -> float:
-        """Frames per second the link carries: ``baud / 10 / frame_bytes`` (320 for the palm)."""
+        """Frames per second the link carries: ``baud / 10 / frame_bytes``
+        (311 for the palm array)."""
         return self.baud / 10.0 / self.frame_bytes
 
     @property

@@ -111,7 +111,9 @@ def render_frames(
     Parameters
     ----------
     trace : Trace
-    method : {"CT", "MM", "AS", "IM"}
+    method : str or Method
+        Any registered method (the paper's CT, MM, AS, IM, the peers EN, PK, RO, GS, VRCH,
+        BA, a plug-in), with its parameters (``"RO:r=1.5"``).
     sampling : Sampling, keyword-only
         Rate and temporal filter.
     mu, gamma : float, keyword-only
@@ -209,7 +211,9 @@ class LiveFrames:
     Parameters
     ----------
     trace : Trace
-    method : {"CT", "MM", "AS", "IM"}
+    method : str or Method
+        Any registered method (the paper's CT, MM, AS, IM, the peers EN, PK, RO, GS, VRCH,
+        BA, a plug-in), with its parameters (``"RO:r=1.5"``).
     sampling : Sampling
     mu, gamma : float
     grid : Grid or Layout

@@ -343,7 +343,8 @@ class StreamerProcess:
 
     @property
     def last_levels(self) -> np.ndarray:
-        """Levels of the last frame sent, ``(rows, cols)`` uint8 (the all-off frame last)."""
+        """Levels of the last frame sent, uint8 in the layout's frame shape (``(rows, cols)``
+        on a grid, ``(size,)`` on a layout; the all-off frame last)."""
         return (
             np.frombuffer(self._levels, dtype=np.uint8)
             .copy()

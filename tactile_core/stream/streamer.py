@@ -12,7 +12,7 @@ the scene pauses or goes idle, on any error path (``finally``), and at interpret
 (``atexit``); the command line adds signal handlers. While connected and idle it keeps sending
 zero frames at ``idle_rate_hz`` (>= 10 Hz) so the array's 250 ms watchdog never trips while the
 host is alive. The requested rate is capped at what the link carries (``baud / 10 / frame
-bytes``: 320 Hz for the palm array at 115200 baud), and the status says so.
+bytes``: 311 Hz for the palm array at 115200 baud, 37 bytes a frame), and the status says so.
 
 With a lead (``lead_s`` > 0) and an array that announces scheduled frames, each frame goes out
 timed: to be played ``lead_s`` after its deadline on the array's own clock, which the host keeps
@@ -179,7 +179,8 @@ class Streamer:
         self._started_at = None
         self._saved_switch = None
         self.last_levels = np.zeros(self.profile.layout.frame_shape, dtype=np.uint8)
-        """Levels of the last frame written, ``(rows, cols)`` uint8, for display."""
+        """Levels of the last frame written, uint8 in the layout's frame shape (``(rows, cols)``
+        on a grid, ``(size,)`` on a layout), for display."""
         self.last_frame = (None, None)
         """``(scene, trace_time_s)`` of the last frame written (time None while off), one
         tuple assigned at once so a reader on another thread sees a consistent pair."""

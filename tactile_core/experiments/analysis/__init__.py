@@ -45,21 +45,6 @@ from ._scores import (
 )
 
 # isort: split
-# What ``tactile_core.experiments.analysis`` held when it was one module stays importable from
-# here; not part of the interface.
-from ..runners import CONDITIONS_EXP2, METHODS, SHAPES  # noqa: F401
-from ..staircase import Staircase  # noqa: F401
-from ..stats import (  # noqa: F401
-    d_prime,
-    fit_psychometric,
-    friedman,
-    pairwise_effect_sizes,
-    pairwise_wilcoxon,
-)
-from ._figures import _boxplot, _figure, _save, _staircase_figure  # noqa: F401
-from ._reading import _flag, _length, _one_of, _parse, _rating  # noqa: F401
-from ._report import _omnibus_and_effects, _pairs, _say_set  # noqa: F401
-
 __all__ = [
     "PROPERTIES",
     "Problems",

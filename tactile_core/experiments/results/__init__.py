@@ -30,16 +30,6 @@ from ._session import (
 )
 
 # isort: split
-# What ``tactile_core.experiments.results`` held when it was one module stays importable from
-# here; not part of the interface.
-from ..._shared import validate as _validate  # noqa: F401
-from ..._shared.jsonfile import read_json, write_json_atomic  # noqa: F401
-from ...rendering.scene import PAPER_PIPELINE, Pipeline  # noqa: F401
-from ..stats import order_for, order_for_set  # noqa: F401
-from ._lock import _alive, _process_start  # noqa: F401
-from ._rows import _csv_line  # noqa: F401
-from ._session import _FIELDS, _ID, _KIND_NAMES, _SALT, _short  # noqa: F401
-
 __all__ = [
     "LOCK_FILE",
     "MAX_RESULTS_BYTES",

@@ -159,14 +159,6 @@ class ResultsFile:
         self._cut(0)
         self._write(header)
 
-    def drop_last_row(self, line: str | None = None) -> None:
-        """Move the file's last row to ``.torn`` and cut the file before it."""
-        fd = self.open()
-        end = last_newline(fd, checked_size(fd, self.path)) + 1
-        start = last_newline(fd, max(end - 1, 0)) + 1
-        self._set_aside(start, end, "the last row")
-        self._cut(start)
-
     def _set_aside(self, start: int, end: int, what: str) -> None:
         """Append bytes ``start:end`` of the file to ``.torn`` (synced), ending with a line end."""
         fd = open_member(self.torn_path, os.O_WRONLY | os.O_CREAT | os.O_APPEND)

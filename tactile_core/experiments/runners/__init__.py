@@ -21,17 +21,6 @@ from ._exp3_shape import Experiment3
 from ._runner import HEALTH_FIELDS, INTERVAL_GAP_S, INTERVAL_S, Runner, Trial
 
 # isort: split
-# What ``tactile_core.experiments.runners`` held when it was one module stays importable from
-# here; not part of the interface.
-from ..._shared import validate as _validate  # noqa: F401
-from ...rendering.scene import Scene  # noqa: F401
-from ...rendering.shapes import Circle, Line, Square  # noqa: F401
-from ..results import ParticipantLock, ResultsFile, Session, SessionError, now  # noqa: F401
-from ..staircase import Staircase  # noqa: F401
-from ..stats import apply_order  # noqa: F401
-from ._conditions import _ordered  # noqa: F401
-from ._runner import _continue  # noqa: F401
-
 RUNNERS = {
     "exp1": Experiment1,
     "exp2": Experiment2,

@@ -76,20 +76,6 @@ from ._result import TuningResult
 from ._save import save_correction
 
 # isort: split
-# What ``tactile_core.experiments.tuning`` held when it was one module stays importable from
-# here; not part of the interface.
-from ..._shared import validate as _validate  # noqa: F401
-from ..._shared.jsonfile import read_json, write_json_atomic  # noqa: F401
-from ...rendering.correction import Dither, quantize  # noqa: F401
-from ...rendering.percept import felt_magnitude  # noqa: F401
-from ...rendering.shapes import Line  # noqa: F401
-from ...rendering.trace import render_frames  # noqa: F401
-from ..results import Session, now  # noqa: F401
-from ..runners import HEALTH_FIELDS, INTERVAL_S, Runner, Trial  # noqa: F401
-from ._fits import _fit_from_grid, _loglik_grid  # noqa: F401
-from ._result import _interval  # noqa: F401
-from ._tracks import _LevelTrack, _LogTrack  # noqa: F401
-
 __all__ = [
     "CHI2_95",
     "CORRECTION_FILE",

@@ -28,14 +28,10 @@ and JSON forms (:func:`parse_shape`, :func:`shape_from_dict`); ``_timed`` :class
 """
 
 # ``_name as _name``: helpers of the module this package was, still importable from here.
-from ._parse import _NUMBER as _NUMBER
 from ._parse import SHAPE_KINDS, parse_shape, shape_from_dict
 from ._polyline import MAX_POINTS, Polyline, Square
-from ._polyline import _continues as _continues
 from ._shape import Circle, Line, Shape
-from ._shape import _fmt as _fmt
 from ._strokes import TWO_PI, ArcStrokes, LineStrokes, Run, Strokes
-from ._strokes import _reciprocal as _reciprocal
 from ._timed import FADES, PATTERNS, TimedPath, path_from_samples
 
 __all__ = [
