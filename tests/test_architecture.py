@@ -188,3 +188,40 @@ def test_test_modules_stay_short_too():
         if (n := len(p.read_text().splitlines())) > MAX_LINES
     }
     assert long == {}
+
+
+#: Packages that are private by name but are the house's shared floor, imported from anywhere.
+SHARED_FLOOR = ("tactile_core._shared", "tactile_core._version")
+
+
+def private_owner(dep: str) -> str | None:
+    """The package whose private module ``dep`` is (``tactile_core.device`` for
+    ``tactile_core.device._wire_read``), or None for a public module."""
+    if dep.startswith(SHARED_FLOOR):
+        return None
+    parts = dep.split(".")
+    for i, part in enumerate(parts[1:], start=1):
+        if part.startswith("_") and not part.startswith("__"):
+            return ".".join(parts[:i])
+    return None
+
+
+def test_private_owner_names_the_package_of_a_private_module():
+    assert private_owner("tactile_core.device._wire_read") == "tactile_core.device"
+    assert (
+        private_owner("tactile_core.rendering.methods._layout") == "tactile_core.rendering.methods"
+    )
+    assert private_owner("tactile_core.device.wire") is None
+    assert private_owner("tactile_core._shared.validate") is None
+
+
+def test_private_modules_are_imported_only_inside_their_package():
+    # A private name imported across packages is a public name in disguise: promote it (list it
+    # in the package's __init__ or a public module) instead.
+    wrong = []
+    for name, deps in GRAPH.items():
+        for dep in deps:
+            owner = private_owner(dep)
+            if owner is not None and not (name == owner or name.startswith(owner + ".")):
+                wrong.append(f"{name} imports {dep}")
+    assert wrong == [], "\n".join(sorted(wrong))

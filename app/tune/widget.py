@@ -9,8 +9,7 @@ from PySide6 import QtCore, QtWidgets
 from tactile_core.rendering.curves import activation_curves
 from tactile_core.rendering.percept import REFERENCE, predict, predict_range
 
-from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors
-from ..views._common import set_title
+from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors, set_title
 from ..widgets import ElidedLabel
 from .gestures import HeatmapGestures
 from .live import LiveDisplay

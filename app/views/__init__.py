@@ -7,9 +7,17 @@ re-estimates its range. Colours follow the application palette (light or dark, s
 on the heatmap's cell frame and on its activation curve.
 """
 
-from ._common import PALETTE, cell_colors, cell_label
+from ._common import PALETTE, cell_colors, cell_label, set_title
 from .correction import CorrectionView
 from .curves import CurvesView
 from .heatmap import HeatmapView
 
-__all__ = ["PALETTE", "CorrectionView", "CurvesView", "HeatmapView", "cell_colors", "cell_label"]
+__all__ = [
+    "PALETTE",
+    "CorrectionView",
+    "CurvesView",
+    "HeatmapView",
+    "cell_colors",
+    "cell_label",
+    "set_title",
+]

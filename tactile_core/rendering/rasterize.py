@@ -11,8 +11,7 @@ from ._targets import check_renders as check_renders
 from ._targets import check_shape, check_target
 from .geometry import SNAP_REL, Grid
 from .layout import Layout
-from .methods import METHODS, get_method, layout_sampler
-from .methods._cells import ZIP, Block, Indexed, outer
+from .methods import METHODS, ZIP, Block, Indexed, get_method, layout_sampler, outer
 from .shapes import Shape
 
 _DEFAULT_GRID = Grid()

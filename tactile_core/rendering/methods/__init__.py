@@ -73,6 +73,10 @@ from . import (
     rolloff,
     vrch,
 )
+from ._cells import ZIP as ZIP
+from ._cells import Block as Block
+from ._cells import Indexed as Indexed
+from ._cells import outer as outer
 from ._layout import LAYOUT_METHODS as LAYOUT_METHODS
 from ._layout import layout_sampler as layout_sampler
 from ._plugin import CONTAINED as _CONTAINED
