@@ -12,6 +12,7 @@ from .._shared import validate as _validate
 from .._shared.outfile import check_output
 from ..files.tact import MAX_TABLE_FRAMES
 from ..rendering.correction import correct
+from ..rendering.layout import as_layout
 from ..rendering.rasterize import check_renders, render
 from ._common import (
     UsageError,
@@ -37,6 +38,53 @@ def _check_render_size(frames: int, size: int, duration_s: float, rate_hz: float
             f"duration x rate must give at most {most} frames of {size} tactors, got {frames} "
             f"({duration_s:g} s at {rate_hz:g} Hz)"
         )
+
+
+DARK_CHECK_FRAMES = 20_000
+"""Most frames of one trace ``tactile stream`` renders before it starts to see whether any
+tactor is lit (a longer trace is checked at this many times spread over it)."""
+
+
+def warn_if_dark(command: str, shape, target, frames: np.ndarray) -> bool:
+    """Say on standard error that no tactor is ever lit, when ``frames`` are all zero.
+
+    Parameters
+    ----------
+    command : str
+        ``"render"`` or ``"stream"``, for the ``tactile COMMAND: warning:`` prefix.
+    shape : Shape or None
+        The shape drawn (None for a ``.tact`` pattern); its extent is named beside the array's.
+    target : Grid or Layout
+        What the frames were rendered onto.
+    frames : ndarray, shape (n, ...)
+        The frames (uncorrected or corrected: 0 stays 0).
+
+    Returns
+    -------
+    bool
+        True if the warning was given. The command goes on either way (docs/cli.md): a scene
+        that lights nothing is not an error, but it is never silent.
+    """
+    if np.any(frames):
+        return False
+    layout = as_layout(target)
+    x0, x1, y0, y1 = layout.bounds()
+    units = "grid units" if layout.grid is not None else "pitches"
+    where = f"the {layout.describe()} (x {x0:g} to {x1:g}, y {y0:g} to {y1:g}, {units})"
+    if shape is None:
+        what = "the pattern lights nothing on " + where
+    else:
+        xy = shape.outline()
+        (sx0, sy0), (sx1, sy1) = xy.min(axis=0), xy.max(axis=0)
+        wrapped = None if layout.wrap is None else layout.wrap.index  # no outside along a wrap
+        apart = (wrapped != 0 and (sx1 < x0 or sx0 > x1)) or (
+            wrapped != 1 and (sy1 < y0 or sy0 > y1)
+        )
+        what = (f"{shape.spec} (x {sx0:.3g} to {sx1:.3g}, y {sy0:.3g} to {sy1:.3g}) "
+                f"{'lies outside' if apart else 'lights nothing on'} {where}")  # fmt: skip
+    print(f"tactile {command}: warning: {what}: no tactor is ever lit (every frame is zero)",
+          file=sys.stderr, flush=True)  # fmt: skip
+    return True
 
 
 def cmd_render(args) -> int:
@@ -66,6 +114,7 @@ def cmd_render(args) -> int:
         t = 1.0 - u if args.direction == "reverse" else u
         frames = correct(render(shape, method, t, grid=grid), mu, gamma)
         what, left_out = shape.spec, ""
+    warn_if_dark("render", shape, grid, frames)
     what = f"{what} ({method}, mu={mu:g}, gamma={gamma:g})"
     if wav:
         return _write_wav(args, out, profile, frames, what)
@@ -171,6 +220,10 @@ def cmd_stream(args) -> int:
               f"{not_played(pattern)}", file=sys.stderr, flush=True)  # fmt: skip
     if pattern is not None and args.seconds is None:
         args.seconds = max(pattern.duration_s, 0.1)  # the file, then the array off
+    if shape is not None:  # one trace at the stream's frame times (at most DARK_CHECK_FRAMES)
+        n = min(int(np.floor(args.duration * args.rate + 1e-9)) + 1, DARK_CHECK_FRAMES)
+        trace = render(shape, method, np.linspace(0.0, 1.0, n), grid=profile.target)
+        warn_if_dark("stream", shape, profile.target, trace)
     scene = Scene(
         shape,
         method,
