@@ -49,6 +49,10 @@ from ..rendering.shapes import FADES, TimedPath
 from ..rendering.trace import MAX_SAMPLES, Sampling, entry_table
 from ._tact_read import TactError, TactFile
 
+NOTHING_TO_PLAY = "no paths or dots to play (no enabled track holds any)"
+"""Why a file without content is refused (:class:`TactPattern`, ``load_pattern`` with the
+file's name before it)."""
+
 MAX_TABLE_FRAMES = 200_000
 """Most frames :meth:`PatternFrames.precompute` tabulates (11 minutes at 300 Hz); longer
 patterns are computed frame by frame as they play."""
@@ -99,6 +103,12 @@ class TactPattern:
     position : str, optional
         The device position to play (``"VestFront"``...); by default the first that holds
         paths or dots. The others are listed in :attr:`skipped`.
+
+    Raises
+    ------
+    TactError
+        When no position of the file holds paths or dots (an empty file: nothing to play), or
+        ``position`` holds none.
     """
 
     file: TactFile
@@ -106,8 +116,10 @@ class TactPattern:
 
     def __post_init__(self):
         positions = self.file.positions
+        if not positions:
+            raise TactError(NOTHING_TO_PLAY)
         if self.position is None:
-            object.__setattr__(self, "position", positions[0] if positions else "")
+            object.__setattr__(self, "position", positions[0])
         elif self.position not in positions:
             held = ", ".join(positions) or "none"
             raise TactError(
