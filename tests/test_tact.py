@@ -287,3 +287,27 @@ def test_a_pattern_is_tabulated_before_it_plays_and_the_stream_plays_that_table(
         array.play(pattern, "AS", mu=0.33, gamma=0.7, duration_s=0.05, wait=False)
         assert live.precomputed  # tabulated before play returned
         array.all_off()
+
+
+def test_connected_dots_play_as_dots_and_the_pattern_says_so():
+    """dotConnected is not supported (the dots play as dots); before, without a word."""
+    pattern = pattern_of(ts.connected_dots())
+    assert len(pattern.dots(PALM)) == 4  # played as dots
+    (note,) = pattern.notes
+    assert "tracks[0].effects[0].modes.VestFront.dotMode.dotConnected is true" in note
+    assert "3 dots play as separate dots, not as a path through them" in note
+    assert pattern_of(ts.simple()).notes == ()
+    assert pattern_of(ts.connected_dots("VestBack"), "VestFront").notes == ()  # another position's
+
+
+@pytest.mark.parametrize("command", ["render", "stream"])
+def test_the_command_line_warns_of_connected_dots(tmp_path, capsys, command):
+    from tactile_core.cli import main
+
+    path = ts.write(tmp_path, ts.connected_dots())
+    args = [command, "--shape", f"tact:{path}", "--method", "BA", "--profile", "vest-4x5"]
+    args += ["--out", str(tmp_path / "f.csv")] if command == "render" else ["--device", "sim"]
+    assert main(args) == 0
+    err = capsys.readouterr().err
+    assert f"tactile {command}: warning: tracks[0].effects[0].modes.VestFront.dotMode" in err
+    assert "play as separate dots" in err

@@ -22,7 +22,7 @@ from ._common import (
     write_failed,
     write_frames,
 )
-from ._tact import load_tact_arg, not_played
+from ._tact import load_tact_arg, not_played, warn_of_notes
 
 MAX_RENDER_FRAMES = 1_000_000
 """Most frames ``tactile render`` writes (duration x rate + 1)."""
@@ -106,6 +106,7 @@ def cmd_render(args) -> int:
         _check_render_size(n, grid.size, pattern.duration_s, args.rate)
         time_s, frames = pattern.frames(method, grid, rate_hz=args.rate, mu=mu, gamma=gamma)
         what, left_out = f"{pattern.position} of {args.shape[len('tact:') :]}", not_played(pattern)
+        warn_of_notes("render", pattern)
     else:
         n = int(np.floor(args.duration * args.rate + 1e-9)) + 1
         _check_render_size(n, grid.size, args.duration, args.rate)
@@ -218,6 +219,7 @@ def cmd_stream(args) -> int:
     if pattern is not None:
         print(f"playing {pattern.position} of {args.shape[len('tact:') :]}"
               f"{not_played(pattern)}", file=sys.stderr, flush=True)  # fmt: skip
+        warn_of_notes("stream", pattern)
     if pattern is not None and args.seconds is None:
         args.seconds = max(pattern.duration_s, 0.1)  # the file, then the array off
     if shape is not None:  # one trace at the stream's frame times (at most DARK_CHECK_FRAMES)

@@ -49,6 +49,15 @@ def load_tact_arg(args):
     return pattern
 
 
+def warn_of_notes(command: str, pattern) -> None:
+    """Each of the pattern's notes (what does not play as the file asks) as a warning on
+    standard error."""
+    import sys
+
+    for note in pattern.notes:
+        print(f"tactile {command}: warning: {note}", file=sys.stderr, flush=True)
+
+
 def not_played(pattern) -> str:
     """``"; not played: VestBack, ..."``: the positions of the file left out ("" if none)."""
     return f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""

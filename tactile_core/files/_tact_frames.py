@@ -144,6 +144,21 @@ class TactPattern:
         return self.file.duration_s
 
     @property
+    def notes(self) -> tuple:
+        """What of this position does not play as the file asks, in words (empty if nothing):
+        dot effects with ``dotConnected: true`` play as separate dots (docs/tact.md)."""
+        connected = [(field, n) for where, field, n in self.file.connected
+                     if where == self.position]  # fmt: skip
+        if not connected:
+            return ()
+        (field, _), dots = connected[0], sum(n for _, n in connected)
+        which = (f"{field}.dotConnected is true: its" if len(connected) == 1 else
+                 f"{field} and {len(connected) - 1} more dot effects have dotConnected true: "
+                 "their")  # fmt: skip
+        return (f"{which} {dots} dots play as separate dots, not as a path through them "
+                "(not supported)",)  # fmt: skip
+
+    @property
     def skipped(self) -> tuple:
         """The file's other positions with content, which this pattern does not play."""
         return tuple(p for p in self.file.positions if p != self.position)

@@ -95,6 +95,9 @@ class TactFile:
         When the last effect of an enabled track ends, in seconds.
     positions : tuple of str
         The positions that hold paths or dots, in the order they first appear.
+    connected : tuple of (str, str, int)
+        ``(position, field, dots)`` of each played dot effect with ``dotConnected: true``,
+        which plays as separate dots (a path through them is not supported).
     """
 
     name: str
@@ -103,6 +106,7 @@ class TactFile:
     dots: tuple
     duration_s: float
     positions: tuple
+    connected: tuple = ()
 
 
 def read_tact(path) -> TactFile:
@@ -141,6 +145,7 @@ class _Reader:
         self.source = source
         self.points = 0
         self.effects = 0
+        self.connected = []
 
     def fail(self, field: str, problem: str):
         raise TactError(f"{self.source}: {field} {problem}")
@@ -217,6 +222,7 @@ class _Reader:
             dots=tuple(dots),
             duration_s=end_ms / 1e3,
             positions=tuple(positions),
+            connected=tuple(self.connected),
         )
 
     def position(self, name, field: str) -> str:
@@ -272,6 +278,8 @@ class _Reader:
             else:
                 found = self.dot_mode(mode, where, position, start, length, layouts)
                 dots.extend(found if enabled else ())
+                if enabled and found and mode["dotMode"].get("dotConnected") is True:
+                    self.connected.append((position, f"{where}.dotMode", len(found)))
             if enabled and found and position not in positions:
                 positions.append(position)
         return start + length
