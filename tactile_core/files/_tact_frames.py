@@ -16,8 +16,8 @@ array (its intensity envelope included), every dot active then lights the actuat
 its motor's place (mapped as above) at its intensity, and the raw intensities are combined by
 taking the **maximum per actuator**; then the correction (mu, gamma, gain) applies and, with the
 box filter, the frame averages its sub-samples. Frame ``k`` covers ``[k / rate, (k + 1) / rate)``
-seconds of the file; after the last effect's end (:attr:`TactPattern.duration_s`) frames are
-empty.
+seconds of the file; after the end of the last effect holding the position's content
+(:attr:`TactPattern.duration_s`) frames are empty.
 """
 
 from __future__ import annotations
@@ -140,8 +140,11 @@ class TactPattern:
 
     @property
     def duration_s(self) -> float:
-        """When the file's last played effect ends, in seconds (frames after it are empty)."""
-        return self.file.duration_s
+        """When the last effect holding this position's paths or dots ends, in seconds: what
+        the position lasts played alone (frames after it are empty). The file's other
+        positions do not count: the front of a file whose back plays after it ends with its
+        own effects (``TactFile.duration_s`` is the whole file's)."""
+        return self.file.ends_s.get(self.position, self.file.duration_s)
 
     @property
     def notes(self) -> tuple:

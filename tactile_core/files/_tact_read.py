@@ -23,6 +23,7 @@ Every problem raises :class:`TactError` naming the field, e.g.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 from .._shared import validate as _validate
@@ -93,6 +94,9 @@ class TactFile:
         :class:`TactPath` and :class:`TactDot` records of the enabled tracks.
     duration_s : float
         When the last effect of an enabled track ends, in seconds.
+    ends_s : dict of str to float
+        Per position with content, when the last effect holding its paths or dots ends, in
+        seconds (what that position lasts played alone).
     positions : tuple of str
         The positions that hold paths or dots, in the order they first appear.
     connected : tuple of (str, str, int)
@@ -107,6 +111,7 @@ class TactFile:
     duration_s: float
     positions: tuple
     connected: tuple = ()
+    ends_s: dict = dataclasses.field(default_factory=dict)
 
 
 def read_tact(path) -> TactFile:
@@ -146,6 +151,7 @@ class _Reader:
         self.points = 0
         self.effects = 0
         self.connected = []
+        self.ends_ms = {}
 
     def fail(self, field: str, problem: str):
         raise TactError(f"{self.source}: {field} {problem}")
@@ -223,6 +229,7 @@ class _Reader:
             duration_s=end_ms / 1e3,
             positions=tuple(positions),
             connected=tuple(self.connected),
+            ends_s={p: ms / 1e3 for p, ms in self.ends_ms.items()},
         )
 
     def position(self, name, field: str) -> str:
@@ -282,6 +289,8 @@ class _Reader:
                     self.connected.append((position, f"{where}.dotMode", len(found)))
             if enabled and found and position not in positions:
                 positions.append(position)
+            if enabled and found:
+                self.ends_ms[position] = max(self.ends_ms.get(position, 0.0), start + length)
         return start + length
 
     def feedback(self, mode, key, field):
