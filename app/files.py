@@ -255,8 +255,9 @@ class FileActions(QtCore.QObject):
         self.preset_name, self.preset_notes, self.preset_scene = Path(path).stem, "", scene
         self.preset_loaded.emit()
         skipped = f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""
+        notes = "".join(f"; {note}" for note in pattern.notes)  # what plays otherwise than asked
         self.message_posted.emit(f"imported {pattern.position} of {Path(path).name}: {what}"
-                                 f"{skipped}", 10_000)  # fmt: skip
+                                 f"{skipped}{notes}", 10_000)  # fmt: skip
         return True
 
     def export_tact_file(self, path) -> bool:

@@ -38,12 +38,13 @@ PACKAGES = {
 """Debian/Ubuntu package of each library the xcb plugin needs that a minimal system may lack."""
 
 APT_LINE = (
-    "sudo apt-get install python3-venv libxcb-cursor0 libxcb-icccm4 libxcb-keysyms1 "
-    "libxcb-image0 libxcb-render-util0 libxcb-shape0 libxcb-randr0 libxcb-xkb1 "
+    "$(command -v sudo) apt-get install -y python3-venv libxcb-cursor0 libxcb-icccm4 "
+    "libxcb-keysyms1 libxcb-image0 libxcb-render-util0 libxcb-shape0 libxcb-randr0 libxcb-xkb1 "
     "libxkbcommon-x11-0 libgl1 libegl1 libfontconfig1 libdbus-1-3 libportaudio2"
 )
 """The README's line: everything the window needs on Debian 12 / Ubuntu 22.04 and later, and
-PortAudio for ``audio:`` devices (the README's first command starts with it)."""
+PortAudio for ``audio:`` devices (the README's first command runs it after ``apt-get update``;
+``$(command -v sudo)`` is empty as root without sudo, ``-y`` needs no terminal)."""
 
 
 def package_of(soname: str) -> str:

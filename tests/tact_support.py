@@ -92,6 +92,15 @@ def crossing_paths_and_a_dot():
     )
 
 
+def connected_dots(position="VestFront"):
+    """Three dots of one effect with ``dotConnected: true`` (the Designer draws a line through
+    them) on ``position``, and a plain dot effect on the front."""
+    connected = dot_mode([(0, 1.0), (5, 1.0), (10, 1.0)], 0, 500)
+    connected["dotMode"]["dotConnected"] = True
+    return document(effect({position: connected}),
+                    effect({"VestFront": dot_mode([(6, 0.8)], 0, 300)}))  # fmt: skip
+
+
 def write(tmp_path, data, name="t.tact"):
     path = tmp_path / name
     path.write_text(json.dumps(data))

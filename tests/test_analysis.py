@@ -1,10 +1,13 @@
 """``tactile analyze``: the paper's tables and figures from a results folder of simulated
 participants, incomplete participants left out, bad rows reported."""
 
+import math
 import subprocess
 import sys
 
+import numpy as np
 import pytest
+from scipy import stats
 
 from tactile_core.experiments import RUNNERS, Experiment3, SimulatedParticipant, open_session
 
@@ -121,3 +124,75 @@ def test_analyze_reports_bad_rows_and_goes_on(tmp_path):
     assert "Left out 2 row(s)" in text
     assert result["exp3"]["participants"] == ["q0", "q2", "q3"]  # q1's set is now incomplete
     assert len(result["exp1"]["participants"]) == 4  # q2's complete ratings still count
+
+
+# --- Experiment 2 across conditions: rows pair by participant ------------------------------------
+
+
+def _exp2_participant(root, pid, seed, wrong=()):
+    """An Experiment 2 session of a simulated participant (seeded), never right in the stages
+    ``wrong`` (those tracks climb to the 4-unit cap: no reversal estimate); its CSV."""
+    from tactile_core.experiments import Experiment2
+
+    runner = Experiment2(open_session(root, pid, index=seed, seed=seed))
+    sim = SimulatedParticipant(seed=seed)
+    while not runner.finished:
+        trial = runner.current
+        if trial.kind == "direction" and trial.stage in wrong:
+            runner.answer(next(d for d in trial.options if d != trial.info["direction"]))
+        else:
+            runner.answer(sim.respond(trial))
+    runner.close()
+    return root / f"participant-{pid}" / "exp2.csv"
+
+
+def _reversal_estimate(path, stage):
+    """The paper's estimate of one track, replayed by hand from the CSV (NaN under 4
+    reversals): the mean of the last two peaks and two valleys."""
+    import csv
+
+    from tactile_core.experiments import Staircase
+
+    with open(path, newline="") as f:
+        answers = [r["answer"] == r["direction"] for r in csv.DictReader(f) if r["stage"] == stage]
+    sc = Staircase(2.0, 0.685, 1.46, 2, 1, min_level=0.01, max_level=4.0)
+    for answer in answers:
+        sc.update(answer)
+    levels = sc.reversal_levels
+    return float(np.mean(levels[-4:])) if len(levels) >= 4 else math.nan
+
+
+def test_exp2_across_conditions_leaves_out_a_participant_missing_any_condition(tmp_path):
+    """p00 has no L1 and L3 estimate, p01 no L2 and L4 estimate: every column then holds 5
+    values, but not from the same people. Friedman and the pairwise tests must take the 4
+    participants with every condition (complete cases), not the leftover columns side by side
+    (before: they did, pairing p01's L1 with p00's L2: chi2 and p of other rows)."""
+    from tactile_core.experiments.analysis import analyze
+
+    paths = {"p00": _exp2_participant(tmp_path, "p00", 0, wrong=("L1", "L3")),
+             "p01": _exp2_participant(tmp_path, "p01", 1, wrong=("L2", "L4"))}  # fmt: skip
+    for seed in range(2, 6):
+        paths[f"p{seed:02d}"] = _exp2_participant(tmp_path, f"p{seed:02d}", seed)
+    conditions = ("L1", "L2", "L3", "L4")
+    table = {pid: [_reversal_estimate(path, c) for c in conditions] for pid, path in paths.items()}
+    assert np.isnan(table["p00"]).tolist() == [True, False, True, False]
+    assert np.isnan(table["p01"]).tolist() == [False, True, False, True]
+    complete = np.array([row for row in table.values() if np.isfinite(row).all()])
+    assert complete.shape == (4, 4)  # p02..p05
+    out = []
+    with pytest.MonkeyPatch.context() as mp:  # neither the fitter nor the figures is tested here
+        mp.setattr("tactile_core.experiments.analysis._scores.fit_psychometric",
+                   lambda lengths, correct: {"threshold": 1.0, "ci": (0.5, 2.0)})  # fmt: skip
+        mp.setattr("tactile_core.experiments.analysis._report._exp2_figure", lambda *a: None)
+        mp.setattr("tactile_core.experiments.analysis._report._staircase_figure", lambda *a: None)
+        result = analyze(tmp_path, out=out.append)
+    across = result["exp2"]["journal"]["across"]
+    chi2, p = stats.friedmanchisquare(*complete.T)
+    assert across["friedman"] == pytest.approx((chi2, p), rel=1e-12)
+    exact = stats.PermutationMethod(n_resamples=np.inf)
+    for i, j in ((0, 1), (0, 3), (1, 2)):
+        d = complete[:, i] - complete[:, j]
+        expected = stats.wilcoxon(d[d != 0], method=exact).pvalue if d.any() else 1.0
+        assert across["exact"][(conditions[i], conditions[j])]["p"] == pytest.approx(expected)
+    assert across["participants"] == ["p02", "p03", "p04", "p05"]
+    assert "4 of 6 participants (p00, p01 lack a condition)" in "\n".join(out)

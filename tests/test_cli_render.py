@@ -129,3 +129,31 @@ def test_core_never_imports_qt():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "", f"tactile_core loaded Qt: {proc.stdout}"
+
+
+def test_render_of_a_shape_off_the_array_warns_that_no_tactor_is_ever_lit(tmp_path, capsys):
+    """circle:9,9,2 spans x and y 7 to 11; the palm array spans x 0 to 5, y 0 to 6 (before:
+    201 all-zero frames written and exit 0 without a word). The file is still written."""
+    out = tmp_path / "off.csv"
+    assert main(["render", "--shape", "circle:9,9,2", "--method", "AS", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("tactile render: warning: circle:9,9,2 ")
+    assert "x 0 to 5, y 0 to 6" in err and "x 7 to 11, y 7 to 11" in err
+    assert "no tactor is ever lit" in err
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert data.shape == (201, 31) and not data[:, 1:].any()
+
+
+def test_render_of_a_shape_half_on_the_array_warns_of_nothing(tmp_path, capsys):
+    out = tmp_path / "half.csv"
+    assert main(["render", "--shape", "circle:5,3,2", "--method", "CT", "--out", str(out)]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_stream_of_a_shape_off_the_array_warns_before_it_streams(capsys):
+    args = ["stream", "--device", "sim", "--shape", "line:-3,-1,-1,-3", "--method", "IM",
+            "--seconds", "0.1"]  # fmt: skip
+    assert main(args) == 0
+    err = capsys.readouterr().err
+    assert "tactile stream: warning: line:-3,-1,-1,-3 " in err
+    assert "x 0 to 5, y 0 to 6" in err and "no tactor is ever lit" in err

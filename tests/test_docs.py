@@ -105,6 +105,19 @@ def test_the_test_command_sits_right_after_its_marker():
     assert command.startswith("python3 -m venv .venv") and "pytest" in command
 
 
+def test_the_setup_command_runs_as_root_without_sudo_and_without_a_terminal():
+    """Before: `sudo apt-get install ...`: "sudo: command not found" (status 127) as root in a
+    container, and without -y apt-get asks and reads "Abort." from a closed standard input."""
+    text = (ROOT / "README.md").read_text()
+    setup = text.split("## Set up", 1)[1].split("```bash\n", 1)[1].split("\n", 1)[0]
+    steps = [step.strip() for step in setup.split("&&")]
+    apt = [step for step in steps if " apt-get " in f" {step} "]
+    assert apt and all(step.startswith("$(command -v sudo) apt-get ") for step in apt)
+    assert any(step.startswith("$(command -v sudo) apt-get install -y ") for step in apt)
+    assert steps[-1] == ".venv/bin/tactile-tuner"  # it ends by starting the tuner: the README
+    assert "closing\nthe window (or Ctrl-C in the terminal) gives the prompt back" in text  # says
+
+
 @pytest.mark.parametrize("page", PAGES, ids=rel)
 def test_every_relative_link_and_image_resolves(page):
     broken = []

@@ -158,3 +158,50 @@ def test_the_logistic_mixed_model_is_the_intended_posterior():
     best = minimize(negative, np.zeros(10), method="BFGS", options={"gtol": 1e-8})
     assert got["map"] == pytest.approx(best.x[:3], abs=2e-3)
     assert set(got["effects"]) == {"B", "C"} and got["participant_sd"] > 0
+
+
+def _scipy_t_quietly(values, reference, alternative):
+    """scipy's one-sample t-test; on equal values it warns of catastrophic cancellation."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return stats.ttest_1samp(values, reference, alternative=alternative)
+
+
+@pytest.mark.parametrize("alternative", ["less", "greater", "two-sided"])
+def test_one_sample_of_equal_values_gives_scipys_t_and_says_d_is_undefined(alternative):
+    """Every difference from 1 equal (before: a divide-by-zero RuntimeWarning, an error here):
+    the t-test as scipy gives it (t = -inf, p 0 or 1 by the side), the signed-rank test as
+    usual (all 6 below: 1/64 one-sided), the t interval and Cohen's d NaN, with the reason."""
+    v = np.full(6, 0.75)
+    r = one_sample(v, 1.0, alternative=alternative)
+    ref = _scipy_t_quietly(v, 1.0, alternative)
+    assert (r["t"], r["p_t"]) == (ref.statistic, ref.pvalue)
+    assert r["p_exact"] == pytest.approx(stats.wilcoxon(v - 1.0, alternative=alternative).pvalue)
+    assert all(math.isnan(x) for x in (*r["ci"], r["d"], *r["d_ci"]))
+    assert "every value is 0.75" in r["note"] and "undefined" in r["note"]
+
+
+def test_one_sample_at_the_reference_with_no_spread_is_nan_like_scipy():
+    r = one_sample(np.ones(5), 1.0)
+    ref = _scipy_t_quietly(np.ones(5), 1.0, "less")
+    assert math.isnan(ref.statistic) and math.isnan(ref.pvalue)
+    assert math.isnan(r["t"]) and math.isnan(r["p_t"])
+    assert r["p_exact"] == 1.0  # every difference 0: nothing to rank
+    assert "every value is 1" in r["note"]
+
+
+def test_cohens_d_interval_leaves_out_resamples_without_spread():
+    """Five participants, two alike: 35/3125 (1.1%) of the resamples draw one value five times,
+    whose SD is 0 (before: a divide-by-zero RuntimeWarning). Those resamples have no d and are left
+    out of the percentile interval, computed here from the documented draws."""
+    v = np.array([0.62, 0.79, 0.79, 0.90, 1.16])
+    r = one_sample(v, 1.0)
+    rows = v[np.random.default_rng(0).integers(0, v.size, size=(9999, v.size))]
+    defined = rows[np.ptp(rows, axis=1) > 0]
+    assert 50 < len(rows) - len(defined) < 200  # 113 of 9,999 here
+    d = (defined.mean(axis=1) - 1.0) / defined.std(axis=1, ddof=1)
+    assert r["d_ci"] == pytest.approx(tuple(np.quantile(d, [0.025, 0.975])), rel=1e-12)
+    assert r["d"] == pytest.approx((v.mean() - 1.0) / np.std(v, ddof=1))
+    assert r["note"] == ""

@@ -167,7 +167,7 @@ def test_positions_disabled_tracks_and_the_end():
     with pytest.raises(TactError, match="position 'Head' holds no paths or dots"):
         pattern_of(data, "Head")
     live = pattern_of(data).live("EN", VEST.layout, tc.Sampling(100.0), 0.0, 1.0)
-    assert live.n_frames == 500 and live.entries(500) == () and live.entries(-1) == ()
+    assert live.n_frames == 100 and live.entries(100) == () and live.entries(-1) == ()  # 1 s
 
 
 def test_a_position_whose_paths_follow_another_positions_dots_is_found():
@@ -287,3 +287,58 @@ def test_a_pattern_is_tabulated_before_it_plays_and_the_stream_plays_that_table(
         array.play(pattern, "AS", mu=0.33, gamma=0.7, duration_s=0.05, wait=False)
         assert live.precomputed  # tabulated before play returned
         array.all_off()
+
+
+def test_connected_dots_play_as_dots_and_the_pattern_says_so():
+    """dotConnected is not supported (the dots play as dots); before, without a word."""
+    pattern = pattern_of(ts.connected_dots())
+    assert len(pattern.dots(PALM)) == 4  # played as dots
+    (note,) = pattern.notes
+    assert "tracks[0].effects[0].modes.VestFront.dotMode.dotConnected is true" in note
+    assert "3 dots play as separate dots, not as a path through them" in note
+    assert pattern_of(ts.simple()).notes == ()
+    assert pattern_of(ts.connected_dots("VestBack"), "VestFront").notes == ()  # another position's
+
+
+@pytest.mark.parametrize("command", ["render", "stream"])
+def test_the_command_line_warns_of_connected_dots(tmp_path, capsys, command):
+    from tactile_core.cli import main
+
+    path = ts.write(tmp_path, ts.connected_dots())
+    args = [command, "--shape", f"tact:{path}", "--method", "BA", "--profile", "vest-4x5"]
+    args += ["--out", str(tmp_path / "f.csv")] if command == "render" else ["--device", "sim"]
+    assert main(args) == 0
+    err = capsys.readouterr().err
+    assert f"tactile {command}: warning: tracks[0].effects[0].modes.VestFront.dotMode" in err
+    assert "play as separate dots" in err
+
+
+def center_x():
+    """Shaped as bHaptics' CenterX.tact (bhaptics/tact-python): the front's paths in an effect
+    of 0-800 ms, the back's paths in one of 1007-1807 ms and its dots in two of 200 ms, the
+    last ending at 2417 ms."""
+    front = [ts.point(0.5, 0.5, 0.2, 0), ts.point(0, 0, 0.2, 800)]
+    back = [ts.point(1, 1, 0.2, 0), ts.point(0.5, 0.5, 0.2, 800)]
+    return ts.document(
+        ts.effect({"VestFront": ts.path_mode(front, "CONST_TDM")}, 0, 800),
+        ts.effect({"VestBack": ts.path_mode(back, fade="FADE_OUT")}, 1007, 800),
+        ts.effect({"VestBack": ts.dot_mode([(1, 0.4), (2, 0.4)], 0, 200)}, 2217, 200),
+        ts.effect({"VestBack": ts.dot_mode([(1, 0.4), (2, 0.4)], 0, 200)}, 1950, 200),
+    )
+
+
+def test_a_position_played_alone_lasts_as_long_as_its_own_effects(tmp_path, capsys):
+    """Before: every position lasted the whole file (2.417 s), so the front's 0.8 s played
+    with 1.6 s of silence after it."""
+    from tactile_core.cli import main
+
+    assert parse_tact(center_x()).duration_s == pytest.approx(2.417)
+    assert pattern_of(center_x(), "VestFront").duration_s == pytest.approx(0.8)
+    assert pattern_of(center_x(), "VestBack").duration_s == pytest.approx(2.417)
+    time_s, _ = pattern_of(center_x(), "VestFront").frames("BA", VEST.layout, rate_hz=100.0)
+    assert len(time_s) == 80
+    path = ts.write(tmp_path, center_x())
+    args = ["render", "--shape", f"tact:{path}", "--method", "BA", "--profile", "vest-4x5",
+            "--out", str(tmp_path / "f.csv")]  # fmt: skip
+    assert main(args) == 0
+    assert "wrote 80 frames of VestFront" in capsys.readouterr().out

@@ -9,7 +9,9 @@ import pytest
 import tactile_core as tc
 from tactile_core.device.profile import find_profile
 from tactile_core.files.tact import (
+    TactPattern,
     load_pattern,
+    parse_tact,
     path_of_scene,
     read_tact,
     tact_document,
@@ -80,7 +82,7 @@ def test_points_outside_the_actuators_are_clipped_and_sub_millisecond_points_dro
     ][0]["pointList"]
     assert [p["time"] for p in points] == [0, 500, 1000]
     assert (points[0]["x"], points[0]["y"]) == (0, 0) and (points[2]["x"], points[2]["y"]) == (1, 1)
-    assert doc["project"]["layout"]["layouts"]["VestFront"][29] == {"index": 29, "x": 1, "y": 0}
+    assert doc["project"]["layout"]["layouts"]["VestFront"][29] == {"index": 29, "x": 1, "y": 1}
 
 
 def test_scenes_export_their_trace():
@@ -134,3 +136,32 @@ def test_the_sample_file_re_exports_to_the_same_path(tmp_path):
     assert np.array(again.points) == pytest.approx(np.array(original.points), abs=1e-4)
     assert again.times_s == pytest.approx(original.times_s)
     assert math.isclose(read_tact(out).duration_s, 1.0)
+
+
+def test_the_exported_vest_layout_numbers_its_motors_as_the_designer_does():
+    """bHaptics' Designer numbers a Tactot (vest) panel's 20 motors from the top left, rows of
+    four downwards (tests/data/testfeedback.tact; bhaptics/tact-python's CenterX.tact). Before,
+    the export numbered them in the profile's order, motor 0 at the bottom left (0, 1)."""
+    with open(SAMPLE, encoding="utf-8-sig") as f:
+        designer = json.load(f)["project"]["layout"]["layouts"]["VestFront"]
+    path = TimedPath([(0.0, 0.0), (3.0, 4.0)], [0.0, 1.0])
+    ours = tact_document(path, VEST)["project"]["layout"]["layouts"]["VestFront"]
+    assert [m["index"] for m in ours] == [m["index"] for m in designer] == list(range(20))
+    for mine, theirs in zip(ours, designer):
+        assert (mine["x"], mine["y"]) == pytest.approx((theirs["x"], theirs["y"]), abs=5e-4)
+
+
+def test_motor_0_of_an_exported_file_is_the_top_left_actuator_when_imported():
+    """Export on the palm array, then a dot on motors 0, 4, 25 and 29 (as a Designer user adds
+    them by number) comes back on the top-left, top-right, bottom-left and bottom-right tactors:
+    cells (0, 5), (4, 5), (0, 0), (4, 0), flat index row * 5 + col."""
+    doc = tact_document(TimedPath([(0.5, 0.5), (4.5, 5.5)], [0.0, 1.0]), PALM)
+    layout = doc["project"]["layout"]["layouts"]["VestFront"]
+    assert [(m["x"], m["y"]) for m in layout[:6]] == [(0, 0), (0.25, 0), (0.5, 0), (0.75, 0),
+                                                      (1, 0), (0, 0.2)]  # fmt: skip
+    mode = doc["project"]["tracks"][0]["effects"][0]["modes"]["VestFront"]
+    mode["mode"] = "DOT_MODE"
+    for motor, cell in {0: 5 * 5 + 0, 4: 5 * 5 + 4, 25: 0, 29: 4}.items():
+        mode["dotMode"]["feedback"][0]["pointList"] = [{"index": motor, "intensity": 1}]
+        ((_, _, actuator, _, _),) = TactPattern(parse_tact(doc)).dots(PALM)
+        assert actuator == cell, motor

@@ -177,3 +177,22 @@ def test_what_bhaptics_files_vary_in_is_read(tmp_path):
     assert len(read.paths) == 1 and len(read.dots) == 1 and read.paths[0].fade == "NONE"
     bare = parse_tact(data["project"])
     assert bare.paths == read.paths and bare.dots == read.dots
+
+
+def test_load_pattern_refuses_an_empty_file_as_the_command_line_does(tmp_path, capsys):
+    """Before: load_pattern returned an empty pattern (position '') that played nothing, while
+    `tactile render` refused the file; now both refuse it with the same message."""
+    from tactile_core.cli import main
+    from tactile_core.files.tact import TactPattern, load_pattern
+
+    empty = ts.write(tmp_path, ts.document(), "empty.tact")
+    message = f"{empty}: no paths or dots to play (no enabled track holds any)"
+    with pytest.raises(TactError) as error:
+        load_pattern(empty)
+    assert str(error.value) == message
+    with pytest.raises(TactError, match="no paths or dots to play"):
+        TactPattern(parse_tact(ts.document()))
+    args = ["render", "--shape", f"tact:{empty}", "--method", "EN", "--profile", "vest-4x5",
+            "--out", str(tmp_path / "f.csv")]  # fmt: skip
+    assert main(args) == 2
+    assert capsys.readouterr().err == f"tactile render: error: {message}\n"

@@ -58,6 +58,17 @@ def test_paths_and_dots_play_as_the_scenes_pattern(window, qtbot, tmp_path):
     assert "no shape to export" in window.last_error
 
 
+def test_the_import_summary_says_connected_dots_play_as_dots(window, tmp_path):
+    """dotConnected: true is not supported; before, the import said nothing of it."""
+    data = ts.connected_dots()  # and a path: this checks the summary, not a dots-only import
+    path = ts.effect({"VestFront": ts.path_mode([ts.point(0, 1, 0.5, 0), ts.point(1, 0, 1, 800)])})
+    data["project"]["tracks"][0]["effects"].append(path)
+    assert window.files.import_tact_file(ts.write(tmp_path, data))
+    message = window.statusBar().currentMessage()
+    assert "1 path and 4 dots play as a pattern" in message
+    assert "dotConnected is true: its 3 dots play as separate dots" in message
+
+
 def test_a_bad_file_changes_nothing_and_says_why(window, tmp_path):
     before = window.state.scene
     bad = ts.mutate(ts.simple(), ["project", "tracks", 0, "effects", 0, "startTime"], -3)

@@ -14,7 +14,7 @@ import signal
 import sys
 
 from .._shared.threads import one_blas_thread
-from ._common import Ended, UsageError, ending_signals
+from ._common import Ended, UsageError, ending_signals, unknown_arguments_hint
 
 # ``_name as _name``: helpers of the module before the split, still importable from here.
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
@@ -39,7 +39,10 @@ __all__ = [
 def main(argv=None) -> int:
     """Entry point of the ``tactile`` console script."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # the command's usage, not the top level's, and a hint where one helps
+        hint = unknown_arguments_hint(args, extra)
+        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}{hint}")
     try:
         with one_blas_thread(), ending_signals():  # small fits: extra BLAS threads only wait
             return args.func(args)

@@ -13,7 +13,7 @@ from .._shared import validate as _validate
 from ..rendering.correction import check_correction
 from ..rendering.geometry import Grid
 from ..rendering.methods import METHOD_NAMES, PEER_METHODS, get_method
-from ..rendering.shapes import TimedPath, parse_shape
+from ..rendering.shapes import SHAPE_FORMS, SHAPE_KINDS, TimedPath, parse_shape
 from ..rendering.trace import DIRECTIONS
 
 
@@ -46,13 +46,33 @@ DEVICE_HELP = (
 """``--device`` of the commands that open one."""
 
 
+TACT_FORM = "tact:FILE.tact"
+"""The ``--shape`` form of a bHaptics file (render and stream)."""
+SHAPE_HELP = (
+    " | ".join(SHAPE_FORMS) + f" | {TACT_FORM}: one word, in grid units; a polygon closes; "
+    "timed: each point's time (s) and intensity, OPTION speed (one speed) or tdm (at the "
+    "points' times, the default), fade-in, fade-out or fade-in-out (;speed;fade-in for two); "
+    "tact: a bHaptics file"
+)
+"""``--shape``: every form the parser takes."""
+
+
+def profile_help(what: str = "") -> str:
+    """``--profile``'s help: a bundled profile's name (each listed) or a JSON file; ``what``
+    says what the command takes from it."""
+    from .._shared.assets import assets_dir
+
+    names = sorted(p.stem for p in (assets_dir() / "devices").glob("*.json"))
+    return (f"device profile{what}: a name ({', '.join(names)}) or a JSON file (default: the "
+            "palm array)")  # fmt: skip
+
+
 def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None:
     p.add_argument(
         "--shape",
         required=True,
         metavar="SHAPE",
-        help="line:X0,Y0,X1,Y1 | circle:CX,CY,R | square:CX,CY,EDGE (grid units) | "
-        "tact:FILE.tact (a bHaptics file)",
+        help=SHAPE_HELP,
     )
     paper, peers = ", ".join(METHOD_NAMES), ", ".join(PEER_METHODS)
     p.add_argument("--method", required=True, metavar="M",
@@ -75,7 +95,7 @@ def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None
 def _scene(args):
     """Validate the shared scene arguments; ValueError names what is wrong. The shape is None
     for ``--shape tact:FILE`` (a pattern, loaded by the command)."""
-    shape = None if args.shape.startswith("tact:") else parse_shape(args.shape)
+    shape = None if args.shape.startswith("tact:") else _parse_shape_arg(args.shape)
     method = get_method(args.method).spec
     mu, gamma = check_correction(args.mu, args.gamma)
     if args.duration is None:  # a timed path plays at its own pace (its times are the point)
@@ -86,6 +106,39 @@ def _scene(args):
         _validate.integer(name, getattr(args, name), 1, 64)
     grid = Grid(cols=args.cols, rows=args.rows)
     return shape, method, mu, gamma, grid
+
+
+def _parse_shape_arg(text: str):
+    """:func:`parse_shape`; a text that names no shape kind is told the command line's forms,
+    ``tact:`` included."""
+    try:
+        return parse_shape(text)
+    except ValueError:
+        kind = text.partition(":")[0].strip().lower() if ":" in text else None
+        if kind in SHAPE_KINDS:  # a kind's own numbers were wrong: its message says which
+            raise
+        forms = f"{' | '.join(SHAPE_FORMS)} | {TACT_FORM}"
+        if kind is None:
+            raise ValueError(
+                f"shape must be one word such as circle:2.5,3,2, one of {forms}; "
+                f"got {_validate.shown(text)}"
+            ) from None
+        raise ValueError(
+            f"shape kind must be one of {', '.join(SHAPE_KINDS)}, tact ({forms}), "
+            f"got {_validate.shown(kind)}"
+        ) from None
+
+
+def unknown_arguments_hint(args, extra) -> str:
+    """What to add to argparse's "unrecognized arguments" for ``--shape`` written as words
+    (``--shape circle 2.5 3 2``): the one-word spec meant, and every form."""
+    shape = getattr(args, "shape", None)
+    if not isinstance(shape, str) or ":" in shape or shape.strip().lower() not in SHAPE_KINDS:
+        return ""
+    numbers = [a for a in extra if _validate.DECIMAL.fullmatch(a)]
+    meant = f"{shape}:{','.join(numbers)}" if numbers else f"{shape}:..."
+    return (f" (a shape is one word: --shape {meant}; the forms: {' | '.join(SHAPE_FORMS)} | "
+            f"{TACT_FORM})")  # fmt: skip
 
 
 def _seconds(value, name="seconds"):

@@ -6,7 +6,7 @@ import argparse
 
 from .._version import __version__
 from ..stream import DEFAULT_LEAD_MS
-from ._common import DEVICE_HELP, _add_scene_arguments, number, whole
+from ._common import DEVICE_HELP, _add_scene_arguments, number, profile_help, whole
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._render import cmd_emulate, cmd_render, cmd_stream
 from ._serve import add_lsl_arguments, add_serve_parser
@@ -22,6 +22,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
+    parser.commands = sub.choices  # {name: its parser}, for main's usage errors
 
     p = sub.add_parser(
         "render", help="write the frames of one trace to .csv or .npz, or its carriers to .wav"
@@ -31,9 +32,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rate", type=number, default=100.0, help="frames per second (default 100)")
     p.add_argument("--out", required=True, help="output file, .csv, .npz or .wav")
     p.add_argument("--profile", default=None,
-                   help="device profile (a name or JSON file): its grid or layout, and for .wav "
-                   "its channels, levels, calibration and carriers (default: the palm "
-                   "array)")  # fmt: skip
+                   help=profile_help(" (its grid or layout, and for .wav its channels, levels, "
+                                     "calibration and carriers)"))  # fmt: skip
     p.add_argument("--samplerate", type=whole, default=None,
                    help=".wav: samples per second, 8000-384000 (default 48000)")  # fmt: skip
     p.add_argument("--carrier-hz", type=number, default=None,
@@ -60,7 +60,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--seconds", type=number, default=None, help="stop after this long (default: Ctrl-C)"
     )
-    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument("--profile", default=None, help=profile_help())
     p.add_argument(
         "--filter",
         choices=("point", "box"),
@@ -100,7 +100,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser(
         "emulate", help="run the device emulator on a pseudo-terminal (or a local TCP port)"
     )
-    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument("--profile", default=None, help=profile_help())
     p.add_argument("--rate", type=number, default=None, help="nominal rate for the interval error")
     p.add_argument(
         "--seconds", type=number, default=None, help="end after this long (default: Ctrl-C)"
@@ -183,7 +183,7 @@ def build_parser() -> argparse.ArgumentParser:
                    "simulated array")  # fmt: skip
     p.add_argument("--participant", metavar="ID", default=None)
     p.add_argument("--results", metavar="DIR", default=None, help="results folder")
-    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument("--profile", default=None, help=profile_help())
     p.add_argument("--trials-per-tactor", type=whole, default=20, help="threshold trials per "
                    "tactor, 5 tactors (default 20)")  # fmt: skip
     p.add_argument("--trials-per-place", type=whole, default=40,

@@ -22,7 +22,7 @@ from ._common import (
     _seconds,
     write_failed,
 )
-from ._tact import load_tact_arg, not_played
+from ._tact import load_tact_arg, not_played, warn_of_notes
 
 MAX_RENDER_FRAMES = 1_000_000
 """Most frames ``tactile render`` writes (duration x rate + 1)."""
@@ -38,6 +38,53 @@ def _check_render_size(frames: int, size: int, duration_s: float, rate_hz: float
             f"duration x rate must give at most {most} frames of {size} tactors, got {frames} "
             f"({duration_s:g} s at {rate_hz:g} Hz)"
         )
+
+
+DARK_CHECK_FRAMES = 20_000
+"""Most frames of one trace ``tactile stream`` renders before it starts to see whether any
+tactor is lit (a longer trace is checked at this many times spread over it)."""
+
+
+def warn_if_dark(command: str, shape, target, frames: np.ndarray) -> bool:
+    """Say on standard error that no tactor is ever lit, when ``frames`` are all zero.
+
+    Parameters
+    ----------
+    command : str
+        ``"render"`` or ``"stream"``, for the ``tactile COMMAND: warning:`` prefix.
+    shape : Shape or None
+        The shape drawn (None for a ``.tact`` pattern); its extent is named beside the array's.
+    target : Grid or Layout
+        What the frames were rendered onto.
+    frames : ndarray, shape (n, ...)
+        The frames (uncorrected or corrected: 0 stays 0).
+
+    Returns
+    -------
+    bool
+        True if the warning was given. The command goes on either way (docs/cli.md): a scene
+        that lights nothing is not an error, but it is never silent.
+    """
+    if np.any(frames):
+        return False
+    layout = target
+    x0, x1, y0, y1 = layout.bounds()
+    units = "grid units" if layout.is_grid else "pitches"
+    where = f"the {layout.describe()} (x {x0:g} to {x1:g}, y {y0:g} to {y1:g}, {units})"
+    if shape is None:
+        what = "the pattern lights nothing on " + where
+    else:
+        xy = shape.outline()
+        (sx0, sy0), (sx1, sy1) = xy.min(axis=0), xy.max(axis=0)
+        wrapped = None if layout.wrap is None else layout.wrap.index  # no outside along a wrap
+        apart = (wrapped != 0 and (sx1 < x0 or sx0 > x1)) or (
+            wrapped != 1 and (sy1 < y0 or sy0 > y1)
+        )
+        what = (f"{shape.spec} (x {sx0:.3g} to {sx1:.3g}, y {sy0:.3g} to {sy1:.3g}) "
+                f"{'lies outside' if apart else 'lights nothing on'} {where}")  # fmt: skip
+    print(f"tactile {command}: warning: {what}: no tactor is ever lit (every frame is zero)",
+          file=sys.stderr, flush=True)  # fmt: skip
+    return True
 
 
 def cmd_render(args) -> int:
@@ -59,6 +106,7 @@ def cmd_render(args) -> int:
         _check_render_size(n, grid.size, pattern.duration_s, args.rate)
         time_s, frames = pattern.frames(method, grid, rate_hz=args.rate, mu=mu, gamma=gamma)
         what, left_out = f"{pattern.position} of {args.shape[len('tact:') :]}", not_played(pattern)
+        warn_of_notes("render", pattern)
     else:
         n = int(np.floor(args.duration * args.rate + 1e-9)) + 1
         _check_render_size(n, grid.size, args.duration, args.rate)
@@ -67,6 +115,7 @@ def cmd_render(args) -> int:
         t = 1.0 - u if args.direction == "reverse" else u
         frames = correct(render(shape, method, t, grid=grid), mu, gamma)
         what, left_out = shape.spec, ""
+    warn_if_dark("render", shape, grid, frames)
     what = f"{what} ({method}, mu={mu:g}, gamma={gamma:g})"
     if wav:
         return _write_wav(args, out, profile, frames, what)
@@ -173,8 +222,13 @@ def cmd_stream(args) -> int:
     if pattern is not None:
         print(f"playing {pattern.position} of {args.shape[len('tact:') :]}"
               f"{not_played(pattern)}", file=sys.stderr, flush=True)  # fmt: skip
+        warn_of_notes("stream", pattern)
     if pattern is not None and args.seconds is None:
         args.seconds = max(pattern.duration_s, 0.1)  # the file, then the array off
+    if shape is not None:  # one trace at the stream's frame times (at most DARK_CHECK_FRAMES)
+        n = min(int(np.floor(args.duration * args.rate + 1e-9)) + 1, DARK_CHECK_FRAMES)
+        trace = render(shape, method, np.linspace(0.0, 1.0, n), grid=profile.layout)
+        warn_if_dark("stream", shape, profile.layout, trace)
     scene = Scene(
         shape,
         method,

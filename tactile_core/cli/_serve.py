@@ -20,6 +20,7 @@ from ._common import (
     _install_stop_handlers,
     _seconds,
     number,
+    profile_help,
     whole,
 )
 
@@ -72,7 +73,7 @@ def add_serve_parser(sub) -> None:
         metavar="URL",
         help=DEVICE_HELP,
     )
-    p.add_argument("--profile", default=None, help="device profile JSON (default: the palm array)")
+    p.add_argument("--profile", default=None, help=profile_help())
     p.add_argument(
         "--method",
         default=None,

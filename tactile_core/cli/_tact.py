@@ -44,11 +44,18 @@ def load_tact_arg(args):
         raise UsageError("--direction reverse does not apply to a .tact file (it plays as written)")
     try:
         pattern = load_pattern(path, getattr(args, "tact_position", None))
-    except TactError as exc:
+    except TactError as exc:  # an empty file too: the library refuses it
         raise UsageError(str(exc)) from None
-    if not pattern.position:
-        raise UsageError(f"{path}: no paths or dots to play (no enabled track holds any)")
     return pattern
+
+
+def warn_of_notes(command: str, pattern) -> None:
+    """Each of the pattern's notes (what does not play as the file asks) as a warning on
+    standard error."""
+    import sys
+
+    for note in pattern.notes:
+        print(f"tactile {command}: warning: {note}", file=sys.stderr, flush=True)
 
 
 def not_played(pattern) -> str:

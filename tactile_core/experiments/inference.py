@@ -170,11 +170,16 @@ def bootstrap_interval(statistic, data, *, n_resamples: int = 9999, level: float
     -------
     (float, float)
         The ``(1 - level) / 2`` and ``(1 + level) / 2`` quantiles of the resampled statistic.
+        Resamples where it is undefined (NaN: Cohen's ``d`` of a resample that drew one value
+        ``n`` times) are left out; NaN, NaN if every one is.
     """
     x = np.asarray(data, dtype=np.float64)
     rng = np.random.default_rng(seed)
     idx = rng.integers(0, x.shape[0], size=(n_resamples, x.shape[0]))
     values = np.asarray(statistic(x[idx]), dtype=np.float64)
+    values = values[~np.isnan(values)]
+    if values.size == 0:
+        return math.nan, math.nan
     alpha = (1.0 - level) / 2.0
     lo, hi = np.quantile(values, [alpha, 1.0 - alpha])
     return float(lo), float(hi)
@@ -200,8 +205,25 @@ def mean_with_interval(values, **bootstrap) -> tuple[float, float, float]:
             *bootstrap_interval(lambda rows: rows.mean(axis=1), v, **bootstrap))  # fmt: skip
 
 
+def _cohens_d(rows: np.ndarray, reference: float) -> np.ndarray:
+    """Cohen's ``(mean - reference) / SD`` of each row of ``rows`` ``(B, n)``; NaN for a row
+    whose values are all equal (no SD: ``d`` is undefined)."""
+    spread = np.ptp(rows, axis=1) > 0
+    sd = np.where(spread, rows.std(axis=1, ddof=1), 1.0)
+    return np.where(spread, (rows.mean(axis=1) - reference) / sd, np.nan)
+
+
 def one_sample(values, reference: float, *, alternative: str = "less") -> dict:
     """Tests of ``values`` (one per participant) against ``reference``.
+
+    Parameters
+    ----------
+    values : array_like of float, shape (n,)
+        One value per participant (non-finite ones are dropped), at least 2.
+    reference : float
+        The value tested against (Experiment 2: 1 grid unit).
+    alternative : {"less", "greater", "two-sided"}
+        The direction of the one-sided tests.
 
     Returns
     -------
@@ -209,22 +231,44 @@ def one_sample(values, reference: float, *, alternative: str = "less") -> dict:
         ``n``, ``median``, ``mean``, ``ci`` (the mean's 95% t interval), ``t`` and ``p_t``
         (one-sample t-test), ``T`` and ``p_exact`` (:func:`signed_rank_exact` of
         ``values - reference``), ``d`` (Cohen's ``(mean - reference) / SD``) with its
-        bootstrap interval ``d_ci``; one-sided in the direction ``alternative``.
+        bootstrap interval ``d_ci``; one-sided in the direction ``alternative``. ``note``: why
+        some of them are undefined ("" when none is).
+
+    Notes
+    -----
+    When every value is equal (SD 0) the t statistic divides by zero. ``t`` and ``p_t`` are
+    then what scipy's ``ttest_1samp`` gives for the same input: ``t = +-inf`` with ``p`` 0 in
+    the direction of the difference and 1 against it, and NaN for both when every value
+    equals ``reference``. The t interval and Cohen's ``d`` and its interval, which need an SD,
+    are NaN, and ``note`` says why. The exact signed-rank test is defined and reported as
+    usual. Bootstrap resamples that draw one value ``n`` times have no SD either; they are
+    left out of ``d``'s interval (:func:`bootstrap_interval`).
     """
     from scipy import stats
 
     v = np.asarray(values, dtype=np.float64)
     v = v[np.isfinite(v)]
-    t = stats.ttest_1samp(v, reference, alternative=alternative)
-    ci = stats.t.interval(0.95, v.size - 1, loc=v.mean(), scale=stats.sem(v))
+    mean = float(v.mean())
     w, p_exact = signed_rank_exact(v - reference, alternative=alternative)
-    d = float((v.mean() - reference) / v.std(ddof=1))
-    d_ci = bootstrap_interval(
-        lambda rows: (rows.mean(axis=1) - reference) / rows.std(axis=1, ddof=1), v
-    )
-    return {"n": int(v.size), "median": float(np.median(v)), "mean": float(v.mean()),
-            "ci": (float(ci[0]), float(ci[1])), "t": float(t.statistic),
-            "p_t": float(t.pvalue), "T": w, "p_exact": p_exact, "d": d, "d_ci": d_ci}  # fmt: skip
+    if np.ptp(v) == 0:  # no spread: everything that divides by the SD is undefined
+        diff = mean - reference
+        t = math.copysign(math.inf, diff) if diff else math.nan
+        toward = {"less": diff < 0, "greater": diff > 0, "two-sided": True}[alternative]
+        p_t = math.nan if not diff else (0.0 if toward else 1.0)
+        ci = d_ci = (math.nan, math.nan)
+        d = math.nan
+        note = (f"every value is {v[0]:g} (SD 0): the t interval and Cohen's d are undefined, "
+                "and t is infinite (NaN at the reference) as scipy gives it")  # fmt: skip
+    else:
+        result = stats.ttest_1samp(v, reference, alternative=alternative)
+        t, p_t = float(result.statistic), float(result.pvalue)
+        ci = stats.t.interval(0.95, v.size - 1, loc=mean, scale=stats.sem(v))
+        d = float(_cohens_d(v[None, :], reference)[0])
+        d_ci = bootstrap_interval(lambda rows: _cohens_d(rows, reference), v)
+        note = ""
+    return {"n": int(v.size), "median": float(np.median(v)), "mean": mean,
+            "ci": (float(ci[0]), float(ci[1])), "t": t, "p_t": p_t, "T": w,
+            "p_exact": p_exact, "d": d, "d_ci": d_ci, "note": note}  # fmt: skip
 
 
 def against_chance(correct, trials: int, chance: float = 0.5) -> dict:

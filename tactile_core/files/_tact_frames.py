@@ -16,8 +16,8 @@ array (its intensity envelope included), every dot active then lights the actuat
 its motor's place (mapped as above) at its intensity, and the raw intensities are combined by
 taking the **maximum per actuator**; then the correction (mu, gamma, gain) applies and, with the
 box filter, the frame averages its sub-samples. Frame ``k`` covers ``[k / rate, (k + 1) / rate)``
-seconds of the file; after the last effect's end (:attr:`TactPattern.duration_s`) frames are
-empty.
+seconds of the file; after the end of the last effect holding the position's content
+(:attr:`TactPattern.duration_s`) frames are empty.
 """
 
 from __future__ import annotations
@@ -45,6 +45,10 @@ from ..rendering.rasterize import (
 from ..rendering.shapes import FADES, TimedPath
 from ..rendering.trace import MAX_SAMPLES, Sampling, entry_table
 from ._tact_read import TactError, TactFile
+
+NOTHING_TO_PLAY = "no paths or dots to play (no enabled track holds any)"
+"""Why a file without content is refused (:class:`TactPattern`, ``load_pattern`` with the
+file's name before it)."""
 
 MAX_TABLE_FRAMES = 200_000
 """Most frames :meth:`PatternFrames.precompute` tabulates (11 minutes at 300 Hz); longer
@@ -96,6 +100,12 @@ class TactPattern:
     position : str, optional
         The device position to play (``"VestFront"``...); by default the first that holds
         paths or dots. The others are listed in :attr:`skipped`.
+
+    Raises
+    ------
+    TactError
+        When no position of the file holds paths or dots (an empty file: nothing to play), or
+        ``position`` holds none.
     """
 
     file: TactFile
@@ -103,8 +113,10 @@ class TactPattern:
 
     def __post_init__(self):
         positions = self.file.positions
+        if not positions:
+            raise TactError(NOTHING_TO_PLAY)
         if self.position is None:
-            object.__setattr__(self, "position", positions[0] if positions else "")
+            object.__setattr__(self, "position", positions[0])
         elif self.position not in positions:
             held = ", ".join(positions) or "none"
             raise TactError(
@@ -125,8 +137,26 @@ class TactPattern:
 
     @property
     def duration_s(self) -> float:
-        """When the file's last played effect ends, in seconds (frames after it are empty)."""
-        return self.file.duration_s
+        """When the last effect holding this position's paths or dots ends, in seconds: what
+        the position lasts played alone (frames after it are empty). The file's other
+        positions do not count: the front of a file whose back plays after it ends with its
+        own effects (``TactFile.duration_s`` is the whole file's)."""
+        return self.file.ends_s.get(self.position, self.file.duration_s)
+
+    @property
+    def notes(self) -> tuple:
+        """What of this position does not play as the file asks, in words (empty if nothing):
+        dot effects with ``dotConnected: true`` play as separate dots (docs/tact.md)."""
+        connected = [(field, n) for where, field, n in self.file.connected
+                     if where == self.position]  # fmt: skip
+        if not connected:
+            return ()
+        (field, _), dots = connected[0], sum(n for _, n in connected)
+        which = (f"{field}.dotConnected is true: its" if len(connected) == 1 else
+                 f"{field} and {len(connected) - 1} more dot effects have dotConnected true: "
+                 "their")  # fmt: skip
+        return (f"{which} {dots} dots play as separate dots, not as a path through them "
+                "(not supported)",)  # fmt: skip
 
     @property
     def skipped(self) -> tuple:

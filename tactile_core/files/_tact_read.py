@@ -23,6 +23,7 @@ Every problem raises :class:`TactError` naming the field, e.g.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 from .._shared import validate as _validate
@@ -93,8 +94,14 @@ class TactFile:
         :class:`TactPath` and :class:`TactDot` records of the enabled tracks.
     duration_s : float
         When the last effect of an enabled track ends, in seconds.
+    ends_s : dict of str to float
+        Per position with content, when the last effect holding its paths or dots ends, in
+        seconds (what that position lasts played alone).
     positions : tuple of str
         The positions that hold paths or dots, in the order they first appear.
+    connected : tuple of (str, str, int)
+        ``(position, field, dots)`` of each played dot effect with ``dotConnected: true``,
+        which plays as separate dots (a path through them is not supported).
     """
 
     name: str
@@ -103,6 +110,8 @@ class TactFile:
     dots: tuple
     duration_s: float
     positions: tuple
+    connected: tuple = ()
+    ends_s: dict = dataclasses.field(default_factory=dict)
 
 
 def read_tact(path) -> TactFile:
@@ -141,6 +150,8 @@ class _Reader:
         self.source = source
         self.points = 0
         self.effects = 0
+        self.connected = []
+        self.ends_ms = {}
 
     def fail(self, field: str, problem: str):
         raise TactError(f"{self.source}: {field} {problem}")
@@ -217,6 +228,8 @@ class _Reader:
             dots=tuple(dots),
             duration_s=end_ms / 1e3,
             positions=tuple(positions),
+            connected=tuple(self.connected),
+            ends_s={p: ms / 1e3 for p, ms in self.ends_ms.items()},
         )
 
     def position(self, name, field: str) -> str:
@@ -272,8 +285,12 @@ class _Reader:
             else:
                 found = self.dot_mode(mode, where, position, start, length, layouts)
                 dots.extend(found if enabled else ())
+                if enabled and found and mode["dotMode"].get("dotConnected") is True:
+                    self.connected.append((position, f"{where}.dotMode", len(found)))
             if enabled and found and position not in positions:
                 positions.append(position)
+            if enabled and found:
+                self.ends_ms[position] = max(self.ends_ms.get(position, 0.0), start + length)
         return start + length
 
     def feedback(self, mode, key, field):

@@ -12,7 +12,8 @@ a Designer file the tests compare the structure against.
 Coordinates go out in 0..1 of the array's actuator extent, y downward (the inverse of the
 import's mapping, clipped to [0, 1]); x, y and intensity rounded to 4 decimals, times to whole
 milliseconds (a point less than 1 ms after the one before it is dropped). The layout written is
-this array's own actuators, in the same coordinates.
+this array's own actuators, in the same coordinates, numbered as the Designer numbers motors:
+from the top left, row by row (:func:`motor_places`).
 """
 
 from __future__ import annotations
@@ -134,9 +135,7 @@ def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
         x, y = path.points[-1]
         u, v = layout_to_unit(x, y, box)
         points[-1] = {"x": _r(u), "y": _r(v), "intensity": _r(path.intensities[-1]), "time": end}
-    motors = [{"index": i, "x": _r(u), "y": _r(v)}
-              for i, (u, v) in enumerate(layout_to_unit(x, y, box)
-                                         for x, y in target.positions)]  # fmt: skip
+    motors = [{"index": i, "x": _r(u), "y": _r(v)} for i, (u, v) in enumerate(motor_places(target))]
     mode = {
         "mode": "PATH_MODE",
         "dotMode": {"dotConnected": False, "feedback": [
@@ -163,6 +162,22 @@ def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
         "intervalMillis": SAMPLE_MS,
         "size": len(motors),
     }
+
+
+def motor_places(target) -> list[tuple[float, float]]:
+    """The actuators of ``target`` (a Grid or Layout) as bHaptics motors: ``(x, y)`` in 0..1,
+    y downward, in the Designer's motor order.
+
+    The Designer numbers a panel's motors from the top left, row by row downwards, left to
+    right in a row (its Tactot layout: motor 0 at (0, 0), 3 at (1, 0), 16 at (0, 1);
+    ``tests/data/testfeedback.tact`` and ``CenterX.tact`` of bhaptics/tact-python). Places are
+    ordered by ``y`` then ``x``, each rounded as written, so motor ``i`` of the file is the
+    ``i``-th of them. Importing maps every motor by its place (not its number), so a file
+    exported then imported puts each motor back on the actuator it came from.
+    """
+    box = layout_box(target)
+    places = [layout_to_unit(x, y, box) for x, y in check_target(target).positions]
+    return sorted(places, key=lambda uv: (round(uv[1], DECIMALS), round(uv[0], DECIMALS)))
 
 
 def write_tact(out, path: TimedPath, target, **options):

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from ._tact_frames import (
     MAX_TABLE_FRAMES,
+    NOTHING_TO_PLAY,
     PatternFrames,
     TactPattern,
     layout_box,
@@ -83,6 +84,11 @@ def load_pattern(path, position: str | None = None) -> TactPattern:
     Raises
     ------
     TactError
-        Naming the file and the field (see :func:`read_tact`), or a position without content.
+        Naming the file and the field (see :func:`read_tact`), a file without content
+        (``FILE: no paths or dots to play ...``, as ``tactile render`` says it) or a position
+        without content.
     """
-    return TactPattern(read_tact(path), position)
+    file = read_tact(path)
+    if not file.positions:
+        raise TactError(f"{path}: {NOTHING_TO_PLAY}")
+    return TactPattern(file, position)

@@ -48,15 +48,38 @@ def exp1(out, scores: dict) -> dict:
     return result
 
 
-def exp2(out, estimates: dict, fits: dict, paired: bool = True) -> dict:
+def exp2(out, estimates: dict, fits: dict, participants=None) -> dict:
     """Experiment 2: each condition's threshold against 1 grid unit (one-sided: shorter), by
     the reversal estimate and by the fit (the estimates the group means took), and the
-    conditions compared when every participant's estimates are there (``paired``)."""
+    conditions compared over the participants with an estimate in every condition.
+
+    Parameters
+    ----------
+    out : callable
+        Called with each line of text.
+    estimates : dict
+        ``{condition: reversal estimates}``, each of shape ``(n_participants,)`` in the same
+        participant order, NaN where a participant's track is left out.
+    fits : dict
+        ``{condition: [fit, ...]}``, the fits the group means took (``"threshold"`` each).
+    participants : sequence of str, optional
+        The participants' names in the order of ``estimates`` (to say who is left out).
+
+    Returns
+    -------
+    dict
+        ``against_1``: ``{(estimate, condition): one_sample result}``; with 3 or more
+        conditions and 2 or more participants with every condition, ``across``: the Friedman
+        test and the exact pairwise tests over those participants (``participants``: their
+        names), rows paired by participant.
+    """
     out("Journal statistics: each condition against 1 grid unit (one-sided, shorter; t-test, "
         "exact signed-rank, Cohen's d [95% bootstrap CI]):")  # fmt: skip
     result = {"against_1": {}}
+    table = {c: np.asarray(v, dtype=float) for c, v in estimates.items()}
+    usable = {c: v[np.isfinite(v)] for c, v in table.items()}
     fitted = {c: [f["threshold"] for f in fits[c]] for c in fits}
-    for name, per in (("reversals", estimates), ("fit", fitted)):
+    for name, per in (("reversals", usable), ("fit", fitted)):
         for c, values in per.items():
             if len(values) < 2:  # left out of the means (the report lists why)
                 out(f"  {c} {name}\t(fewer than 2 estimates: no test)")
@@ -64,22 +87,39 @@ def exp2(out, estimates: dict, fits: dict, paired: bool = True) -> dict:
             r = inference.one_sample(values, 1.0, alternative="less")
             result["against_1"][(name, c)] = r
             lo, hi = r["ci"]
+            note = f"\t({r['note']})" if r["note"] else ""
             out(f"  {c} {name}\tmean {r['mean']:.3f} [{lo:.3f}, {hi:.3f}]\tt p {_p(r['p_t'])}"
                 f"\texact p {_p(r['p_exact'])}\td {r['d']:+.2f} "
-                f"[{r['d_ci'][0]:+.2f}, {r['d_ci'][1]:+.2f}]")  # fmt: skip
-    complete = {c: np.asarray(v, dtype=float) for c, v in estimates.items()}
-    lengths = {len(v) for v in complete.values()}
-    if (
-        len(lengths) == 1
-        and len(complete) >= 3
-        and lengths != {0}
-        and all(np.isfinite(v).all() for v in complete.values())
-    ):
-        chi2, p = friedman(complete)
-        out(f"  across conditions (reversals): Friedman chi2({len(complete) - 1}) = {chi2:.2f}, "
-            f"p {_p(p)}")  # fmt: skip
-        result["across"] = {"friedman": (chi2, p), **_pairwise(out, complete, "")}
+                f"[{r['d_ci'][0]:+.2f}, {r['d_ci'][1]:+.2f}]{note}")  # fmt: skip
+    if len(table) >= 3:
+        _across(out, table, participants, result)
     return result
+
+
+def _across(out, table: dict, participants, result: dict) -> None:
+    """Friedman and the pairwise tests over the participants with every condition (complete
+    cases): a participant left out of one condition is left out of all, so that every row is
+    one person's."""
+    rows = np.stack(list(table.values()), axis=1)  # (participants, conditions)
+    complete = np.isfinite(rows).all(axis=1)
+    names = list(participants) if participants is not None else [
+        f"#{i + 1}" for i in range(len(rows))
+    ]  # fmt: skip
+    kept = [n for n, ok in zip(names, complete) if ok]
+    lacking = [n for n, ok in zip(names, complete) if not ok]
+    if len(kept) < 2:
+        out(f"  across conditions (reversals): {len(kept)} participant(s) with every "
+            "condition's estimate: no test")  # fmt: skip
+        return
+    paired = {c: rows[complete, i] for i, c in enumerate(table)}
+    who = f"{len(kept)} of {len(names)} participants"
+    if lacking:
+        who += f" ({', '.join(lacking)} lack a condition)"
+    chi2, p = friedman(paired)
+    out(f"  across conditions (reversals, {who}): Friedman chi2({len(paired) - 1}) = "
+        f"{chi2:.2f}, p {_p(p)}")  # fmt: skip
+    result["across"] = {"friedman": (chi2, p), "participants": kept,
+                        **_pairwise(out, paired, "")}  # fmt: skip
 
 
 def exp3(out, scores: dict, answers: dict, confusion: dict) -> dict:

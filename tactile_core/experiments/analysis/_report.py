@@ -180,9 +180,10 @@ def _experiment2(root: Path, problems: Problems, result: dict, out) -> None:
         "and listed below.")  # fmt: skip
     out("condition\tn\treversals mean\tSE\tn\tfit mean\tSE\tmin\tmax")
     summary, fit_summary, counts, excluded = {}, {}, {}, []
-    usable_rev, usable_fit = {}, {}
+    by_participant, usable_fit = {}, {}
     for c in CONDITIONS_EXP2:
         rev, fit = [], []
+        by_participant[c] = np.full(len(ids2), np.nan)  # NaN: left out (the tests pair by row)
         for i, pid in enumerate(ids2):
             lengths, answers = tracks[pid][c]
             why_rev, why_fit = exp2_usable(lengths, answers, estimates[c][i], fits[c][i])
@@ -190,11 +191,11 @@ def _experiment2(root: Path, problems: Problems, result: dict, out) -> None:
                 excluded.append(f"{pid} {c} reversals: {why_rev}")
             else:
                 rev.append(estimates[c][i])
+                by_participant[c][i] = estimates[c][i]
             if why_fit:
                 excluded.append(f"{pid} {c} fit: {why_fit}")
             else:
                 fit.append(fits[c][i]["threshold"])
-        usable_rev[c] = rev
         usable_fit[c] = [{"threshold": x} for x in fit]
         summary[c], fit_summary[c] = _mean_se(rev), _mean_se(fit)
         counts[c] = (len(rev), len(fit))
@@ -218,7 +219,7 @@ def _experiment2(root: Path, problems: Problems, result: dict, out) -> None:
             rev = f"{estimates[c][i]:.3f}" if np.isfinite(estimates[c][i]) else "none"
             cells.append(f"{c} {rev} / {fit['threshold']:.3f} [{lo}, {hi}]")
         out(f"  {pid}: " + "; ".join(cells))
-    journal = _extended.exp2(out, usable_rev, usable_fit, paired=not excluded)
+    journal = _extended.exp2(out, by_participant, usable_fit, participants=ids2)
     _exp2_figure(root, summary, fit_summary, result)
     _staircase_figure(root, tracks, result)
     result["exp2"] = {"estimates": estimates, "summary": summary, "participants": ids2,

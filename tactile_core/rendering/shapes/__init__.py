@@ -28,7 +28,7 @@ and JSON forms (:func:`parse_shape`, :func:`shape_from_dict`); ``_timed`` :class
 """
 
 # ``_name as _name``: helpers of the module this package was, still importable from here.
-from ._parse import SHAPE_KINDS, parse_shape, shape_from_dict
+from ._parse import SHAPE_FORMS, SHAPE_KINDS, parse_shape, shape_from_dict
 from ._polyline import MAX_POINTS, Polyline, Square
 from ._shape import Circle, Line, Shape
 from ._strokes import TWO_PI, ArcStrokes, LineStrokes, Run, Strokes
@@ -38,6 +38,7 @@ __all__ = [
     "FADES",
     "MAX_POINTS",
     "PATTERNS",
+    "SHAPE_FORMS",
     "SHAPE_KINDS",
     "TWO_PI",
     "ArcStrokes",

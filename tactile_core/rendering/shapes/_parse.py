@@ -8,6 +8,17 @@ from ._shape import Circle, Line, Shape
 from ._timed import SPEC_OPTIONS, TimedPath
 
 SHAPE_KINDS = ("line", "circle", "square", "polyline", "polygon", "timed")
+SHAPE_FORMS = (
+    "line:X0,Y0,X1,Y1",
+    "circle:CX,CY,R",
+    "square:CX,CY,EDGE",
+    "polyline:X0,Y0,X1,Y1,...",
+    "polygon:X0,Y0,X1,Y1,...",
+    "timed:X0,Y0,T0,I0,X1,Y1,T1,I1,...[;OPTION]",
+)
+"""The command-line forms of :data:`SHAPE_KINDS`, for help texts and errors: coordinates in
+grid units; a polygon closes; ``timed``: each point's time in seconds and intensity, then the
+options of ``_timed.SPEC_OPTIONS`` (``;speed``, ``;fade-in``, ...)."""
 _NUMBER = _validate.DECIMAL
 """A decimal number as a user types it (ASCII digits: no nan, inf, hex, underscores or
 full-width digits)."""
@@ -41,14 +52,15 @@ def parse_shape(text: str) -> Shape:
     """
     if not isinstance(text, str) or ":" not in text:
         raise ValueError(
-            f"shape must look like 'circle:2.5,3,2' ({', '.join(SHAPE_KINDS)}), "
+            f"shape must be one word such as circle:2.5,3,2, one of {' | '.join(SHAPE_FORMS)}; "
             f"got {_validate.shown(text)}"
         )
     kind, _, args = text.partition(":")
     kind = kind.strip().lower()
     if kind not in SHAPE_KINDS:
         raise ValueError(
-            f"shape kind must be one of {', '.join(SHAPE_KINDS)}, got {_validate.shown(kind)}"
+            f"shape kind must be one of {', '.join(SHAPE_KINDS)} ({' | '.join(SHAPE_FORMS)}), "
+            f"got {_validate.shown(kind)}"
         )
     if kind == "timed":
         return _parse_timed(args)
