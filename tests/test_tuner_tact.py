@@ -132,3 +132,23 @@ def test_curves_export_without_curves_on_show_says_why(window, tmp_path):
     assert not window.files.export_curves(tmp_path / "none.csv")
     assert "no activation curves on show" in window.last_error
     assert not (tmp_path / "none.csv").exists()
+
+
+def test_dots_only_tact_import_draws_no_outline(window, tmp_path):
+    # A file of dots alone (bHaptics' HeartBeat_Vest.tact is one) raised "ValueError: need at
+    # least one array to concatenate" in the heatmap's outline, and the line's outline stayed.
+    tune = window.tune
+    tune.refresh()
+    assert len(tune.heatmap.outline.getData()[0]) > 0  # the line's
+    assert window.files.import_tact_file(ts.write(tmp_path, ts.dots_only(), "beat.tact"))
+    assert "0 paths and 3 dots play as a pattern" in window.statusBar().currentMessage()
+    tune.refresh()
+    x, _ = tune.heatmap.outline.getData()
+    assert x is None or len(x) == 0
+    # The dots are plotted: motors 1 and 2 of the vest's top row are tactors (1, 5) and (3, 5)
+    # of the palm array (0..1 across its 5 x 6 cells), motor 5 of the second row (1, 4).
+    curves = tune.shown_curves
+    assert set(curves.cells) == {(1, 5), (3, 5), (1, 4)}
+    k = curves.cells.index((1, 4))
+    on = (curves.time_s > 0.301) & (curves.time_s < 0.399)
+    assert curves.raw[on, k] == pytest.approx(np.full(on.sum(), 0.5))

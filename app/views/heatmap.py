@@ -351,12 +351,14 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
 
     def set_outline(self, points) -> None:
         """Draw the shape's outline, ``(n, 2)`` points, or a list of outlines (a pattern's
-        paths), None to hide; round a wrap, unrolled with a gap at the seam."""
-        if points is None:
+        paths; an empty list for a pattern of dots alone), None to hide; round a wrap,
+        unrolled with a gap at the seam."""
+        parts = [] if points is None else points if isinstance(points, list) else [points]
+        if not parts:  # no shape, or a pattern of dots alone: nothing left of the last shape
             self.outline.setData([], [])
             return
         xs, ys = [], []
-        for part in points if isinstance(points, list) else [points]:
+        for part in parts:
             x, y = self.cells.path(part)
             xs += [x, _GAP]
             ys += [y, _GAP]
