@@ -39,8 +39,9 @@ class FileActions(QtCore.QObject):
     error_raised = QtCore.Signal(str)
     message_posted = QtCore.Signal(str, int)
     """A status line and how long to show it (ms)."""
-    preset_loaded = QtCore.Signal()
-    """A preset replaced the scene (its name is now :attr:`preset_name`)."""
+    preset_changed = QtCore.Signal()
+    """The scene's preset changed: a preset or a ``.tact`` file replaced the scene, or the
+    scene was saved as a preset (its name is now :attr:`preset_name`)."""
 
     def __init__(self, state, device, parent):
         super().__init__(parent)
@@ -60,6 +61,8 @@ class FileActions(QtCore.QObject):
         self.profile_blocked = lambda: ""
         """Why the device profile may not change now ("" when it may): a blind session or a
         run depends on its layout."""
+        self._pattern_file = (None, None)
+        """The pattern imported last and where it came from (its file and position)."""
         self._stroke: list = []
         """The last drawing in draw mode: ``(seconds, x, y)`` per point drawn."""
         self._stroke_done = True
@@ -98,7 +101,7 @@ class FileActions(QtCore.QObject):
         self.state.last_message = ""  # what follows is this preset's, on this layout
         self.state.set_scene(preset.scene.replace(epoch=self.state.scene.epoch + 1))
         self.set_preset(preset)
-        self.preset_loaded.emit()
+        self.preset_changed.emit()
         changes = self._changes()
         self.message_posted.emit(f"loaded preset {preset.name}{switched}{changes}",
                                  10_000 if changes or switched else 5000)  # fmt: skip
@@ -126,6 +129,8 @@ class FileActions(QtCore.QObject):
         except (OSError, ValueError) as exc:  # ValueError: a path refused before writing
             self.error_raised.emit(f"could not save {path}: {exc}")
             return False
+        self.set_preset(preset)  # the scene is this preset now: its name, no "modified" star
+        self.preset_changed.emit()
         self.message_posted.emit(f"saved preset to {path}", 5000)
         return True
 
@@ -247,15 +252,23 @@ class FileActions(QtCore.QObject):
             what = "its path is the shape"
         else:
             scene = scene.replace(shape=None, source=pattern)
+            self._pattern_file = (pattern, {"path": str(Path(path).absolute()),
+                                            "position": pattern.position})  # fmt: skip
             what = (f"{count(len(paths), 'path')} and {count(len(dots), 'dot')} play as a "
                     f"pattern of {pattern.duration_s:g} s (Restart replays it)")  # fmt: skip
         self.state.set_scene(scene)
         self.preset_name, self.preset_notes, self.preset_scene = Path(path).stem, "", scene
-        self.preset_loaded.emit()
+        self.preset_changed.emit()
         skipped = f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""
         self.message_posted.emit(f"imported {pattern.position} of {Path(path).name}: {what}"
                                  f"{skipped}", 10_000)  # fmt: skip
         return True
+
+    def pattern_file(self, source) -> dict | None:
+        """``{"path": ..., "position": ...}`` of the ``.tact`` file a scene's ``source`` was
+        imported from, or None (not an imported pattern)."""
+        pattern, where = self._pattern_file
+        return dict(where) if source is not None and source is pattern else None
 
     def export_tact_file(self, path) -> bool:
         """The scene's trace (its shape over its duration) as a ``.tact`` file, in 0..1 of the

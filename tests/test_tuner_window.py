@@ -1,0 +1,95 @@
+"""The tuner's window: its title and preset box, its size on a small screen, what it asks before
+quitting."""
+
+import pytest
+
+pytestmark = pytest.mark.usefixtures("qt_settings")
+
+
+@pytest.fixture
+def window(qtbot):
+    from tactile_tuner.window import MainWindow
+
+    win = MainWindow(restore=False, process=False)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    yield win
+    win.confirm = lambda title, text: True
+    win.close()
+
+
+def test_saving_a_preset_renames_the_scene_in_the_title_and_the_preset_box(window, tmp_path):
+    window.state.update(mu=0.5)
+    assert "Experiment 1 line *" in window.windowTitle()
+    assert window.files.save_preset_file(tmp_path / "my tuning.json")
+    assert window.windowTitle().startswith("tactile-tuner - my tuning - AS, mu 0.50")
+    assert "*" not in window.windowTitle()  # the scene is the preset saved
+    assert window.controls.preset.name_label.text() == "my tuning"
+    window.state.update(mu=0.6)
+    assert "my tuning *" in window.windowTitle()
+
+
+def test_no_restore_starts_on_the_built_in_line_with_its_notes(window):
+    from tactile_core.files.presets import builtin_presets, load_preset
+
+    line = load_preset(builtin_presets()["exp1-line"])
+    assert line.notes.startswith("Paper 3.4.2")
+    assert window.controls.preset.name_label.text() == "Experiment 1 line"
+    assert window.controls.preset.notes_edit.toPlainText() == line.notes
+    assert window.state.scene.replace(epoch=0) == line.scene
+    assert "*" not in window.windowTitle()
+
+
+def _session(qtbot):
+    from tactile_tuner.window import MainWindow
+
+    win = MainWindow(restore=True, process=False)
+    qtbot.addWidget(win)
+    return win
+
+
+def test_a_session_that_ended_on_a_tact_pattern_comes_back_with_its_tuning(qtbot, tmp_path):
+    # The settings held "shape": null, which the next start refused: it came back on the
+    # paper's defaults, the tuned mu and gamma lost.
+    from . import tact_support as ts
+
+    path = ts.write(tmp_path, ts.dots_only(), "beat.tact")
+    first = _session(qtbot)
+    first.state.update(method="CT", mu=0.21, gamma=1.9, rate_hz=250.0)
+    assert first.files.import_tact_file(path)
+    first.close()
+    second = _session(qtbot)
+    scene = second.state.scene
+    assert (scene.method, scene.mu, scene.gamma, scene.rate_hz) == ("CT", 0.21, 1.9, 250.0)
+    assert scene.shape is None and second.files.pattern_file(scene.source) == {
+        "path": str(path), "position": "VestFront"}  # fmt: skip
+    assert "the last session's pattern again" in second.statusBar().currentMessage()
+    second.close()
+    path.unlink()
+    third = _session(qtbot)
+    scene = third.state.scene
+    assert (scene.method, scene.mu, scene.gamma, scene.rate_hz) == ("CT", 0.21, 1.9, 250.0)
+    assert type(scene.shape).__name__ == "Line" and scene.source is None
+    said = third.statusBar().currentMessage()
+    assert f"the last session's .tact file {path} is gone" in said and "tuning" in said
+    third.close()
+
+
+def test_settings_of_a_pattern_saved_without_its_file_keep_the_tuning(qtbot):
+    import json
+
+    from PySide6 import QtCore
+
+    from tactile_core.files.presets import Preset
+    from tactile_core.rendering.scene import Scene
+
+    saved = Preset(Scene(None, "IM", mu=0.4, gamma=2.5), "beat").to_dict()
+    assert saved["shape"] is None  # what the tuner wrote for a pattern
+    QtCore.QSettings().setValue("scene", json.dumps(saved))
+    win = _session(qtbot)
+    scene = win.state.scene
+    assert (scene.method, scene.mu, scene.gamma) == ("IM", 0.4, 2.5)
+    assert type(scene.shape).__name__ == "Line"
+    assert "pattern was not saved" in win.statusBar().currentMessage()
+    win.close()
