@@ -56,6 +56,17 @@ def _remember(kind: str, path: Path) -> None:
     QtCore.QSettings().setValue(f"folders/{kind}", str(path.parent))
 
 
+def unused_name(kind: str, name: str) -> str:
+    """``name``, or ``stem-2.ext``, ``stem-3.ext``... if a file of that name is already in the
+    folder last used for ``kind`` (a proposed name never points at an existing file)."""
+    folder, path = Path(_folder(kind)), Path(name)
+    n = 1
+    while (folder / name).exists():
+        n += 1
+        name = f"{path.stem}-{n}{path.suffix}"
+    return name
+
+
 def save_path(parent, kind: str, title: str, name: str, filters: list[str]) -> Path | None:
     """Ask where to save; the chosen path (extension added), or None if cancelled."""
     start = str(Path(_folder(kind)) / name)

@@ -61,6 +61,8 @@ class FileActions(QtCore.QObject):
         self.profile_blocked = lambda: ""
         """Why the device profile may not change now ("" when it may): a blind session or a
         run depends on its layout."""
+        self._imported: set[Path] = set()
+        """The ``.tact`` files imported in this session (an export never overwrites one)."""
         self._pattern_file = (None, None)
         """The pattern imported last and where it came from (its file and position)."""
         self._stroke: list = []
@@ -242,6 +244,7 @@ class FileActions(QtCore.QObject):
             self.error_raised.emit(f"{path}: no paths or dots to play")
             return False
         self.before_load()
+        self._imported.add(Path(path).resolve())
         scene = self.state.scene.replace(epoch=self.state.scene.epoch + 1, playing=True)
         if len(paths) == 1 and not dots:
             (shape,) = paths
@@ -272,8 +275,13 @@ class FileActions(QtCore.QObject):
 
     def export_tact_file(self, path) -> bool:
         """The scene's trace (its shape over its duration) as a ``.tact`` file, in 0..1 of the
-        current array's actuators."""
+        current array's actuators. A ``.tact`` file imported in this session is never
+        overwritten (its other positions, paths and dots would be lost)."""
         path = Path(path)
+        if path.resolve() in self._imported:
+            self.error_raised.emit(f"could not export {path}: it is the .tact file this "
+                                   "session imported; export to another name")  # fmt: skip
+            return False
         try:
             written = write_tact(path, path_of_scene(self.state.scene), self.device.profile.target,
                                  name=path.stem[: tact.MAX_NAME_CHARS])  # fmt: skip
@@ -292,7 +300,8 @@ class FileActions(QtCore.QObject):
 
     def ask_export_tact(self) -> None:
         """Ask where to export the scene's trace as ``.tact``, and export it."""
-        name = f"{self.preset_name or 'trace'}.tact"
+        # Never the imported file's own name: a new one beside it.
+        name = dialogs.unused_name("tact", f"{self.preset_name or 'trace'}-export.tact")
         path = dialogs.save_path(self.parent(), "tact", "Export bHaptics .tact", name,
                                  ["bHaptics (*.tact)"])  # fmt: skip
         if path:

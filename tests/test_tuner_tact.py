@@ -152,3 +152,31 @@ def test_dots_only_tact_import_draws_no_outline(window, tmp_path):
     k = curves.cells.index((1, 4))
     on = (curves.time_s > 0.301) & (curves.time_s < 0.399)
     assert curves.raw[on, k] == pytest.approx(np.full(on.sum(), 0.5))
+
+
+def test_export_tact_proposes_a_new_name_and_never_overwrites_the_imported_file(
+    window, tmp_path, monkeypatch
+):
+    # Export .tact offered the imported file's own name, in its folder: one click replaced the
+    # Designer's file (every other position, path and dot in it) with the tuner's one path.
+    from PySide6 import QtCore
+
+    from tactile_tuner import dialogs
+
+    points = [ts.point(0, 1, 0.5, 0), ts.point(1, 0, 1.0, 800)]
+    source = ts.write(tmp_path, ts.document(ts.effect({"VestFront": ts.path_mode(points)})),
+                      "sweep.tact")  # fmt: skip
+    before = source.read_bytes()
+    QtCore.QSettings().setValue("folders/tact", str(tmp_path))
+    assert window.files.import_tact_file(source)
+    proposed = []
+    monkeypatch.setattr(dialogs, "save_path", lambda parent, kind, title, name, filters:
+                        proposed.append((kind, name)))  # fmt: skip
+    window.files.ask_export_tact()
+    (tmp_path / "sweep-export.tact").write_text("{}")
+    window.files.ask_export_tact()
+    assert proposed == [("tact", "sweep-export.tact"), ("tact", "sweep-export-2.tact")]
+    assert not window.files.export_tact_file(source)
+    assert "it is the .tact file this session imported" in window.last_error
+    assert source.read_bytes() == before
+    assert window.files.export_tact_file(tmp_path / "sweep-export-2.tact")
