@@ -93,3 +93,24 @@ def test_settings_of_a_pattern_saved_without_its_file_keep_the_tuning(qtbot):
     assert type(scene.shape).__name__ == "Line"
     assert "pattern was not saved" in win.statusBar().currentMessage()
     win.close()
+
+
+TITLE_BAR_PX = 64
+"""Room a window manager takes at most on a 1280 x 720 screen, measured: openbox's frame 25 px
+(a 20 px title bar, borders 1 and 5), GNOME's title bar 37 px below its 27 px top bar."""
+
+
+def test_every_tab_fits_a_1280x720_screen_under_a_title_bar(window, qtbot):
+    # The Experiments tab's set-up and run column needed 531 px: with the menus, the device
+    # dock and the status bar the window's least height was 716 px, and under openbox's title
+    # bar 21 px of it (the status bar) fell off a 720 px screen.
+    for i in range(window.tabs.count()):
+        window.tabs.setCurrentIndex(i)
+        qtbot.wait(10)
+        least = window.minimumSizeHint()
+        assert least.height() <= 720 - TITLE_BAR_PX, window.tabs.tabText(i)
+        assert least.width() <= 1280, window.tabs.tabText(i)
+    window.resize(1280, 720 - TITLE_BAR_PX)
+    qtbot.waitUntil(lambda: window.height() == 720 - TITLE_BAR_PX)
+    bar = window.statusBar()
+    assert bar.isVisible() and bar.geometry().bottom() < window.height()
