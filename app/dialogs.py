@@ -13,6 +13,8 @@ from pathlib import Path
 
 from PySide6 import QtCore, QtWidgets
 
+from .texts import value3
+
 
 def today() -> str:
     """``YYYY-MM-DD``, for file names."""
@@ -20,8 +22,9 @@ def today() -> str:
 
 
 def tuning_tag(scene) -> str:
-    """``AS-mu0.33-gamma0.70``: a scene's method and correction, for file names."""
-    return f"{scene.method}-mu{scene.mu:.2f}-gamma{scene.gamma:.2f}"
+    """``AS-mu0.33-gamma0.70``: a scene's method and correction, for file names (to the 0.001
+    of the controls: ``gamma0.143``)."""
+    return f"{scene.method}-mu{value3(scene.mu)}-gamma{value3(scene.gamma)}"
 
 
 def safe_name(text: str) -> str:

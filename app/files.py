@@ -16,7 +16,7 @@ from tactile_core.files.tact import TactError, load_pattern, path_of_scene, writ
 from tactile_core.rendering.shapes import TimedPath, path_from_samples
 
 from . import dialogs
-from .texts import count
+from .texts import count, value3
 from .views import cell_colors
 
 
@@ -218,7 +218,7 @@ class FileActions(QtCore.QObject):
         """Ask where to export the correction table (CSV or C header), and export it."""
         scene = self.state.scene
         levels = self.device.profile.levels
-        name = f"lut-mu{scene.mu:.2f}-gamma{scene.gamma:.2f}-{levels}levels.h"
+        name = f"lut-mu{value3(scene.mu)}-gamma{value3(scene.gamma)}-{levels}levels.h"
         path = dialogs.save_path(self.parent(), "exports", "Export correction table", name,
                                  ["C header (*.h)", "CSV (*.csv)"])  # fmt: skip
         if path:

@@ -36,6 +36,7 @@ from .texts import (
     HIDDEN_EXPERIMENT,
     PROFILE_BLOCKED,
     RUN_FILES,
+    value3,
 )
 from .tune import TuneWidget
 
@@ -409,7 +410,8 @@ class MainWindow(QtWidgets.QMainWindow):
         modified = came_from is not None and not _same_tuning(scene, came_from)
         name = files.preset_name + (" *" if modified else "")
         self.setWindowTitle(
-            f"tactile-tuner - {name} - {scene.method}, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
+            f"tactile-tuner - {name} - {scene.method}, mu {value3(scene.mu)}, "
+            f"gamma {value3(scene.gamma)}"
         )
 
     # --- layout ----------------------------------------------------------------------------------

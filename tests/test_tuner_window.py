@@ -114,3 +114,18 @@ def test_every_tab_fits_a_1280x720_screen_under_a_title_bar(window, qtbot):
     qtbot.waitUntil(lambda: window.height() == 720 - TITLE_BAR_PX)
     bar = window.statusBar()
     assert bar.isVisible() and bar.geometry().bottom() < window.height()
+
+
+def test_the_gamma_box_and_the_title_show_the_gamma_in_use(window):
+    # The log slider sets gamma to 0.001 (10 ** (2 p / 1000 - 1) rounded): at 0.143 the box
+    # showed 0.14 and the title 0.14.
+    from tactile_tuner.controls.correction import gamma_to_slider
+
+    correction = window.controls.correction
+    correction.gamma_slider.setValue(gamma_to_slider(0.143))
+    gamma = window.state.scene.gamma
+    assert gamma == 0.143  # position 78: 10 ** (2 * 78 / 1000 - 1) = 0.1432, to 0.001
+    assert correction.gamma_spin.text() == "0.143"
+    assert window.windowTitle().endswith("mu 0.33, gamma 0.143")
+    window.state.update(mu=0.333)  # as a preset or a sender may set it
+    assert correction.mu_spin.text() == "0.333"

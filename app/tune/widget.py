@@ -9,6 +9,7 @@ from PySide6 import QtCore, QtWidgets
 from tactile_core.rendering.curves import activation_curves
 from tactile_core.rendering.percept import REFERENCE, predict, predict_range
 
+from ..texts import value3
 from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors
 from ..views._common import set_title
 from ..widgets import ElidedLabel
@@ -244,7 +245,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         heatmap.set_outline(outline)
         if not self.method_hidden:
             what = "felt (motor lag and response)" if felt_view else "activation"
-            title = f"{scene.method} {what}, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
+            title = f"{scene.method} {what}, mu {value3(scene.mu)}, gamma {value3(scene.gamma)}"
             set_title(self.curves.plotItem, title)
 
     def _no_trace(self, why: str) -> None:
