@@ -206,3 +206,28 @@ def test_shapes_for_a_layout_fit_it_and_paths_unroll_at_the_seam():
     np.testing.assert_allclose(unrolled([(0.0, 0.0), (-8.0, 0.0)], belt)[0], [8, 0])
     x, _ = unrolled([(0.5, 0.5), (2.5, 1.5)], vest)
     np.testing.assert_allclose(x, [0.5, 2.5])
+
+
+def _tick_labels(axis) -> list[str]:
+    from PySide6 import QtGui
+
+    image = QtGui.QImage(10, 10, QtGui.QImage.Format.Format_ARGB32)
+    painter = QtGui.QPainter(image)
+    try:
+        _, _, texts = axis.generateDrawSpecs(painter)
+    finally:
+        painter.end()
+    return [text for _, _, text in texts]
+
+
+def test_the_heatmaps_x_axis_labels_the_grids_edges(qtbot):
+    # 1 to 4 were labelled, 0 and 5 (the palm array's edges, on the axis's ends) were not.
+    from tactile_tuner.views import HeatmapView
+
+    view = HeatmapView(5, 6)
+    qtbot.addWidget(view)
+    view.resize(500, 600)
+    view.show()
+    qtbot.waitExposed(view)
+    assert _tick_labels(view.plot.getAxis("bottom")) == ["0", "1", "2", "3", "4", "5"]
+    assert _tick_labels(view.plot.getAxis("left")) == ["0", "1", "2", "3", "4", "5", "6"]

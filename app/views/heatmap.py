@@ -110,6 +110,9 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         self.plot.setMouseEnabled(False, False)
         self.plot.hideButtons()
         self.plot.setLabel("left", "y")
+        # The grid's edges are labelled too: pyqtgraph hides a horizontal axis's labels that
+        # stick out of it, and 0 and 5 of the palm array sit on its ends, half out.
+        self.plot.getAxis("bottom").setStyle(hideOverlappingLabels=False)
         self.image = pg.ImageItem(axisOrder="row-major")
         self.image.setImage(np.zeros((rows, cols)), levels=(0.0, 1.0))
         self.plot.addItem(self.image)
