@@ -129,3 +129,22 @@ def test_the_gamma_box_and_the_title_show_the_gamma_in_use(window):
     assert window.windowTitle().endswith("mu 0.33, gamma 0.143")
     window.state.update(mu=0.333)  # as a preset or a sender may set it
     assert correction.mu_spin.text() == "0.333"
+
+
+@pytest.mark.parametrize("width", [1280, 1400, 1600])
+def test_the_curves_hint_is_shown_whole(window, qtbot, width):
+    # At 1280 and 1400 px it read "drag the cursor to scrub; hove...".
+    from PySide6 import QtCore, QtWidgets
+
+    window.resize(width, 720)
+    qtbot.waitUntil(lambda: window.width() == width)
+    window.tune.fit_heatmap()
+    QtWidgets.QApplication.processEvents()
+    hint = window.findChild(QtWidgets.QLabel, "curves_hint")
+    text = "drag the cursor to scrub; hover for values; dashed: raw"
+    assert hint.text() == text
+    box = hint.contentsRect()
+    flags = int(QtCore.Qt.TextFlag.TextWordWrap)
+    needed = hint.fontMetrics().boundingRect(box, flags, text)
+    assert needed.width() <= box.width() and needed.height() <= box.height()
+    assert hint.mapTo(window, QtCore.QPoint(hint.width(), 0)).x() <= window.width()

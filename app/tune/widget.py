@@ -12,7 +12,7 @@ from tactile_core.rendering.percept import REFERENCE, predict, predict_range
 from ..texts import value3
 from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors
 from ..views._common import set_title
-from ..widgets import ElidedLabel
+from ..widgets import WrappedLabel
 from .gestures import HeatmapGestures
 from .live import LiveDisplay
 
@@ -110,7 +110,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         box = QtWidgets.QVBoxLayout(curves_box)
         box.setContentsMargins(0, 0, 0, 0)
         bar = QtWidgets.QHBoxLayout()
-        hint = ElidedLabel("drag the cursor to scrub; hover for values; dashed: raw")
+        # wrapped, never cut off (at 1280 and 1400 px it was: "...; hove...")
+        hint = WrappedLabel("drag the cursor to scrub; hover for values; dashed: raw")
         hint.setObjectName("curves_hint")
         hint.setToolTip(
             "Solid curves are corrected, dashed ones raw. Pause, then drag the dashed cursor to "
