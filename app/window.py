@@ -472,7 +472,7 @@ class MainWindow(QtWidgets.QMainWindow):
                            "disk, and Start resumes it).")  # fmt: skip
         if self.blind.unsaved:
             reasons.append("The Blind A/B ratings are not saved" + (
-                f" (they are autosaved in {self.blind.autosave_path})."
+                f"; they are autosaved in\n{self.blind.autosave_path}"
                 if self.blind.autosave_path else "."))  # fmt: skip
         if not reasons or not self._ask_before_closing:
             return True

@@ -148,3 +148,39 @@ def test_the_curves_hint_is_shown_whole(window, qtbot, width):
     needed = hint.fontMetrics().boundingRect(box, flags, text)
     assert needed.width() <= box.width() and needed.height() <= box.height()
     assert hint.mapTo(window, QtCore.QPoint(hint.width(), 0)).x() <= window.width()
+
+
+def test_the_quit_question_keeps_the_autosave_path_on_one_line(window, tmp_path):
+    # The message box wrapped the path where Qt may break a line: after "/home/" and "blind-".
+    from pathlib import Path
+
+    from PySide6 import QtGui
+
+    from tactile_tuner.dialogs import message_html
+
+    path = Path("/home/researcher/.local/share/tactile-tuner/tactile-tuner/blind-ab/"
+                "blind-ab-2025-11-28T14-20-33-seed1234567.csv")  # fmt: skip
+    window.blind.unsaved, window.blind.autosave_path = True, path
+    asked = []
+    window.confirm = lambda title, text: asked.append(text) or False
+    window.close()
+    assert window.isVisible() and str(path) in asked[0]
+    window.blind.unsaved = False
+    metrics = QtGui.QFontMetrics(QtGui.QFont())
+    for width_px, shortened in ((2000, False), (300, True)):
+        rich, elided = message_html(asked[0], metrics, width_px)
+        assert elided == shortened
+        document = QtGui.QTextDocument()
+        document.setHtml(rich)
+        document.setTextWidth(320)  # narrower than the path: the words wrap, the path does not
+        document.documentLayout().documentSize()
+        lines = {}
+        block = document.begin()
+        while block.isValid():
+            lines[block.text()] = block.layout().lineCount()
+            block = block.next()
+        (shown,) = [text for text in lines if text.startswith("/home/")]
+        assert lines[shown] == 1
+        assert shown == str(path) if not shortened else ("…" in shown and shown.endswith(".csv"))
+        words = next(iter(lines))  # the sentence before it wraps as words do
+        assert words.startswith("The Blind A/B ratings are not saved") and lines[words] >= 2
