@@ -24,6 +24,19 @@ MAX_OUTLINE_POINTS = 20_000
 """Most points of a pattern's outlines drawn (beyond, none: a partial drawing would mislead)."""
 
 
+MAX_CURVE_INTERVALS = 6000
+"""Most sample periods the activation curves span (20 s at 300 frames/s); a longer trace is
+sampled at its duration / 6000."""
+
+
+def curve_samples(duration_s: float, rate_hz: float) -> int:
+    """How many samples the activation curves take over a trace of ``duration_s`` at the
+    scene's ``rate_hz``: one per frame period, from 0 to the duration, both included (N + 1
+    for N = duration x rate periods, 1 to :data:`MAX_CURVE_INTERVALS`), so that an exported
+    curve's time column steps 1 / rate (exactly, when the duration is whole periods)."""
+    return min(max(round(duration_s * rate_hz), 1), MAX_CURVE_INTERVALS) + 1
+
+
 def pattern_outlines(pattern, target) -> list | None:
     """The outline of each of a ``.tact`` pattern's paths on ``target``, for the heatmap; None
     when there are more than :data:`MAX_PLOTTED_EFFECTS` effects or
@@ -217,8 +230,11 @@ class TuneWidget(QtWidgets.QStackedWidget):
                     self._no_trace(f"{pattern.effects} paths and dots: too many to plot")
                     return
                 outline = pattern_outlines(pattern, self.state.target)
+                # one sample a frame (the middle of each), as the stream takes them
+                frames = max(curve_samples(pattern.duration_s, scene.rate_hz) - 1, 3)
                 curves = pattern.curves(scene.method, self.state.target, mu=scene.mu,
-                                        gamma=scene.gamma, motor=motor)  # fmt: skip
+                                        gamma=scene.gamma, samples=frames,
+                                        motor=motor)  # fmt: skip
                 period = pattern.duration_s
             else:
                 outline = scene.shape.outline()
@@ -229,7 +245,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
                     direction=scene.direction,
                     mu=scene.mu,
                     gamma=scene.gamma,
-                    samples=400,
+                    samples=curve_samples(scene.duration_s, scene.rate_hz),
                     grid=self.state.target,
                     motor=motor,
                 )
