@@ -231,3 +231,31 @@ def test_the_heatmaps_x_axis_labels_the_grids_edges(qtbot):
     qtbot.waitExposed(view)
     assert _tick_labels(view.plot.getAxis("bottom")) == ["0", "1", "2", "3", "4", "5"]
     assert _tick_labels(view.plot.getAxis("left")) == ["0", "1", "2", "3", "4", "5", "6"]
+
+
+def test_the_vests_names_are_written_over_the_outline_clear_of_the_rings(qtbot):
+    # The dashed outline of the shape ran through the names (r3c0, r2c0, r4c1 on the vest's
+    # circle), and a lit actuator's ring touched the name under it.
+    from PySide6 import QtCore
+
+    win = open_window(qtbot, "vest-4x5")
+    try:
+        heatmap = win.tune.heatmap
+        win.tune.refresh()
+        cells, outline = heatmap.cells, heatmap.outline
+        x, y = outline.getData()
+        r = cells.size / 2
+        crossed = 0
+        for item, (_, py) in zip(cells.names, win.state.layout.positions):
+            assert item.isVisible()
+            box = item.mapRectToView(item.boundingRect())
+            assert max(box.top(), box.bottom()) <= py - 1.12 * r  # under the ring, wholly
+            if any(box.contains(QtCore.QPointF(u, v)) for u, v in zip(x, y)):
+                crossed += 1
+                assert item.zValue() > outline.zValue()
+                fill = item.fill.color()
+                assert fill.alpha() >= 128
+                assert fill.rgb() == heatmap.backgroundBrush().color().rgb()
+        assert crossed >= 2  # the default circle crosses names
+    finally:
+        win.close()
