@@ -259,3 +259,32 @@ def test_the_vests_names_are_written_over_the_outline_clear_of_the_rings(qtbot):
         assert crossed >= 2  # the default circle crosses names
     finally:
         win.close()
+
+
+@pytest.mark.parametrize(("size", "px_per_pitch"), [((1280, 720), 40), ((1600, 1000), 70)])
+def test_the_belt_spans_the_tab_above_the_plots(qtbot, size, px_per_pitch):
+    # Beside the plots the belt's strip and its caption took the top of a tall, narrow panel
+    # and left the rest of it empty: 50 % of it at 1280 x 720 (36 px a pitch), 63 % at
+    # 1600 x 1000 (55 px a pitch).
+    win = open_window(qtbot, "belt-8")
+    try:
+        win.resize(*size)
+        tune = win.tune
+        qtbot.waitUntil(lambda: win.size().toTuple() == size)
+        tune.fit_heatmap()
+        qtbot.waitUntil(lambda: tune.stacked)
+        heatmap = tune.heatmap
+        assert heatmap.width() >= 0.95 * tune.width()  # across the tab
+        assert tune.plots.orientation() == pg.QtCore.Qt.Orientation.Horizontal  # side by side
+
+        def empty_below() -> float:  # the part of the panel under the caption
+            bottom = heatmap.caption.mapRectToScene(heatmap.caption.boundingRect()).bottom()
+            return (heatmap.height() - bottom) / heatmap.height()
+
+        qtbot.waitUntil(lambda: empty_below() <= 0.15)
+        assert 1 / heatmap.plot.vb.viewPixelSize()[0] >= px_per_pitch
+        win.device.set_profile(find_profile("palm-5x6"))  # a grid stands beside them
+        tune.fit_heatmap()
+        assert not tune.stacked
+    finally:
+        win.close()

@@ -136,7 +136,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         bar.addWidget(hint, 1)
         box.addLayout(bar)
         box.addWidget(self.curves, 1)
-        right = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
+        right = self.plots = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
         right.addWidget(curves_box)
         right.addWidget(self.correction)
         right.setSizes([600, 360])
@@ -157,15 +157,35 @@ class TuneWidget(QtWidgets.QStackedWidget):
         """Blind A/B: no live frames and no curve titles, which would give the method away."""
         self.method_hidden = bool(hidden)
 
+    @property
+    def stacked(self) -> bool:
+        """Whether the heatmap spans the tab above the plots (a wide layout: a belt, a sleeve)
+        rather than standing beside them."""
+        return self.split.orientation() == QtCore.Qt.Orientation.Vertical
+
     def fit_heatmap(self) -> None:
-        """Give the heatmap the width at which its square cells fill its height."""
-        total = sum(self.split.sizes())
-        if total <= 0:
+        """Give the heatmap the room at which its array fills it: beside the plots, the width
+        at which its square cells fill its height; a layout drawn larger across the tab (a
+        belt: beside the plots it used a third of the panel's height) spans it above them, at
+        most half its height, the curves and the correction curve side by side below."""
+        width, height = self.split.width(), self.split.height()
+        if width <= 0 or height <= 0:
             return
-        want = self.heatmap.preferred_width(self.split.height())
-        right = self.split.widget(1).minimumSizeHint().width()
-        want = min(max(want, 220), round(total * 0.55), total - right)
-        self.split.setSizes([want, total - want])
+        right = self.plots.minimumSizeHint().width()
+        beside = min(max(self.heatmap.preferred_width(height), 220), round(width * 0.55),
+                     width - right)  # fmt: skip
+        above = min(max(self.heatmap.preferred_height(width), 160), round(height * 0.5))
+        heatmap = self.heatmap
+        stack = heatmap.scale_in(width, above) > 1.1 * heatmap.scale_in(beside, height)
+        if stack != self.stacked:
+            vertical, horizontal = QtCore.Qt.Orientation.Vertical, QtCore.Qt.Orientation.Horizontal
+            self.split.setOrientation(vertical if stack else horizontal)
+            self.plots.setOrientation(horizontal if stack else vertical)
+            self.plots.setSizes([600, 360])
+        if stack:
+            self.split.setSizes([above, height - above])
+        else:
+            self.split.setSizes([beside, width - beside])
 
     # --- the scene's plots -----------------------------------------------------------------------
 

@@ -288,6 +288,25 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         extra = 110 if self.colorbar is not None else 60
         return round((height - 70) * w / h) + extra
 
+    def _margins(self) -> tuple[int, int]:
+        """Pixels around the array: axes and colour bar across; axis, title and the caption
+        under a layout down."""
+        caption = self.caption.boundingRect().height() if self.caption in self.ci.items else 0
+        return (110 if self.colorbar is not None else 60), 70 + round(caption)
+
+    def preferred_height(self, width: int) -> int:
+        """The height at which the array fills ``width``: :meth:`preferred_width` the other
+        way round (the caption under a layout included)."""
+        w, h = self.extent()
+        across, down = self._margins()
+        return round((width - across) * h / w) + down
+
+    def scale_in(self, width: int, height: int) -> float:
+        """Pixels per layout unit the array gets in a view of ``width`` x ``height``."""
+        w, h = self.extent()
+        across, down = self._margins()
+        return min((width - across) / w, (height - down) / h)
+
     # --- the pointer -----------------------------------------------------------------------------
 
     def _on_mouse_moved(self, pos) -> None:
