@@ -48,7 +48,8 @@ class DevicePanel(QtWidgets.QWidget):
         self.profile_combo.setSizeAdjustPolicy(
             QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToContents
         )
-        self.profile_label = QtWidgets.QLabel()
+        # elided rather than squeezing the OSC box (a belt's words left ".0.1" of its host)
+        self.profile_label = ElidedLabel("")
         self.link_label = QtWidgets.QLabel()
         self.profile_label.setTextFormat(QtCore.Qt.TextFormat.PlainText)  # a profile's words
         self.link_label.setTextFormat(QtCore.Qt.TextFormat.RichText)  # bold, the name escaped
@@ -188,7 +189,9 @@ class DevicePanel(QtWidgets.QWidget):
             f"{profile.layout.describe()}, {profile.levels} levels, {profile.baud} baud (max "
             f"{profile.max_rate_hz:.0f} frames/s)"
         )
-        self.profile_label.setToolTip(tip(profile.description or profile.name))
+        self.profile_label.setToolTip(
+            tip(f"{self.profile_label.text()}. {profile.description or profile.name}")
+        )
         shown, label = self._link_in_use()
         self.port_combo.setCurrentText(shown)  # the link in use, named (it said "sim" for all)
         self.link_label.setText(f"<b>{html.escape(description if label is None else shown)}</b>")

@@ -184,3 +184,24 @@ def test_the_quit_question_keeps_the_autosave_path_on_one_line(window, tmp_path)
         assert shown == str(path) if not shortened else ("…" in shown and shown.endswith(".csv"))
         words = next(iter(lines))  # the sentence before it wraps as words do
         assert words.startswith("The Blind A/B ratings are not saved") and lines[words] >= 2
+
+
+def test_the_osc_host_is_shown_whole_beside_a_long_profile_line(qtbot):
+    # With the belt's profile line ("8 actuators, wrapping in x (circumference 8), ...") the
+    # OSC host box was squeezed to ".0.1" at 1280 x 720.
+    from tactile_core.device.profile import find_profile
+    from tactile_tuner.window import MainWindow
+
+    win = MainWindow(profile=find_profile("belt-8"), restore=False, process=False)
+    qtbot.addWidget(win)
+    win.resize(1280, 720)
+    win.show()
+    qtbot.waitExposed(win)
+    try:
+        host = win.serve_panel.host_edit
+        assert host.text() == "127.0.0.1"
+        qtbot.waitUntil(lambda: host.fontMetrics().horizontalAdvance(host.text()) + 8
+                        <= host.width())  # fmt: skip
+        assert "circumference 8" in win.device_panel.profile_label.toolTip()
+    finally:
+        win.close()
