@@ -103,6 +103,7 @@ class MainWindow(QtWidgets.QMainWindow):
                                        lead_ms=start.lead_ms)  # fmt: skip
         self.files = FileActions(self.state, self.device, self)
         self.files.set_preset(start)
+        self.files.preset_scene = self.state.scene  # as it plays here: no star for a fitting
 
         # The tabs --------------------------------------------------------------------------
         self.tune = TuneWidget(self.state, self.device)

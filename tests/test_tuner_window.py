@@ -205,3 +205,20 @@ def test_the_osc_host_is_shown_whole_beside_a_long_profile_line(qtbot):
         assert "circumference 8" in win.device_panel.profile_label.toolTip()
     finally:
         win.close()
+
+
+def test_a_start_on_a_belt_is_not_marked_modified(qtbot):
+    # The start preset plays BA on its own shape on a belt: that is the preset on this layout,
+    # not a change of the user's.
+    from tactile_core.device.profile import find_profile
+    from tactile_tuner.window import MainWindow
+
+    win = MainWindow(profile=find_profile("belt-8"), restore=False, process=False)
+    qtbot.addWidget(win)
+    try:
+        assert win.state.scene.method == "BA"
+        assert win.windowTitle().startswith("tactile-tuner - Experiment 1 line - BA")
+        win.state.update(mu=0.5)
+        assert "Experiment 1 line *" in win.windowTitle()
+    finally:
+        win.close()
