@@ -222,3 +222,16 @@ def test_a_start_on_a_belt_is_not_marked_modified(qtbot):
         assert "Experiment 1 line *" in win.windowTitle()
     finally:
         win.close()
+
+
+@pytest.mark.parametrize("size", [(1280, 720), (1600, 1000)])
+def test_the_predicted_views_title_fits_its_plot(window, qtbot, size):
+    # On one line it was wider than the curves' plot, cut off at both ends at 1600 x 1000.
+    window.resize(*size)
+    qtbot.waitUntil(lambda: window.size().toTuple() == size)
+    window.state.set_view_mode("predicted")
+    window.tune.refresh()
+    window.tune.fit_heatmap()
+    label = window.tune.curves.plotItem.titleLabel
+    assert "over 25 participants" in label.text
+    qtbot.waitUntil(lambda: 0 < label.item.boundingRect().width() <= window.tune.curves.width())

@@ -321,9 +321,9 @@ class TuneWidget(QtWidgets.QStackedWidget):
                                "felt intensity M")  # fmt: skip
         if not self.method_hidden:
             stage = "felt" if profile.motor is not None else "sent"
-            title = (
+            title = (  # two lines: on one it was cut off at both ends at 1600 x 1000
                 f"{scene.method}, {REFERENCE.label}: ripple {percept.ripple:.2f}, off "
-                f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f}); ripple "
+                f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f})<br>ripple "
                 f"{band.span(stage)} over {len(band.participants)} participants"
             )
-            set_title(self.curves.plotItem, title)
+            set_title(self.curves.plotItem, title, size="9pt")
