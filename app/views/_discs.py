@@ -83,6 +83,7 @@ class Discs:
         self.names = []
         for i, (x, y) in enumerate(layout.positions):
             item = pg.TextItem(layout.names[i], anchor=(0.5, 0.0))
+            item.textItem.document().setDocumentMargin(1)  # its filled box hugs the words
             item.setPos(x, y - NAME_OFFSET * r)
             # over the shape's outline (z 10), on the background's colour: the outline ran
             # through the vest's names; under the moving point (z 12)
@@ -108,7 +109,9 @@ class Discs:
         self._name_px = max(metrics.horizontalAdvance(n) for n in layout.names) + 6
         seam = self.seams[-1][1].textItem.toPlainText() if self.seams else ""
         self._seam_px = metrics.horizontalAdvance(seam)
-        self._text_px = metrics.height()
+        # the filled box a name takes (not the font's height alone: with the box's margins
+        # the vest's names covered the tops of the discs below at 1280 x 720)
+        self._text_px = self.names[0].textItem.boundingRect().height()
         self._label_gap = self._vertical_gap(xy, r)
 
     def _add(self, item) -> None:
