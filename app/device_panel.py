@@ -8,7 +8,7 @@ import html
 from PySide6 import QtCore, QtWidgets
 from serial.tools import list_ports
 
-from tactile_core.device.audio import audio_outputs
+from tactile_core.device.audio import audio_output_of, audio_outputs
 from tactile_core.device.link import SIMULATED_URLS
 from tactile_core.device.profile import profile_names
 from tactile_core.stream import MAX_LEAD_MS
@@ -49,7 +49,8 @@ class DevicePanel(QtWidgets.QWidget):
         self.profile_combo.setSizeAdjustPolicy(
             QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToContents
         )
-        self.profile_label = QtWidgets.QLabel()
+        # elided rather than squeezing the OSC box (a belt's words left ".0.1" of its host)
+        self.profile_label = ElidedLabel("")
         self.link_label = QtWidgets.QLabel()
         self.profile_label.setTextFormat(QtCore.Qt.TextFormat.PlainText)  # a profile's words
         self.link_label.setTextFormat(QtCore.Qt.TextFormat.RichText)  # bold, the name escaped
@@ -61,6 +62,8 @@ class DevicePanel(QtWidgets.QWidget):
         self.lead_spin.setSuffix(" ms")
         self.lead_spin.setKeyboardTracking(False)  # one reopen when the value is committed
         self.lead_spin.setValue(device.lead_ms)
+        self._in_use: set = {None}
+        """What in the device box means the link in use (None: the simulated array)."""
         self.status_label = ElidedLabel("starting")  # one line; the whole of it as the tooltip
         self.status_label.setObjectName("status")
         layout.addWidget(QtWidgets.QLabel("device"), 0, 0)
@@ -164,10 +167,10 @@ class DevicePanel(QtWidgets.QWidget):
 
     def _update_connect(self) -> None:
         """Connect only for a link other than the one in use (its own port would be busy)."""
-        self.connect_button.setEnabled(self._typed_link() != self.device.url)
+        self.connect_button.setEnabled(self._typed_link() not in self._in_use)
 
     def _on_connect_clicked(self) -> None:
-        if self._typed_link() == self.device.url:
+        if self._typed_link() in self._in_use:
             return  # already streaming there (Enter again, a double click)
         self.device.connect_device(self.port_combo.currentText())
 
@@ -187,13 +190,35 @@ class DevicePanel(QtWidgets.QWidget):
             f"{profile.layout.describe()}, {profile.levels} levels, {profile.baud} baud (max "
             f"{profile.max_rate_hz:.0f} frames/s)"
         )
-        self.profile_label.setToolTip(tip(profile.description or profile.name))
-        self.link_label.setText(f"<b>{html.escape(description)}</b>")
+        self.profile_label.setToolTip(
+            tip(f"{self.profile_label.text()}. {profile.description or profile.name}")
+        )
+        shown, label = self._link_in_use()
+        self.port_combo.setCurrentText(shown)  # the link in use, named (it said "sim" for all)
+        self.link_label.setText(f"<b>{html.escape(description if label is None else shown)}</b>")
+        self.link_label.setToolTip(tip(label or description))
         self.disconnect_button.setEnabled(not self.device.simulated)
         self.lead_spin.blockSignals(True)  # a preset may have set another lead
         self.lead_spin.setValue(self.device.lead_ms)
         self.lead_spin.blockSignals(False)
         self._update_connect()
+
+    def _link_in_use(self) -> tuple[str, str | None]:
+        """What the device box shows for the link in use, and an audio device's description:
+        ``sim``; a port or URL as given; an ``audio:`` URL as the device it opened
+        (``audio:`` is the default device: ``audio:USB 8ch``, its query kept)."""
+        url = self.device.url
+        if url is None:
+            self._in_use = {None}
+            return "sim", None
+        named = audio_output_of(url)
+        if named is None:
+            self._in_use = {url}
+            return url, None
+        query = url.partition("?")[2]
+        shown = named[0] + (f"?{query}" if query else "")
+        self._in_use = {url, shown}
+        return shown, named[1]
 
     def show_stats(self, stats) -> None:
         """Status line: state, achieved rate, interval error, errors; and how frames are timed

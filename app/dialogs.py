@@ -8,10 +8,13 @@ participant, date); a name typed without an extension gets the selected filter's
 from __future__ import annotations
 
 import datetime as dt
+import html
 import re
 from pathlib import Path
 
-from PySide6 import QtCore, QtWidgets
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from .texts import value3
 
 
 def today() -> str:
@@ -20,8 +23,9 @@ def today() -> str:
 
 
 def tuning_tag(scene) -> str:
-    """``AS-mu0.33-gamma0.70``: a scene's method and correction, for file names."""
-    return f"{scene.method}-mu{scene.mu:.2f}-gamma{scene.gamma:.2f}"
+    """``AS-mu0.33-gamma0.70``: a scene's method and correction, for file names (to the 0.001
+    of the controls: ``gamma0.143``)."""
+    return f"{scene.method}-mu{value3(scene.mu)}-gamma{value3(scene.gamma)}"
 
 
 def safe_name(text: str) -> str:
@@ -56,6 +60,17 @@ def _remember(kind: str, path: Path) -> None:
     QtCore.QSettings().setValue(f"folders/{kind}", str(path.parent))
 
 
+def unused_name(kind: str, name: str) -> str:
+    """``name``, or ``stem-2.ext``, ``stem-3.ext``... if a file of that name is already in the
+    folder last used for ``kind`` (a proposed name never points at an existing file)."""
+    folder, path = Path(_folder(kind)), Path(name)
+    n = 1
+    while (folder / name).exists():
+        n += 1
+        name = f"{path.stem}-{n}{path.suffix}"
+    return name
+
+
 def save_path(parent, kind: str, title: str, name: str, filters: list[str]) -> Path | None:
     """Ask where to save; the chosen path (extension added), or None if cancelled."""
     start = str(Path(_folder(kind)) / name)
@@ -79,12 +94,55 @@ def open_path(parent, kind: str, title: str, filters: list[str]) -> Path | None:
     return path
 
 
+_PATH = re.compile(r"(?<![^\s(])(?:~|\.{1,2}|[A-Za-z]:)?[/\\]\S+")
+"""A word that is a path: it starts with ``/``, ``~/``, ``./`` or ``C:\\`` (not "A/B");
+with what sticks to its end."""
+
+
+def message_html(text: str, metrics: QtGui.QFontMetrics, width_px: int) -> tuple[str, bool]:
+    """``text`` (lines apart by a newline, paragraphs by a blank line) as a message box's rich
+    text, and whether a path had to be shortened. A path is never broken (Qt broke an autosave
+    path after ``/home/`` and ``blind-``): it is a line of its own that does not wrap, elided
+    in the middle when wider than ``width_px``."""
+    shortened, blocks = False, []
+    for n, paragraph in enumerate(text.split("\n\n")):
+        parts = []
+        for line in paragraph.split("\n"):
+            start = 0
+            for found in _PATH.finditer(line):
+                parts.append((False, line[start : found.start()].strip()))
+                shown = metrics.elidedText(found.group(0), QtCore.Qt.TextElideMode.ElideMiddle,
+                                           width_px)  # fmt: skip
+                shortened |= shown != found.group(0)
+                parts.append((True, shown))
+                start = found.end()
+            parts.append((False, line[start:].strip()))
+        for i, (whole, words) in enumerate([p for p in parts if p[1]]):
+            style = f"margin-top:{12 if n and not i else 0}px; margin-bottom:0px;"
+            style += " white-space:pre;" if whole else ""
+            blocks.append(f'<p style="{style}">{html.escape(words, quote=False)}</p>')
+    return "".join(blocks), shortened
+
+
 def confirm(parent, title: str, text: str) -> bool:
-    """Ask yes or no (No is the default: Enter never discards anything by accident)."""
+    """Ask yes or no (No is the default: Enter never discards anything by accident). A path in
+    ``text`` stays whole on its line (:func:`message_html`); one too long for the box is
+    elided in the middle, and *Show Details...* holds the whole text."""
     box = QtWidgets.QMessageBox(parent)
     box.setIcon(QtWidgets.QMessageBox.Icon.Question)
     box.setWindowTitle(title)
-    box.setText(text)
+    screen = (
+        parent.screen() if parent is not None else None
+    ) or QtGui.QGuiApplication.primaryScreen()
+    # QMessageBox widens its text to the screen's width less 480 px (at most 1000); the icon
+    # and the margins take about 120 of that.
+    room = min(screen.availableGeometry().width() - 480, 1000) - 120 if screen else 500
+    rich, shortened = message_html(text, box.fontMetrics(), max(room, 240))
+    box.setTextFormat(QtCore.Qt.TextFormat.RichText)
+    box.setText(rich)
+    box.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
+    if shortened:
+        box.setDetailedText(text)
     buttons = QtWidgets.QMessageBox.StandardButton
     box.setStandardButtons(buttons.Yes | buttons.No)
     box.setDefaultButton(buttons.No)

@@ -16,7 +16,7 @@ from tactile_core.files.tact import TactError, load_pattern, path_of_scene, writ
 from tactile_core.rendering.shapes import TimedPath, path_from_samples
 
 from . import dialogs
-from .texts import count
+from .texts import count, value3
 from .views import cell_colors
 
 
@@ -39,8 +39,9 @@ class FileActions(QtCore.QObject):
     error_raised = QtCore.Signal(str)
     message_posted = QtCore.Signal(str, int)
     """A status line and how long to show it (ms)."""
-    preset_loaded = QtCore.Signal()
-    """A preset replaced the scene (its name is now :attr:`preset_name`)."""
+    preset_changed = QtCore.Signal()
+    """The scene's preset changed: a preset or a ``.tact`` file replaced the scene, or the
+    scene was saved as a preset (its name is now :attr:`preset_name`)."""
 
     def __init__(self, state, device, parent):
         super().__init__(parent)
@@ -62,6 +63,10 @@ class FileActions(QtCore.QObject):
         self.profile_blocked = lambda: ""
         """Why the device profile may not change now ("" when it may): a blind session or a
         run depends on its layout."""
+        self._imported: set[Path] = set()
+        """The ``.tact`` files imported in this session (an export never overwrites one)."""
+        self._pattern_file = (None, None)
+        """The pattern imported last and where it came from (its file and position)."""
         self._stroke: list = []
         """The last drawing in draw mode: ``(seconds, x, y)`` per point drawn."""
         self._stroke_done = True
@@ -100,7 +105,7 @@ class FileActions(QtCore.QObject):
         self.state.last_message = ""  # what follows is this preset's, on this layout
         self.state.set_scene(preset.scene.replace(epoch=self.state.scene.epoch + 1))
         self.set_preset(preset)
-        self.preset_loaded.emit()
+        self.preset_changed.emit()
         changes = self._changes()
         self.message_posted.emit(f"loaded preset {preset.name}{switched}{changes}",
                                  10_000 if changes or switched else 5000)  # fmt: skip
@@ -128,6 +133,8 @@ class FileActions(QtCore.QObject):
         except (OSError, ValueError) as exc:  # ValueError: a path refused before writing
             self.error_raised.emit(f"could not save {path}: {exc}")
             return False
+        self.set_preset(preset)  # the scene is this preset now: its name, no "modified" star
+        self.preset_changed.emit()
         self.message_posted.emit(f"saved preset to {path}", 5000)
         return True
 
@@ -213,7 +220,7 @@ class FileActions(QtCore.QObject):
         """Ask where to export the correction table (CSV or C header), and export it."""
         scene = self.state.scene
         levels = self.device.profile.levels
-        name = f"lut-mu{scene.mu:.2f}-gamma{scene.gamma:.2f}-{levels}levels.h"
+        name = f"lut-mu{value3(scene.mu)}-gamma{value3(scene.gamma)}-{levels}levels.h"
         path = dialogs.save_path(self.parent(), "exports", "Export correction table", name,
                                  ["C header (*.h)", "CSV (*.csv)"])  # fmt: skip
         if path:
@@ -239,6 +246,7 @@ class FileActions(QtCore.QObject):
             self.error_raised.emit(f"{path}: no paths or dots to play")
             return False
         self.before_load()
+        self._imported.add(Path(path).resolve())
         scene = self.state.scene.replace(epoch=self.state.scene.epoch + 1, playing=True)
         if len(paths) == 1 and not dots:
             (shape,) = paths
@@ -249,21 +257,34 @@ class FileActions(QtCore.QObject):
             what = "its path is the shape"
         else:
             scene = scene.replace(shape=None, source=pattern)
+            self._pattern_file = (pattern, {"path": str(Path(path).absolute()),
+                                            "position": pattern.position})  # fmt: skip
             what = (f"{count(len(paths), 'path')} and {count(len(dots), 'dot')} play as a "
                     f"pattern of {pattern.duration_s:g} s (Restart replays it)")  # fmt: skip
         self.state.set_scene(scene)
         self.preset_name, self.preset_notes, self.preset_scene = Path(path).stem, "", scene
-        self.preset_loaded.emit()
+        self.preset_changed.emit()
         skipped = f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""
         notes = "".join(f"; {note}" for note in pattern.notes)  # what plays otherwise than asked
         self.message_posted.emit(f"imported {pattern.position} of {Path(path).name}: {what}"
                                  f"{skipped}{notes}", 10_000)  # fmt: skip
         return True
 
+    def pattern_file(self, source) -> dict | None:
+        """``{"path": ..., "position": ...}`` of the ``.tact`` file a scene's ``source`` was
+        imported from, or None (not an imported pattern)."""
+        pattern, where = self._pattern_file
+        return dict(where) if source is not None and source is pattern else None
+
     def export_tact_file(self, path) -> bool:
         """The scene's trace (its shape over its duration) as a ``.tact`` file, in 0..1 of the
-        current array's actuators."""
+        current array's actuators. A ``.tact`` file imported in this session is never
+        overwritten (its other positions, paths and dots would be lost)."""
         path = Path(path)
+        if path.resolve() in self._imported:
+            self.error_raised.emit(f"could not export {path}: it is the .tact file this "
+                                   "session imported; export to another name")  # fmt: skip
+            return False
         try:
             written = write_tact(path, path_of_scene(self.state.scene), self.device.profile.layout,
                                  name=path.stem[: tact.MAX_NAME_CHARS])  # fmt: skip
@@ -282,7 +303,8 @@ class FileActions(QtCore.QObject):
 
     def ask_export_tact(self) -> None:
         """Ask where to export the scene's trace as ``.tact``, and export it."""
-        name = f"{self.preset_name or 'trace'}.tact"
+        # Never the imported file's own name: a new one beside it.
+        name = dialogs.unused_name("tact", f"{self.preset_name or 'trace'}-export.tact")
         path = dialogs.save_path(self.parent(), "tact", "Export bHaptics .tact", name,
                                  ["bHaptics (*.tact)"])  # fmt: skip
         if path:

@@ -56,6 +56,9 @@ class ServePanel(QtWidgets.QGroupBox):
         self.host_edit = QtWidgets.QLineEdit(live.host)
         self.host_edit.setObjectName("osc_host")
         self.host_edit.setMaximumWidth(120)
+        self.host_edit.setMinimumWidth(  # an IPv4 address, whole
+            self.host_edit.fontMetrics().horizontalAdvance("255.255.255.255") + 12
+        )
         self.port_spin = QtWidgets.QSpinBox()
         self.port_spin.setObjectName("osc_port")
         self.port_spin.setRange(0, 65535)

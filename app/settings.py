@@ -1,25 +1,81 @@
-"""What the tuner remembers between sessions (QSettings): the scene, the window's layout, the
-heatmap's view, the curves' lanes, the Compare and Blind A/B method sets, the results folder,
-the Lab Streaming Layer setting and the OSC server's address (never whether it was serving: another
-program drives the array only when asked in this session). ``--no-restore`` ignores them; a run
-never writes its trial scenes here."""
+"""What the tuner remembers between sessions (QSettings): the scene (and the ``.tact`` file of a
+pattern it played), the window's layout, the heatmap's view, the curves' lanes, the Compare and
+Blind A/B method sets, the results folder, the Lab Streaming Layer setting and the OSC server's
+address (never whether it was serving: another program drives the array only when asked in this
+session). ``--no-restore`` ignores them; a run never writes its trial scenes here."""
 
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
-from tactile_core.files.presets import Preset, preset_from_dict
+from tactile_core.files.presets import (
+    Preset,
+    PresetError,
+    builtin_presets,
+    load_preset,
+    preset_from_dict,
+)
+
+from .state import DEFAULT_SCENE
+
+START_PRESET = "exp1-line"
+"""The built-in preset the tuner starts from without a last session (or with ``--no-restore``)."""
+
+
+def start_preset() -> Preset:
+    """The built-in Experiment 1 line, with its name and notes (the scene alone if the bundled
+    file cannot be read)."""
+    try:
+        return load_preset(builtin_presets()[START_PRESET])
+    except (KeyError, PresetError):
+        return Preset(DEFAULT_SCENE, "Experiment 1 line")
 
 
 def restored_preset(settings):
-    """The last session's scene as a preset, or None (none saved, or damaged)."""
+    """The last session's scene as a preset, or None (none saved, or damaged). A session that
+    ended on a ``.tact`` pattern (a scene without a shape) comes back on the default shape with
+    its tuning (method, mu, gamma, timing, frames); :func:`reopen_pattern` plays the pattern
+    again."""
     text = settings.value("scene")
     if not text:
         return None
     try:
-        return preset_from_dict(json.loads(str(text)), source="last session")
+        data = json.loads(str(text))
+        if isinstance(data, dict) and "shape" in data and data["shape"] is None:
+            data["shape"] = DEFAULT_SCENE.shape.to_dict()  # as an older tuner saved a pattern
+        return preset_from_dict(data, source="last session")
     except (ValueError, TypeError):
         return None  # a damaged setting: start from the default
+
+
+def reopen_pattern(window) -> None:
+    """The last session played a ``.tact`` pattern: import it again from its file, on the
+    restored tuning; if the file is gone (or was never known), say so in the status bar (the
+    tuning stays, on the default shape)."""
+    settings = window.settings
+    try:
+        last = json.loads(str(settings.value("tact_pattern", "") or "null"))
+        path, position = Path(last["path"]), last.get("position")
+    except (ValueError, TypeError, KeyError):
+        last = None  # none (or damaged)
+    try:
+        shapeless = json.loads(str(settings.value("scene", ""))).get("shape", 0) is None
+    except (ValueError, TypeError, AttributeError):
+        shapeless = False
+    if last is None and not shapeless:
+        return  # the last session played a shape
+    kept = (f"{window.files.preset_name} with the last session's tuning (method, mu, gamma, "
+            "timing)")  # fmt: skip
+    if last is None:
+        said = f"the last session's .tact pattern was not saved: {kept}"
+    elif not path.is_file():
+        said = f"the last session's .tact file {path} is gone: {kept}"
+    elif window.files.import_tact_file(path, position):
+        said = f"the last session's pattern again: {position} of {path}"
+    else:
+        said = f"the last session's .tact file {path} no longer opens: {kept}"
+    window.statusBar().showMessage(said, 20_000)
 
 
 def restore_window(window) -> None:
@@ -75,9 +131,13 @@ def save_window(window) -> None:
     settings = window.settings
     scene = window.experiments.saved_scene or window.state.scene
     files = window.files
+    pattern = files.pattern_file(scene.source) if scene.shape is None else None
+    if scene.shape is None:  # a pattern (or points another program drove): a preset holds a
+        scene = scene.replace(shape=DEFAULT_SCENE.shape, source=None)  # shape; the tuning stays
     preset = Preset(scene, files.preset_name, files.preset_notes, window.device.profile.name,
                     window.device.lead_ms)  # fmt: skip
     settings.setValue("scene", json.dumps(preset.to_dict()))
+    settings.setValue("tact_pattern", json.dumps(pattern) if pattern else "")
     settings.setValue("geometry", window.saveGeometry())
     settings.setValue("windowState", window.saveState())
     settings.setValue("view_mode", window.state.view_mode)

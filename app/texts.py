@@ -1,4 +1,5 @@
-"""Words the parts share: rich-text tooltips, and why draw mode takes only some methods."""
+"""Words the parts share: rich-text tooltips, why draw mode takes only some methods, and how a
+correction value is written."""
 
 from __future__ import annotations
 
@@ -28,6 +29,13 @@ BLIND_FILES = (
     "(or cancel the session) in the Blind A/B tab first."
 )
 PROFILE_BLOCKED = "The device profile cannot change {}: it is for this array's layout."
+
+
+def value3(x: float) -> str:
+    """A correction value (mu, gamma) as the controls show it, to the 0.001 the gamma slider
+    steps in: three decimals, a last zero dropped (``0.143``, ``0.70``, ``0.33``, ``1.00``)."""
+    text = f"{x:.3f}"
+    return text[:-1] if text.endswith("0") else text
 
 
 def tip(text: str) -> str:

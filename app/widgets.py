@@ -1,5 +1,5 @@
-"""Small widgets the parts share: a label that elides, a set of methods to compare, and a guard
-that lets the mouse wheel scroll a panel instead of turning its values."""
+"""Small widgets the parts share: a label that elides, one that wraps, a set of methods to
+compare, and a guard that lets the mouse wheel scroll a panel instead of turning its values."""
 
 from __future__ import annotations
 
@@ -37,6 +37,24 @@ class ElidedLabel(QtWidgets.QLabel):
             self.text(), QtCore.Qt.TextElideMode.ElideRight, self.contentsRect().width()
         )
         painter.drawText(self.contentsRect(), int(self.alignment()), text)
+
+
+class WrappedLabel(QtWidgets.QLabel):
+    """A label that wraps onto more lines instead of widening its panel or cutting its words
+    off: it asks for no width of its own, and as many lines as its width needs."""
+
+    def __init__(self, text: str, parent=None):
+        super().__init__(text, parent)
+        self.setTextFormat(QtCore.Qt.TextFormat.PlainText)
+        self.setWordWrap(True)
+        policy = QtWidgets.QSizePolicy(
+            QtWidgets.QSizePolicy.Policy.Ignored, QtWidgets.QSizePolicy.Policy.Minimum
+        )
+        policy.setHeightForWidth(True)
+        self.setSizePolicy(policy)
+
+    def minimumSizeHint(self) -> QtCore.QSize:  # Qt override
+        return QtCore.QSize(0, self.heightForWidth(max(self.width(), 1)))
 
 
 class MethodSetWidget(QtWidgets.QWidget):

@@ -28,7 +28,7 @@ from .files import FileActions
 from .keys import KeyFilter, is_text_input
 from .menus import build_menus
 from .serve_panel import install_live
-from .settings import restore_window, restored_preset, save_window
+from .settings import reopen_pattern, restore_window, restored_preset, save_window, start_preset
 from .state import TunerState
 from .texts import (
     BLIND_FILES,
@@ -37,6 +37,7 @@ from .texts import (
     HIDDEN_EXPERIMENT,
     PROFILE_BLOCKED,
     RUN_FILES,
+    value3,
 )
 from .tune import TuneWidget
 
@@ -57,7 +58,8 @@ class MainWindow(QtWidgets.QMainWindow):
         Connect to this device at start-up; the simulated array otherwise.
     profile : DeviceProfile, optional
     preset : Preset, optional
-        Start from this preset (else the last session's scene, else the Experiment 1 line).
+        Start from this preset (else the last session's scene, else the built-in Experiment 1
+        line with its notes).
     restore : bool
         Restore the last session's scene and window layout (QSettings).
     process : bool
@@ -95,20 +97,16 @@ class MainWindow(QtWidgets.QMainWindow):
         self.confirm = lambda title, text: dialogs.confirm(self, title, text)
         """Asks yes or no before a run or unsaved ratings are given up (tests answer it)."""
         self._ask_before_closing = True
-        start = (
-            preset if preset is not None else (restored_preset(self.settings) if restore else None)
-        )
+        start = preset or (restored_preset(self.settings) if restore else None) or start_preset()
         profile = profile or default_profile()
-        self.state = TunerState(start.scene if start is not None else None,
-                                layout=profile.layout)  # fmt: skip
-        if start is not None and start.device_profile != profile.name:
+        self.state = TunerState(start.scene, layout=profile.layout)
+        if start.device_profile != profile.name:
             self.state.fit_scene()  # a scene made for another array: its shape may lie off this
-        lead = {} if start is None else {"lead_ms": start.lead_ms}
         self.device = DeviceController(self.state, profile, process=process, realtime=realtime,
-                                       **lead)  # fmt: skip
+                                       lead_ms=start.lead_ms)  # fmt: skip
         self.files = FileActions(self.state, self.device, self)
-        if start is not None:
-            self.files.set_preset(start)
+        self.files.set_preset(start)
+        self.files.preset_scene = self.state.scene  # as it plays here: no star for a fitting
 
         # The tabs --------------------------------------------------------------------------
         self.tune = TuneWidget(self.state, self.device)
@@ -193,6 +191,8 @@ class MainWindow(QtWidgets.QMainWindow):
 
         if restore:
             self._restore_layout()
+            if preset is None:
+                reopen_pattern(self)
         if device_url:
             self.device.connect_device(device_url)
 
@@ -236,8 +236,8 @@ class MainWindow(QtWidgets.QMainWindow):
         tune.heatmap.draw_released.connect(self.files.end_drawn_stroke)
         self.files.error_raised.connect(self.show_error)
         self.files.message_posted.connect(status)
-        self.files.preset_loaded.connect(self._update_title)
-        self.files.preset_loaded.connect(self._show_preset)
+        self.files.preset_changed.connect(self._update_title)
+        self.files.preset_changed.connect(self._show_preset)
         self.controls.preset.notes_edited.connect(lambda text: setattr(files, "preset_notes",
                                                                        text))  # fmt: skip
         self._show_preset()
@@ -415,7 +415,8 @@ class MainWindow(QtWidgets.QMainWindow):
         modified = came_from is not None and not _same_tuning(scene, came_from)
         name = files.preset_name + (" *" if modified else "")
         self.setWindowTitle(
-            f"tactile-tuner - {name} - {scene.method}, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
+            f"tactile-tuner - {name} - {scene.method}, mu {value3(scene.mu)}, "
+            f"gamma {value3(scene.gamma)}"
         )
 
     # --- layout ----------------------------------------------------------------------------------
@@ -476,7 +477,7 @@ class MainWindow(QtWidgets.QMainWindow):
                            "disk, and Start resumes it).")  # fmt: skip
         if self.blind.session.unsaved:
             reasons.append("The Blind A/B ratings are not saved" + (
-                f" (they are autosaved in {self.blind.session.autosave_path})."
+                f"; they are autosaved in\n{self.blind.session.autosave_path}"
                 if self.blind.session.autosave_path else "."))  # fmt: skip
         if not reasons or not self._ask_before_closing:
             return True

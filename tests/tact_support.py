@@ -101,6 +101,16 @@ def connected_dots(position="VestFront"):
                     effect({"VestFront": dot_mode([(6, 0.8)], 0, 300)}))  # fmt: skip
 
 
+def dots_only():
+    """Dots alone, on both sides of the vest, as bHaptics' heartbeat files are: two effects, the
+    first lighting motors 1 and 2 (intensity 1) from 0 to 0.1 s, the second motor 5 (0.5) from
+    0.3 to 0.4 s."""
+    beat = {"VestFront": dot_mode([(1, 1.0), (2, 1.0)], 0, 100),
+            "VestBack": dot_mode([(1, 1.0), (2, 1.0)], 0, 100)}  # fmt: skip
+    echo = {"VestFront": dot_mode([(5, 0.5)], 0, 100), "VestBack": dot_mode([(5, 0.5)], 0, 100)}
+    return document(effect(beat, 0, 250), effect(echo, 300, 200))
+
+
 def write(tmp_path, data, name="t.tact"):
     path = tmp_path / name
     path.write_text(json.dumps(data))

@@ -397,3 +397,14 @@ def test_the_block_clock_ignores_a_stall_and_follows_a_real_shift():
         k += 1
     assert clock.resyncs == 1 and clock.locked
     assert start == pytest.approx(10.02 + (k - 1) * period, abs=30e-6)
+
+
+def test_audio_output_of_names_the_device_a_url_opens(monkeypatch):
+    fake_audio(monkeypatch, devices=[card("Speakers", 2, 44100), card("USB 8ch", 8)],
+               default_output=1)  # fmt: skip
+    label = "USB 8ch (ALSA, 8 channels, 48000 Hz)"
+    assert audio.audio_output_of("audio:") == ("audio:USB 8ch", label)  # the default device
+    assert audio.audio_output_of("audio:usb?carrier_hz=170") == ("audio:USB 8ch", label)
+    assert audio.audio_output_of("audio:0")[0] == "audio:Speakers"
+    for url in ("audio:Nowhere", "socket://localhost:5000", "/dev/ttyUSB0"):
+        assert audio.audio_output_of(url) is None

@@ -50,3 +50,29 @@ def test_the_device_box_lists_audio_devices_and_streams_to_one(qtbot, monkeypatc
     assert device.simulated and stream.stopped_by == "stop"
     assert not stream.played()[-512:].any()  # let go of in silence
     device.shutdown()
+
+
+def test_the_device_box_names_the_audio_device_in_use_and_enables_what_applies(qtbot, monkeypatch):
+    # Started with --device audio: the box said "sim" and both Connect and Disconnect were on.
+    from tactile_tuner.window import MainWindow
+
+    fake_audio(monkeypatch, devices=[card("Speakers", 2, 44100), card("USB 32ch", 32)],
+               default_output=1)  # fmt: skip
+    win = MainWindow(device_url="audio:", restore=False, process=False)
+    qtbot.addWidget(win)
+    panel = win.device_panel
+    try:
+        assert win.device.url == "audio:"
+        assert panel.port_combo.currentText() == "audio:USB 32ch"
+        assert "USB 32ch" in panel.link_label.text()
+        assert "USB 32ch (ALSA, 32 channels, 48000 Hz)" in panel.link_label.toolTip()
+        assert not panel.connect_button.isEnabled() and panel.disconnect_button.isEnabled()
+        panel.port_combo.setCurrentText("audio:")  # the same device, as it was asked for
+        assert not panel.connect_button.isEnabled()
+        panel.port_combo.setCurrentText("audio:Speakers")
+        assert panel.connect_button.isEnabled()
+        panel.disconnect_button.click()
+        assert win.device.simulated and panel.port_combo.currentText() == "sim"
+        assert not panel.connect_button.isEnabled() and not panel.disconnect_button.isEnabled()
+    finally:
+        win.close()

@@ -8,6 +8,7 @@ array is sent."""
 import numpy as np
 import pyqtgraph as pg
 import pytest
+from PySide6 import QtWidgets
 
 import tactile_core as tc
 from tactile_core.device.profile import find_profile
@@ -206,3 +207,99 @@ def test_shapes_for_a_layout_fit_it_and_paths_unroll_at_the_seam():
     np.testing.assert_allclose(unrolled([(0.0, 0.0), (-8.0, 0.0)], belt)[0], [8, 0])
     x, _ = unrolled([(0.5, 0.5), (2.5, 1.5)], vest)
     np.testing.assert_allclose(x, [0.5, 2.5])
+
+
+def _tick_labels(axis) -> list[str]:
+    from PySide6 import QtGui
+
+    image = QtGui.QImage(10, 10, QtGui.QImage.Format.Format_ARGB32)
+    painter = QtGui.QPainter(image)
+    try:
+        _, _, texts = axis.generateDrawSpecs(painter)
+    finally:
+        painter.end()
+    return [text for _, _, text in texts]
+
+
+def test_the_heatmaps_x_axis_labels_the_grids_edges(qtbot):
+    # 1 to 4 were labelled, 0 and 5 (the palm array's edges, on the axis's ends) were not.
+    from tactile_tuner.views import HeatmapView
+
+    view = HeatmapView(5, 6)
+    qtbot.addWidget(view)
+    view.resize(500, 600)
+    view.show()
+    qtbot.waitExposed(view)
+    assert _tick_labels(view.plot.getAxis("bottom")) == ["0", "1", "2", "3", "4", "5"]
+    assert _tick_labels(view.plot.getAxis("left")) == ["0", "1", "2", "3", "4", "5", "6"]
+
+
+@pytest.mark.parametrize("size", [(1280, 720), (1400, 900)])
+def test_the_vests_names_are_written_over_the_outline_clear_of_the_discs(qtbot, size):
+    # The dashed outline of the shape ran through the names (r3c0, r2c0, r4c1 on the vest's
+    # circle), a lit actuator's ring touched the name under it, and at 1280 x 720 a name's
+    # box covered the top of the disc below it.
+    from PySide6 import QtCore
+
+    win = open_window(qtbot, "vest-4x5")
+    try:
+        win.resize(*size)
+        qtbot.waitUntil(lambda: win.size().toTuple() == size)
+        heatmap = win.tune.heatmap
+        win.tune.fit_heatmap()
+        win.tune.refresh()
+        QtWidgets.QApplication.processEvents()
+        heatmap.cells.fit_labels()
+        cells, outline = heatmap.cells, heatmap.outline
+        x, y = outline.getData()
+        r = cells.size / 2
+        xy = win.state.layout.xy
+        crossed = 0
+        for item, (px, py) in zip(cells.names, win.state.layout.positions):
+            if not item.isVisible():
+                continue
+            box = item.mapRectToView(item.boundingRect())
+            top, bottom = max(box.top(), box.bottom()), min(box.top(), box.bottom())
+            assert top <= py - 1.12 * r  # under the ring, wholly
+            below = [v for u, v in xy if abs(u - px) < 2 * r and v < py]
+            assert bottom >= max(below, default=-np.inf) + r  # above the disc below
+            if any(box.contains(QtCore.QPointF(u, v)) for u, v in zip(x, y)):
+                crossed += 1
+                assert item.zValue() > outline.zValue()
+                fill = item.fill.color()
+                assert fill.alpha() >= 128
+                assert fill.rgb() == heatmap.backgroundBrush().color().rgb()
+        if size == (1400, 900):
+            assert all(item.isVisible() for item in cells.names)
+            assert crossed >= 2  # the default circle crosses names
+    finally:
+        win.close()
+
+
+@pytest.mark.parametrize(("size", "px_per_pitch"), [((1280, 720), 40), ((1600, 1000), 70)])
+def test_the_belt_spans_the_tab_above_the_plots(qtbot, size, px_per_pitch):
+    # Beside the plots the belt's strip and its caption took the top of a tall, narrow panel
+    # and left the rest of it empty: 50 % of it at 1280 x 720 (36 px a pitch), 63 % at
+    # 1600 x 1000 (55 px a pitch).
+    win = open_window(qtbot, "belt-8")
+    try:
+        win.resize(*size)
+        tune = win.tune
+        qtbot.waitUntil(lambda: win.size().toTuple() == size)
+        tune.fit_heatmap()
+        qtbot.waitUntil(lambda: tune.stacked)
+        heatmap = tune.heatmap
+        assert heatmap.width() >= 0.95 * tune.width()  # across the tab
+        assert tune.plots.orientation() == pg.QtCore.Qt.Orientation.Horizontal  # side by side
+
+        def empty_below() -> float:  # the part of the panel under the caption
+            bottom = heatmap.caption.mapRectToScene(heatmap.caption.boundingRect()).bottom()
+            return (heatmap.height() - bottom) / heatmap.height()
+
+        qtbot.waitUntil(lambda: empty_below() <= 0.15)
+        assert 1 / heatmap.plot.vb.viewPixelSize()[0] >= px_per_pitch
+        win.device.set_profile(find_profile("palm-5x6"))  # a grid stands beside them
+        tune.fit_heatmap()
+        assert not tune.stacked
+    finally:
+        win.close()

@@ -224,3 +224,18 @@ def test_tuner_serve_comes_back_on_the_same_port_with_another_stream(qtbot, clie
     finally:
         win.close()
     assert port_free(port)
+
+
+def test_a_senders_mu_marks_the_scene_modified_in_the_title(qtbot, clients):
+    # The title kept no "modified" star: a tuner started without a last session had no preset
+    # to compare the scene with.
+    win = make_window(qtbot, process=False)
+    try:
+        assert "*" not in win.windowTitle()
+        osc, _ = serve(qtbot, win, clients)
+        osc.send_message("/tactile/mu", 0.25)
+        qtbot.waitUntil(lambda: math.isclose(win.state.scene.mu, 0.25, abs_tol=1e-6),
+                        timeout=WAIT_MS)  # fmt: skip
+        assert "Experiment 1 line * - AS, mu 0.25" in win.windowTitle()
+    finally:
+        win.close()

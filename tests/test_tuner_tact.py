@@ -143,3 +143,51 @@ def test_curves_export_without_curves_on_show_says_why(window, tmp_path):
     assert not window.files.export_curves(tmp_path / "none.csv")
     assert "no activation curves on show" in window.last_error
     assert not (tmp_path / "none.csv").exists()
+
+
+def test_dots_only_tact_import_draws_no_outline(window, tmp_path):
+    # A file of dots alone (bHaptics' HeartBeat_Vest.tact is one) raised "ValueError: need at
+    # least one array to concatenate" in the heatmap's outline, and the line's outline stayed.
+    tune = window.tune
+    tune.refresh()
+    assert len(tune.heatmap.outline.getData()[0]) > 0  # the line's
+    assert window.files.import_tact_file(ts.write(tmp_path, ts.dots_only(), "beat.tact"))
+    assert "0 paths and 3 dots play as a pattern" in window.statusBar().currentMessage()
+    tune.refresh()
+    x, _ = tune.heatmap.outline.getData()
+    assert x is None or len(x) == 0
+    # The dots are plotted: motors 1 and 2 of the vest's top row are tactors (1, 5) and (3, 5)
+    # of the palm array (0..1 across its 5 x 6 cells), motor 5 of the second row (1, 4).
+    curves = tune.shown_curves
+    assert set(curves.cells) == {(1, 5), (3, 5), (1, 4)}
+    k = curves.cells.index((1, 4))
+    on = (curves.time_s > 0.301) & (curves.time_s < 0.399)
+    assert curves.raw[on, k] == pytest.approx(np.full(on.sum(), 0.5))
+
+
+def test_export_tact_proposes_a_new_name_and_never_overwrites_the_imported_file(
+    window, tmp_path, monkeypatch
+):
+    # Export .tact offered the imported file's own name, in its folder: one click replaced the
+    # Designer's file (every other position, path and dot in it) with the tuner's one path.
+    from PySide6 import QtCore
+
+    from tactile_tuner import dialogs
+
+    points = [ts.point(0, 1, 0.5, 0), ts.point(1, 0, 1.0, 800)]
+    source = ts.write(tmp_path, ts.document(ts.effect({"VestFront": ts.path_mode(points)})),
+                      "sweep.tact")  # fmt: skip
+    before = source.read_bytes()
+    QtCore.QSettings().setValue("folders/tact", str(tmp_path))
+    assert window.files.import_tact_file(source)
+    proposed = []
+    monkeypatch.setattr(dialogs, "save_path", lambda parent, kind, title, name, filters:
+                        proposed.append((kind, name)))  # fmt: skip
+    window.files.ask_export_tact()
+    (tmp_path / "sweep-export.tact").write_text("{}")
+    window.files.ask_export_tact()
+    assert proposed == [("tact", "sweep-export.tact"), ("tact", "sweep-export-2.tact")]
+    assert not window.files.export_tact_file(source)
+    assert "it is the .tact file this session imported" in window.last_error
+    assert source.read_bytes() == before
+    assert window.files.export_tact_file(tmp_path / "sweep-export-2.tact")

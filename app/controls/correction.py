@@ -33,10 +33,12 @@ class CorrectionWidget(SceneGroupWidget):
         form = QtWidgets.QGridLayout(self)
         self.mu_slider = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
         self.mu_slider.setRange(0, 100)
-        self.mu_spin = spin_box(0.0, 1.0, 0.01, 2)
+        # Three decimals, as the gamma slider steps (it set 0.143 while the box showed 0.14)
+        # and as a preset or another program may set them.
+        self.mu_spin = spin_box(0.0, 1.0, 0.01, 3)
         self.gamma_slider = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
         self.gamma_slider.setRange(0, _GAMMA_STEPS)
-        self.gamma_spin = spin_box(GAMMA_MIN, GAMMA_MAX, 0.01, 2)
+        self.gamma_spin = spin_box(GAMMA_MIN, GAMMA_MAX, 0.01, 3)
         mu_tip = tip(
             "Threshold mu, 0-1 of full drive (paper 2.6): the least a lit tactor gets, "
             "(1 - mu) I^gamma + mu. The paper uses 0.33."

@@ -68,11 +68,13 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.trials = TrialPresenter(state, self.participant_window, self._health_counts, self)
 
         layout = QtWidgets.QHBoxLayout(self)
-        left = QtWidgets.QVBoxLayout()
-        layout.addLayout(left, 2)
+        column = QtWidgets.QWidget()
+        left = QtWidgets.QVBoxLayout(column)
+        left.setContentsMargins(0, 0, 0, 0)
         self.setup = SessionWidget()
         left.addWidget(self.setup)
         left.addWidget(self._run_box(), 1)
+        layout.addWidget(self._scrolled(column), 2)
         self.analysis = AnalysisWidget(lambda: self.setup.folder_edit.text().strip(), self)
         layout.addWidget(self.analysis, 3)
 
@@ -103,6 +105,20 @@ class ExperimentsPanel(QtWidgets.QWidget):
         self.setup.start_button.setToolTip(why)
         if not self.running:
             self.run_label.setText(why or "Set up a session and press Start.")
+
+    @staticmethod
+    def _scrolled(column: QtWidgets.QWidget) -> QtWidgets.QScrollArea:
+        """The set-up and the run in a column that scrolls up and down, never sideways: the
+        tab's least height was theirs (531 px), and with the device dock, the menus and a
+        title bar the window was taller than a 1280 x 720 screen."""
+        scroll = QtWidgets.QScrollArea()
+        scroll.setWidget(column)
+        scroll.setWidgetResizable(True)
+        scroll.setFrameShape(QtWidgets.QFrame.Shape.NoFrame)
+        scroll.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        bar = scroll.style().pixelMetric(QtWidgets.QStyle.PixelMetric.PM_ScrollBarExtent)
+        scroll.setMinimumWidth(column.minimumSizeHint().width() + bar)
+        return scroll
 
     def _run_box(self) -> QtWidgets.QGroupBox:
         """The run as it goes: participant, trial, progress, health, results path, log."""

@@ -9,8 +9,9 @@ from PySide6 import QtCore, QtWidgets
 from tactile_core.rendering.curves import activation_curves
 from tactile_core.rendering.percept import REFERENCE, predict, predict_range
 
+from ..texts import value3
 from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors, set_title
-from ..widgets import ElidedLabel
+from ..widgets import WrappedLabel
 from .gestures import HeatmapGestures
 from .live import LiveDisplay
 
@@ -20,6 +21,19 @@ outlined: its curves are rendered effect by effect, ~0.1 ms each, and drawing 4,
 outlines took the display's thread 4.5 s."""
 MAX_OUTLINE_POINTS = 20_000
 """Most points of a pattern's outlines drawn (beyond, none: a partial drawing would mislead)."""
+
+
+MAX_CURVE_INTERVALS = 6000
+"""Most sample periods the activation curves span (20 s at 300 frames/s); a longer trace is
+sampled at its duration / 6000."""
+
+
+def curve_samples(duration_s: float, rate_hz: float) -> int:
+    """How many samples the activation curves take over a trace of ``duration_s`` at the
+    scene's ``rate_hz``: one per frame period, from 0 to the duration, both included (N + 1
+    for N = duration x rate periods, 1 to :data:`MAX_CURVE_INTERVALS`), so that an exported
+    curve's time column steps 1 / rate (exactly, when the duration is whole periods)."""
+    return min(max(round(duration_s * rate_hz), 1), MAX_CURVE_INTERVALS) + 1
 
 
 def pattern_outlines(pattern, target) -> list | None:
@@ -108,7 +122,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         box = QtWidgets.QVBoxLayout(curves_box)
         box.setContentsMargins(0, 0, 0, 0)
         bar = QtWidgets.QHBoxLayout()
-        hint = ElidedLabel("drag the cursor to scrub; hover for values; dashed: raw")
+        # wrapped, never cut off (at 1280 and 1400 px it was: "...; hove...")
+        hint = WrappedLabel("drag the cursor to scrub; hover for values; dashed: raw")
         hint.setObjectName("curves_hint")
         hint.setToolTip(
             "Solid curves are corrected, dashed ones raw. Pause, then drag the dashed cursor to "
@@ -120,7 +135,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         bar.addWidget(hint, 1)
         box.addLayout(bar)
         box.addWidget(self.curves, 1)
-        right = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
+        right = self.plots = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
         right.addWidget(curves_box)
         right.addWidget(self.correction)
         right.setSizes([600, 360])
@@ -145,15 +160,35 @@ class TuneWidget(QtWidgets.QStackedWidget):
         if was_hidden and not self.method_hidden:
             self.refresh()
 
+    @property
+    def stacked(self) -> bool:
+        """Whether the heatmap spans the tab above the plots (a wide layout: a belt, a sleeve)
+        rather than standing beside them."""
+        return self.split.orientation() == QtCore.Qt.Orientation.Vertical
+
     def fit_heatmap(self) -> None:
-        """Give the heatmap the width at which its square cells fill its height."""
-        total = sum(self.split.sizes())
-        if total <= 0:
+        """Give the heatmap the room at which its array fills it: beside the plots, the width
+        at which its square cells fill its height; a layout drawn larger across the tab (a
+        belt: beside the plots it used a third of the panel's height) spans it above them, at
+        most half its height, the curves and the correction curve side by side below."""
+        width, height = self.split.width(), self.split.height()
+        if width <= 0 or height <= 0:
             return
-        want = self.heatmap.preferred_width(self.split.height())
-        right = self.split.widget(1).minimumSizeHint().width()
-        want = min(max(want, 220), round(total * 0.55), total - right)
-        self.split.setSizes([want, total - want])
+        right = self.plots.minimumSizeHint().width()
+        beside = min(max(self.heatmap.preferred_width(height), 220), round(width * 0.55),
+                     width - right)  # fmt: skip
+        above = min(max(self.heatmap.preferred_height(width), 160), round(height * 0.5))
+        heatmap = self.heatmap
+        stack = heatmap.scale_in(width, above) > 1.1 * heatmap.scale_in(beside, height)
+        if stack != self.stacked:
+            vertical, horizontal = QtCore.Qt.Orientation.Vertical, QtCore.Qt.Orientation.Horizontal
+            self.split.setOrientation(vertical if stack else horizontal)
+            self.plots.setOrientation(horizontal if stack else vertical)
+            self.plots.setSizes([600, 360])
+        if stack:
+            self.split.setSizes([above, height - above])
+        else:
+            self.split.setSizes([beside, width - beside])
 
     # --- the scene's plots -----------------------------------------------------------------------
 
@@ -218,8 +253,11 @@ class TuneWidget(QtWidgets.QStackedWidget):
                     self._no_trace(f"{pattern.effects} paths and dots: too many to plot")
                     return
                 outline = pattern_outlines(pattern, self.state.layout)
+                # one sample a frame (the middle of each), as the stream takes them
+                frames = max(curve_samples(pattern.duration_s, scene.rate_hz) - 1, 3)
                 curves = pattern.curves(scene.method, self.state.layout, mu=scene.mu,
-                                        gamma=scene.gamma, motor=motor)  # fmt: skip
+                                        gamma=scene.gamma, samples=frames,
+                                        motor=motor)  # fmt: skip
                 period = pattern.duration_s
             else:
                 outline = scene.shape.outline()
@@ -230,7 +268,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
                     direction=scene.direction,
                     mu=scene.mu,
                     gamma=scene.gamma,
-                    samples=400,
+                    samples=curve_samples(scene.duration_s, scene.rate_hz),
                     grid=self.state.layout,
                     motor=motor,
                 )
@@ -247,7 +285,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         heatmap.set_outline(outline)
         if not self.method_hidden:
             what = "felt (motor lag and response)" if felt_view else "activation"
-            title = f"{scene.method} {what}, mu {scene.mu:.2f}, gamma {scene.gamma:.2f}"
+            title = f"{scene.method} {what}, mu {value3(scene.mu)}, gamma {value3(scene.gamma)}"
             set_title(self.curves.plotItem, title)
 
     def _no_trace(self, why: str) -> None:
@@ -286,9 +324,9 @@ class TuneWidget(QtWidgets.QStackedWidget):
                                "felt intensity M")  # fmt: skip
         if not self.method_hidden:
             stage = "felt" if profile.motor is not None else "sent"
-            title = (
+            title = (  # two lines: on one it was cut off at both ends at 1600 x 1000
                 f"{scene.method}, {REFERENCE.label}: ripple {percept.ripple:.2f}, off "
-                f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f}); ripple "
+                f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f})<br>ripple "
                 f"{band.span(stage)} over {len(band.participants)} participants"
             )
-            set_title(self.curves.plotItem, title)
+            set_title(self.curves.plotItem, title, size="9pt")

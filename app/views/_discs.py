@@ -13,6 +13,9 @@ from tactile_core.rendering.placement import unrolled
 
 WRAP_MARGIN = 0.6
 """How far the strip goes past the seam on each side, in layout units (shaded there)."""
+NAME_OFFSET = 1.2
+"""A name's distance from its actuator, in disc radii: clear of the ring a lit actuator gets
+(1.12 radii)."""
 MIN_SPAN = 2.5
 """The smallest extent shown along either axis (a belt is one row of actuators)."""
 
@@ -80,8 +83,11 @@ class Discs:
         self.names = []
         for i, (x, y) in enumerate(layout.positions):
             item = pg.TextItem(layout.names[i], anchor=(0.5, 0.0))
-            item.setPos(x, y - r)
-            item.setZValue(6)
+            item.textItem.document().setDocumentMargin(1)  # its filled box hugs the words
+            item.setPos(x, y - NAME_OFFSET * r)
+            # over the shape's outline (z 10), on the background's colour: the outline ran
+            # through the vest's names; under the moving point (z 12)
+            item.setZValue(11)
             self._add(item)
             self.names.append(item)
         self.texts = []
@@ -103,7 +109,9 @@ class Discs:
         self._name_px = max(metrics.horizontalAdvance(n) for n in layout.names) + 6
         seam = self.seams[-1][1].textItem.toPlainText() if self.seams else ""
         self._seam_px = metrics.horizontalAdvance(seam)
-        self._text_px = metrics.height()
+        # the filled box a name takes (not the font's height alone: with the box's margins
+        # the vest's names covered the tops of the discs below at 1280 x 720)
+        self._text_px = self.names[0].textItem.boundingRect().height()
         self._label_gap = self._vertical_gap(xy, r)
 
     def _add(self, item) -> None:
@@ -204,7 +212,7 @@ class Discs:
         for i, (x, y) in enumerate(xy.tolist()):
             for j, (u, v) in enumerate(xy.tolist()):
                 if j != i and abs(u - x) < 2 * r and v < y:
-                    gap = min(gap, (y - v) - 2 * r)
+                    gap = min(gap, (y - v) - (1 + NAME_OFFSET) * r)
         return gap
 
     def ticks(self) -> tuple[list, list]:
@@ -227,8 +235,12 @@ class Discs:
         pen.setCosmetic(True)
         self.highlight_item.setPen(pen)
         self.scatter.setPen(pg.mkPen(fg, width=1))
+        under = QtGui.QColor(colors["background"])
+        under.setAlpha(200)
         for item in self.names:
             item.setColor(fg)
+            item.fill = pg.mkBrush(under)
+            item.update()
         dashed = pg.mkPen(fg, width=2, style=QtCore.Qt.PenStyle.DashLine)
         for line, label in self.seams:
             line.setPen(dashed)
@@ -348,7 +360,7 @@ class Discs:
         for i, (item, (x, y)) in enumerate(zip(self.names, self.layout.positions)):
             up = stagger and i % 2 == 1
             item.setAnchor((0.5, 1.0) if up else (0.5, 0.0))
-            item.setPos(x, y + r if up else y - r)
+            item.setPos(x, y + NAME_OFFSET * r if up else y - NAME_OFFSET * r)
             item.setVisible(below or stagger)
         for _, label in self.seams:  # beside the seam, over a disc when the strip is small
             label.setVisible(self._seam_px <= 2.5 * spacing)

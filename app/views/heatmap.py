@@ -110,6 +110,9 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         self.plot.setMouseEnabled(False, False)
         self.plot.hideButtons()
         self.plot.setLabel("left", "y")
+        # The grid's edges are labelled too: pyqtgraph hides a horizontal axis's labels that
+        # stick out of it, and 0 and 5 of the palm array sit on its ends, half out.
+        self.plot.getAxis("bottom").setStyle(hideOverlappingLabels=False)
         self.image = pg.ImageItem(axisOrder="row-major")
         self.image.setImage(np.zeros((rows, cols)), levels=(0.0, 1.0))
         self.plot.addItem(self.image)
@@ -284,6 +287,25 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
         extra = 110 if self.colorbar is not None else 60
         return round((height - 70) * w / h) + extra
 
+    def _margins(self) -> tuple[int, int]:
+        """Pixels around the array: axes and colour bar across; axis, title and the caption
+        under a layout down."""
+        caption = self.caption.boundingRect().height() if self.caption in self.ci.items else 0
+        return (110 if self.colorbar is not None else 60), 70 + round(caption)
+
+    def preferred_height(self, width: int) -> int:
+        """The height at which the array fills ``width``: :meth:`preferred_width` the other
+        way round (the caption under a layout included)."""
+        w, h = self.extent()
+        across, down = self._margins()
+        return round((width - across) * h / w) + down
+
+    def scale_in(self, width: int, height: int) -> float:
+        """Pixels per layout unit the array gets in a view of ``width`` x ``height``."""
+        w, h = self.extent()
+        across, down = self._margins()
+        return min((width - across) / w, (height - down) / h)
+
     # --- the pointer -----------------------------------------------------------------------------
 
     def _on_mouse_moved(self, pos) -> None:
@@ -350,12 +372,14 @@ class HeatmapView(PaletteMixin, pg.GraphicsLayoutWidget):
 
     def set_outline(self, points) -> None:
         """Draw the shape's outline, ``(n, 2)`` points, or a list of outlines (a pattern's
-        paths), None to hide; round a wrap, unrolled with a gap at the seam."""
-        if points is None:
+        paths; an empty list for a pattern of dots alone), None to hide; round a wrap,
+        unrolled with a gap at the seam."""
+        parts = [] if points is None else points if isinstance(points, list) else [points]
+        if not parts:  # no shape, or a pattern of dots alone: nothing left of the last shape
             self.outline.setData([], [])
             return
         xs, ys = [], []
-        for part in points if isinstance(points, list) else [points]:
+        for part in parts:
             x, y = self.cells.path(part)
             xs += [x, _GAP]
             ys += [y, _GAP]

@@ -38,6 +38,7 @@ from ._audio_url import (
     check_device,
     device_url,
     find_device,
+    is_audio_url,
     load_sounddevice,
     output_devices,
     parse_audio_url,
@@ -92,14 +93,28 @@ def audio_outputs(rescan: bool = False) -> list[tuple[str, str]]:
         devices = output_devices(sd)
     except Exception:  # no PortAudio, no audio system: nothing to list
         return []
-    return [
-        (
-            device_url(d, devices),
-            f"{d['name']} ({d['hostapi']}, {d['max_output_channels']} channels, "
-            f"{d['default_samplerate']:g} Hz)",
-        )
-        for d in devices
-    ]
+    return [(device_url(d, devices), _label(d)) for d in devices]
+
+
+def _label(device: dict) -> str:
+    return (f"{device['name']} ({device['hostapi']}, {device['max_output_channels']} channels, "
+            f"{device['default_samplerate']:g} Hz)")  # fmt: skip
+
+
+def audio_output_of(url: str) -> tuple[str, str] | None:
+    """The output device an ``audio:`` URL opens, as :func:`audio_outputs` lists it: ``(url,
+    label)`` (``audio:`` is the default device, ``audio:USB`` the one whose name holds
+    "USB"), for a device box to name the device in use; None for a URL that is not ``audio:``
+    or names no device here (no PortAudio, none of that name, several)."""
+    if not is_audio_url(url):
+        return None
+    try:
+        sd = load_sounddevice()
+        devices = output_devices(sd)
+        device = find_device(sd, parse_audio_url(url).device)
+    except Exception:  # LinkError, no PortAudio: nothing to name
+        return None
+    return device_url(device, devices), _label(device)
 
 
 def carriers_for(profile: DeviceProfile, carrier_hz: float | None = None) -> np.ndarray:
