@@ -141,13 +141,13 @@ def gui_table(seconds: float = 10.0, rate_hz: float = 300.0, receiver: str = "ar
             loop = QtCore.QEventLoop()
             QtCore.QTimer.singleShot(500, loop.quit)  # settle
             loop.exec()
-            window.tune.live.tick_times.clear()
+            window.tune.display.tick_times.clear()
             start = time.perf_counter()
             loop = QtCore.QEventLoop()
             QtCore.QTimer.singleShot(round(seconds * 1000), loop.quit)
             loop.exec()
             drag.stop()
-            ticks = np.array([t for t in window.tune.live.tick_times if t >= start])
+            ticks = np.array([t for t in window.tune.display.tick_times if t >= start])
             stats = window.device.stats
             window.close()
             report, log = emu.finish()

@@ -52,7 +52,7 @@ class DeviceController(QtCore.QObject):
     A stream child gets a core of its own where there are two or more (the GUI runs on the
     others), so that repainting never competes with it for a core. It runs the OSC server and
     the LSL outlets beside its output thread when asked (:attr:`services`, a
-    :class:`~tactile_core.stream.StreamServices`; their news as :attr:`live_event`).
+    :class:`~tactile_core.stream.StreamServices`; their news as :attr:`service_event`).
 
     Every scene goes out with a presentation kind for the LSL markers: the one a part gave it
     (``trial``, ``interval``, ``ab``) or :data:`TUNE_MARKER`.
@@ -65,11 +65,11 @@ class DeviceController(QtCore.QObject):
     error_raised = QtCore.Signal(str)
     profile_changed = QtCore.Signal(object)
     """Another :class:`DeviceProfile` is in use (its layout is the state's now)."""
-    live_event = QtCore.Signal(str, object)
+    service_event = QtCore.Signal(str, object)
     """``(kind, payload)`` from the stream's services (OSC server, LSL outlets; GUI thread)."""
 
     _status_from_thread = QtCore.Signal(object)
-    _live_from_thread = QtCore.Signal(str, object)
+    _service_from_thread = QtCore.Signal(str, object)
 
     def __init__(self, state: TunerState, profile: DeviceProfile | None = None, parent=None,
                  process: bool = True, realtime: bool = False,
@@ -83,7 +83,7 @@ class DeviceController(QtCore.QObject):
         self.url: str | None = None
         # Emitted from a worker thread; Qt queues it to this object's (the GUI) thread.
         self._status_from_thread.connect(self.status_changed.emit)
-        self._live_from_thread.connect(self.live_event.emit)
+        self._service_from_thread.connect(self.service_event.emit)
         self._generation = 0
         self.divert = None
         """While another program drives the array: a callable that takes the state's scenes
@@ -106,7 +106,7 @@ class DeviceController(QtCore.QObject):
 
         def on_event(kind, payload):
             if generation == self._generation:
-                self._live_from_thread.emit(kind, payload)
+                self._service_from_thread.emit(kind, payload)
 
         stream = open_stream(
             url,

@@ -10,7 +10,7 @@ and a flood of datagrams never reaches it. What the tuner does meanwhile:
 - ``/tactile/method``, ``/tactile/mu`` and ``/tactile/gamma`` from the sender update the
   tuner's controls, so the sliders always show what the array plays (the last change wins,
   whoever made it);
-- the heatmap shows the levels sent (:mod:`.tune.live`), with the first driven point;
+- the heatmap shows the levels sent (:mod:`.tune.display`), with the first driven point;
 - Space pauses the points (all off until Space again), Esc is all off;
 - off, the window closing, the stream process ending: the server closes with every point
   released, and the array is off (the tuner's scene paused).
@@ -31,7 +31,7 @@ from tactile_core.serve import DEFAULT_PORT
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
-class LiveController(QtCore.QObject):
+class ServeController(QtCore.QObject):
     """Whether another program drives the array, and whether presentations go out on LSL.
 
     Parameters
@@ -83,7 +83,7 @@ class LiveController(QtCore.QObject):
         self.blocked = lambda: ""
         self._paused_before = False
         state.method_guard = self._method_guard
-        device.live_event.connect(self._on_device_live_event)
+        device.service_event.connect(self._on_device_service_event)
         device.connection_changed.connect(self._on_device_connection_changed)
         device.status_changed.connect(self._on_device_status_changed)
 
@@ -189,7 +189,7 @@ class LiveController(QtCore.QObject):
 
     # --- what the stream says ------------------------------------------------------------------
 
-    def _on_device_live_event(self, kind: str, payload) -> None:
+    def _on_device_service_event(self, kind: str, payload) -> None:
         if kind == "osc-started" and self.serving == "starting":
             self.serving, self.address = "on", tuple(payload)
             self._post(f"serving OSC on udp {payload[0]}:{payload[1]}: another program drives "

@@ -1,11 +1,11 @@
 """The OSC server's box in the device dock, the Array menu's serve and LSL actions, and
-:func:`install_live`, which gives the main window all of it."""
+:func:`install_serve`, which gives the main window all of it."""
 
 from __future__ import annotations
 
 from PySide6 import QtCore, QtWidgets
 
-from .serve import LOOPBACK, LiveController
+from .serve import LOOPBACK, ServeController
 from .texts import tip
 
 COUNTERS = (
@@ -26,13 +26,13 @@ def counters_text(stats) -> str:
     return " · ".join([*parts, f"other {other}"])
 
 
-def traffic_text(live: LiveController, stats) -> str:
+def traffic_text(serve: ServeController, stats) -> str:
     """Where it listens, the message rate, the last sender, what plays."""
-    if live.serving == "starting":
+    if serve.serving == "starting":
         return "starting..."
-    if live.serving == "off":
+    if serve.serving == "off":
         return "off" if stats is None else f"off (served {stats.messages} messages)"
-    host, port = live.address
+    host, port = serve.address
     text = f"udp {host}:{port} · {stats.rate_hz:.0f} messages/s" if stats else f"udp {host}:{port}"
     if stats is not None:
         sender = stats.last_sender or "nobody yet"
@@ -46,14 +46,14 @@ def traffic_text(live: LiveController, stats) -> str:
 class ServePanel(QtWidgets.QGroupBox):
     """A toggle with the address to listen on; the traffic and the counters while serving."""
 
-    def __init__(self, live: LiveController, parent=None):
+    def __init__(self, serve: ServeController, parent=None):
         super().__init__("Driven by another program (OSC)", parent)
         self.setObjectName("serve_panel")
-        self.live = live
+        self.serve = serve
         self.toggle = QtWidgets.QPushButton("Serve OSC")
         self.toggle.setObjectName("osc_toggle")
         self.toggle.setCheckable(True)
-        self.host_edit = QtWidgets.QLineEdit(live.host)
+        self.host_edit = QtWidgets.QLineEdit(serve.host)
         self.host_edit.setObjectName("osc_host")
         self.host_edit.setMaximumWidth(120)
         self.host_edit.setMinimumWidth(  # an IPv4 address, whole
@@ -63,7 +63,7 @@ class ServePanel(QtWidgets.QGroupBox):
         self.port_spin.setObjectName("osc_port")
         self.port_spin.setRange(0, 65535)
         self.port_spin.setSpecialValueText("any")
-        self.port_spin.setValue(live.port)
+        self.port_spin.setValue(serve.port)
         self.warning = QtWidgets.QLabel("beyond this machine!")
         self.warning.setObjectName("osc_warning")
         self.warning.setStyleSheet("color: #c0392b; font-weight: bold;")
@@ -114,78 +114,78 @@ class ServePanel(QtWidgets.QGroupBox):
         ))  # fmt: skip
         self.toggle.toggled.connect(self._on_toggle_toggled)
         self.host_edit.textChanged.connect(self._on_host_edit_text_changed)
-        self.port_spin.valueChanged.connect(lambda value: setattr(live, "port", value))
-        live.changed.connect(self.show_state)
-        live.stats_changed.connect(self.show_stats)
+        self.port_spin.valueChanged.connect(lambda value: setattr(serve, "port", value))
+        serve.changed.connect(self.show_state)
+        serve.stats_changed.connect(self.show_stats)
         self.show_state()
 
     def _on_toggle_toggled(self, on: bool) -> None:
-        self.live.set_serving(on)
+        self.serve.set_serving(on)
         self.show_state()
 
     def _on_host_edit_text_changed(self, text: str) -> None:
-        self.live.host = text.strip()
-        self.warning.setVisible(self.live.host not in LOOPBACK)
+        self.serve.host = text.strip()
+        self.warning.setVisible(self.serve.host not in LOOPBACK)
 
     def show_state(self) -> None:
         """The toggle, the address boxes and the LSL line as the controller has them."""
-        live = self.live
-        on = live.serving != "off"
+        serve = self.serve
+        on = serve.serving != "off"
         self.toggle.blockSignals(True)
         self.toggle.setChecked(on)
         self.toggle.setText("Stop serving" if on else "Serve OSC")
         self.toggle.blockSignals(False)
         self.host_edit.setEnabled(not on)
         self.port_spin.setEnabled(not on)
-        if self.host_edit.text().strip() != live.host:
-            self.host_edit.setText(live.host)
-        if self.port_spin.value() != live.port:
-            self.port_spin.setValue(live.port)
-        self.warning.setVisible(live.host not in LOOPBACK)
-        lsl = "off" if not live.lsl_markers else live.lsl_status
-        levels = " and levels" if live.lsl_markers and live.lsl_levels else ""
+        if self.host_edit.text().strip() != serve.host:
+            self.host_edit.setText(serve.host)
+        if self.port_spin.value() != serve.port:
+            self.port_spin.setValue(serve.port)
+        self.warning.setVisible(serve.host not in LOOPBACK)
+        lsl = "off" if not serve.lsl_markers else serve.lsl_status
+        levels = " and levels" if serve.lsl_markers and serve.lsl_levels else ""
         self.lsl_label.setText(f"LSL markers{levels}: {lsl}")
-        self.show_stats(live.stats)
+        self.show_stats(serve.stats)
 
     def show_stats(self, stats) -> None:
         """The traffic line and the counters."""
-        self.traffic.setText(traffic_text(self.live, stats))
+        self.traffic.setText(traffic_text(self.serve, stats))
         self.counters.setText("" if stats is None else counters_text(stats))
         self.counters.setStatusTip("" if stats is None else stats.last_problem)
 
 
-def add_live_actions(window, live: LiveController) -> None:
+def add_serve_actions(window, serve: ServeController) -> None:
     """*Serve OSC*, *LSL markers* and *LSL: also the levels* at the end of the Array menu."""
     menu = next(a.menu() for a in window.menuBar().actions() if a.text() == "&Array")
     menu.addSeparator()
-    serve = menu.addAction("Serve OSC (another program drives the array)")
-    serve.setObjectName("serve_action")
+    serving = menu.addAction("Serve OSC (another program drives the array)")
+    serving.setObjectName("serve_action")
     markers = menu.addAction("Lab Streaming Layer markers")
     markers.setObjectName("lsl_action")
     levels = menu.addAction("Lab Streaming Layer: also the levels")
     levels.setObjectName("lsl_levels_action")
-    for action in (serve, markers, levels):
+    for action in (serving, markers, levels):
         action.setCheckable(True)
-    serve.triggered.connect(live.set_serving)
-    markers.triggered.connect(lambda on: live.set_lsl(on))
-    levels.triggered.connect(lambda on: live.set_lsl(live.lsl_markers, on))
+    serving.triggered.connect(serve.set_serving)
+    markers.triggered.connect(lambda on: serve.set_lsl(on))
+    levels.triggered.connect(lambda on: serve.set_lsl(serve.lsl_markers, on))
 
     def show() -> None:
-        for action, on in ((serve, live.serving != "off"), (markers, live.lsl_markers),
-                           (levels, live.lsl_levels)):  # fmt: skip
+        for action, on in ((serving, serve.serving != "off"), (markers, serve.lsl_markers),
+                           (levels, serve.lsl_levels)):  # fmt: skip
             action.setChecked(on)
-        levels.setEnabled(live.lsl_markers)
+        levels.setEnabled(serve.lsl_markers)
 
-    live.changed.connect(show)
+    serve.changed.connect(show)
     show()
 
 
-def install_live(window) -> LiveController:
+def install_serve(window) -> ServeController:
     """Give ``window`` (a ``MainWindow``) the OSC server and the LSL setting: the controller,
     its box in the device dock, its actions in the Array menu, and what excludes it."""
-    live = LiveController(window.state, window.device, window)
-    live.message_posted.connect(window.statusBar().showMessage)
-    live.error_raised.connect(window.show_error)
+    serve = ServeController(window.state, window.device, window)
+    serve.message_posted.connect(window.statusBar().showMessage)
+    serve.error_raised.connect(window.show_error)
 
     def blocked() -> str:
         if window.experiments.running:
@@ -194,24 +194,24 @@ def install_live(window) -> LiveController:
             return "the OSC server cannot run during a Blind A/B session"
         return ""
 
-    live.blocked = blocked
-    window.blind.blind_changed.connect(lambda on: on and live.set_serving(
+    serve.blocked = blocked
+    window.blind.blind_changed.connect(lambda on: on and serve.set_serving(
         False, "OSC server off: the Blind A/B session plays the tuner's own scenes"))  # fmt: skip
-    window.experiments.running_changed.connect(lambda on: on and live.set_serving(
+    window.experiments.running_changed.connect(lambda on: on and serve.set_serving(
         False, "OSC server off: the run presents the tuner's own scenes"))  # fmt: skip
     gestures = window.tune.gestures
     can_pulse = gestures.can_pulse
-    gestures.can_pulse = lambda: can_pulse() and live.serving == "off"
+    gestures.can_pulse = lambda: can_pulse() and serve.serving == "off"
     free_only = "Another program drives free points over OSC: MM and IM need a shape"
 
     def on_changed() -> None:
-        serving = live.serving != "off"
+        serving = serve.serving != "off"
         if serving:
             gestures.set_draw_mode(False)
         window.controls.method.set_free_only(free_only if serving else "")
 
-    live.changed.connect(on_changed)
-    window.serve_panel = ServePanel(live)
+    serve.changed.connect(on_changed)
+    window.serve_panel = ServePanel(serve)
     window.device_panel.layout().addWidget(window.serve_panel, 0, 5, 3, 1)
-    add_live_actions(window, live)
-    return live
+    add_serve_actions(window, serve)
+    return serve

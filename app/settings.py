@@ -102,14 +102,14 @@ def restore_window(window) -> None:
     folder = settings.value("results_folder")
     if folder:
         window.experiments.setup.folder_edit.setText(str(folder))
-    restore_live(settings, window.serve)
+    restore_serve(settings, window.serve)
 
 
 def _flag(settings, key: str) -> bool:
     return str(settings.value(key, "false")).lower() == "true"
 
 
-def restore_live(settings, live) -> None:
+def restore_serve(settings, live) -> None:
     """The OSC server's host and port and the LSL setting (opening the outlets if it was on)."""
     host = str(settings.value("osc_host", "") or "").strip()
     if host:

@@ -27,7 +27,7 @@ from .experiments import ExperimentsPanel, GuidedTuning
 from .files import FileActions
 from .keys import KeyFilter, is_text_input
 from .menus import build_menus
-from .serve_panel import install_live
+from .serve_panel import install_serve
 from .settings import reopen_pattern, restore_window, restored_preset, save_window, start_preset
 from .state import TunerState
 from .texts import (
@@ -83,7 +83,7 @@ class MainWindow(QtWidgets.QMainWindow):
         Presets, exports and profiles.
     guided : GuidedTuning
         The result of tuning the correction by feel.
-    serve : LiveController
+    serve : ServeController
         Driven by another program (OSC), and LSL markers (:mod:`.serve`).
     """
 
@@ -165,7 +165,7 @@ class MainWindow(QtWidgets.QMainWindow):
             lanes_check=self.tune.lanes_check,
         )
         self._connect_parts()
-        self.serve = install_live(self)
+        self.serve = install_serve(self)
         self.statusBar().showMessage(self.state.last_message or "ready")  # e.g. BA for AS
         self._key_filter = KeyFilter(
             self,
@@ -187,7 +187,7 @@ class MainWindow(QtWidgets.QMainWindow):
             area = screen.availableGeometry()
             self.resize(min(1400, round(area.width() * 0.92)), min(900, round(area.height() * 0.9)))
         self.controls.set_felt_available(self.device.profile.response is not None)
-        self.tune.live.start()
+        self.tune.display.start()
 
         if restore:
             self._restore_layout()
@@ -217,7 +217,7 @@ class MainWindow(QtWidgets.QMainWindow):
         device.status_changed.connect(self._on_device_status_changed)
         device.status_changed.connect(self.experiments.on_device_status)
         tune.error_raised.connect(self.show_error)
-        tune.live.frame_shown.connect(self._on_live_frame_shown)
+        tune.display.frame_shown.connect(self._on_display_frame_shown)
         gestures.can_pulse = lambda: not (self.experiments.running or self.blind.session.active)
         gestures.draw_mode_changed.connect(self.controls.set_draw_mode)
         gestures.message_posted.connect(status)
@@ -341,7 +341,7 @@ class MainWindow(QtWidgets.QMainWindow):
         if playing:
             self.statusBar().showMessage("playing", 2000)
 
-    def _on_live_frame_shown(self, scene, start_s, rate_hz, phase_s) -> None:
+    def _on_display_frame_shown(self, scene, start_s, rate_hz, phase_s) -> None:
         if self.tabs.currentWidget() is self.compare:
             self.compare.tick(scene, start_s, rate_hz, phase_s)
 
@@ -487,7 +487,7 @@ class MainWindow(QtWidgets.QMainWindow):
         if not self._may_close():
             event.ignore()
             return
-        self.tune.live.stop()
+        self.tune.display.stop()
         for box in self.findChildren(QtWidgets.QMessageBox):
             box.close()
         self.device.shutdown()  # all off first

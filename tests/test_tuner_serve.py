@@ -193,7 +193,7 @@ def test_tuner_serve_bad_address_is_refused_and_the_tuner_plays_on(qtbot, client
 
 
 def test_tuner_remembers_the_lsl_setting_and_the_osc_address(qtbot):
-    from tactile_tuner.settings import restore_live
+    from tactile_tuner.settings import restore_serve
 
     win = make_window(qtbot, process=False)
     try:
@@ -204,7 +204,7 @@ def test_tuner_remembers_the_lsl_setting_and_the_osc_address(qtbot):
         win.serve.set_lsl(False)
         assert win.serve.lsl_status == "off"
         win.serve.port = 1
-        restore_live(win.settings, win.serve)
+        restore_serve(win.settings, win.serve)
         assert win.serve.lsl_markers and win.serve.port == 9123
         assert "LSL markers" in win.serve_panel.lsl_label.text()
     finally:

@@ -160,12 +160,12 @@ def test_the_quit_question_keeps_the_autosave_path_on_one_line(window, tmp_path)
 
     path = Path("/home/researcher/.local/share/tactile-tuner/tactile-tuner/blind-ab/"
                 "blind-ab-2025-11-28T14-20-33-seed1234567.csv")  # fmt: skip
-    window.blind.unsaved, window.blind.autosave_path = True, path
+    window.blind.session.unsaved, window.blind.session.autosave_path = True, path
     asked = []
     window.confirm = lambda title, text: asked.append(text) or False
     window.close()
     assert window.isVisible() and str(path) in asked[0]
-    window.blind.unsaved = False
+    window.blind.session.unsaved = False
     metrics = QtGui.QFontMetrics(QtGui.QFont())
     for width_px, shortened in ((2000, False), (300, True)):
         rich, elided = message_html(asked[0], metrics, width_px)

@@ -263,7 +263,7 @@ class TunerRig:
         return proc.stdout.read()
 
     def finish(self):
-        self.display_hz = self.win.tune.live.display_rate()[0]
+        self.display_hz = self.win.tune.display.display_rate()[0]
         served = self.win.serve.stats.to_dict()
         self.win.close()
         self.emulator.send_signal(signal.SIGINT)

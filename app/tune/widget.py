@@ -12,8 +12,8 @@ from tactile_core.rendering.percept import REFERENCE, predict, predict_range
 from ..texts import value3
 from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors, set_title
 from ..widgets import WrappedLabel
+from .display import FrameDisplay
 from .gestures import HeatmapGestures
-from .live import LiveDisplay
 
 MAX_PLOTTED_EFFECTS = 2000
 """A ``.tact`` pattern with more paths and dots than this is played but neither plotted nor
@@ -49,9 +49,9 @@ def pattern_outlines(pattern, target) -> list | None:
 class TuneWidget(QtWidgets.QStackedWidget):
     """The tune tab's views, or in their place a notice while they would give something away.
 
-    Page 0 holds the heatmap (live, :class:`LiveDisplay`) and, beside it, the activation curves
-    over one trace and the correction curve, redrawn when the scene changes (at most every 50
-    ms while a slider is dragged); page 1 a notice (:meth:`hide_views`).
+    Page 0 holds the heatmap (the frames sent, :class:`FrameDisplay`) and, beside it, the
+    activation curves over one trace and the correction curve, redrawn when the scene changes
+    (at most every 50 ms while a slider is dragged); page 1 a notice (:meth:`hide_views`).
 
     Parameters
     ----------
@@ -63,7 +63,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
     ----------
     gestures : HeatmapGestures
         Pulses, draw mode and scrubbing.
-    live : LiveDisplay
+    display : FrameDisplay
         The display timer.
     shown_curves : ActivationCurves or None
         The activation curves on show (None in the predicted view).
@@ -101,8 +101,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self.addWidget(self.hidden_label)
 
         self.gestures = HeatmapGestures(state, self.heatmap, self.curves, self)
-        self.live = LiveDisplay(self, self)
-        self.live.error_raised.connect(self.error_raised)
+        self.display = FrameDisplay(self, self)
+        self.display.error_raised.connect(self.error_raised)
         # Scene changes arrive up to ~100 times a second while a slider is dragged: the array
         # gets each one at once (DeviceController), the views are rebuilt at most every 50 ms.
         self._views_timer = QtCore.QTimer(self)
@@ -234,7 +234,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
             self._no_trace("a drawn point has no trace" if heatmap.drawing else "")
             return
         if scene.shape is None and not hasattr(pattern, "curves"):
-            self._no_trace("live points have no trace")  # (driven by another program)
+            self._no_trace("free points have no trace")  # (driven by another program)
             return
         if self.state.view_mode == "predicted":
             if pattern is not None:

@@ -57,7 +57,7 @@ def _window(qtbot, profile):
 
 def _stream_reports(win, scene, start_s, stats=None):
     """The display reads this stream: its last frame starts ``start_s`` into ``scene``."""
-    win.tune.live.device = SimpleNamespace(
+    win.tune.display.device = SimpleNamespace(
         streamer=SimpleNamespace(last_frame=(scene, start_s)), divert=None,
         stats=stats or StreamStats(state="streaming"),
     )  # fmt: skip
@@ -98,7 +98,7 @@ def test_the_views_show_the_frame_the_stream_renders_for_the_same_scene_and_time
     scene = win.state.scene
     plan = _Plan(scene, profile, 10.0)  # what the stream's output thread works from
     _stream_reports(win, scene, k / plan.rate)
-    win.tune.live._on_timer_timeout()
+    win.tune.display._on_timer_timeout()
     shown = win.tune.heatmap.values
     batch = _batch(scene, profile.layout, k, plan.rate, corrected=mode != "raw")
     # predicted: for the reference participant, TH 0.2 and K 1 (docs/tuner.md)
@@ -122,7 +122,7 @@ def test_the_views_follow_the_rate_the_stream_capped(qtbot):
     plan = _Plan(scene, profile, 10.0, 250.0)  # a link that carries 250 frames a second
     stats = StreamStats(state="streaming", requested_rate_hz=300.0, rate_hz=250.0, capped=True)
     _stream_reports(win, scene, 77 / 250.0, stats)
-    win.tune.live._on_timer_timeout()
+    win.tune.display._on_timer_timeout()
     np.testing.assert_allclose(win.tune.heatmap.values, plan.live.frame(77), rtol=1e-12)
     win.close()
 
@@ -143,7 +143,7 @@ def test_compare_shows_each_method_as_the_stream_would_render_it(qtbot):
         assert expected.any(), name
         np.testing.assert_allclose(win.compare.heatmaps[name].values, expected, rtol=1e-12)
     _stream_reports(win, scene, k / 300.0)
-    win.tune.live._on_timer_timeout()  # the method the array plays: the same in both tabs
+    win.tune.display._on_timer_timeout()  # the method the array plays: the same in both tabs
     np.testing.assert_array_equal(win.tune.heatmap.values, win.compare.heatmaps["IM"].values)
     win.close()
 
@@ -156,7 +156,7 @@ def test_the_corrected_view_of_a_held_instant_is_what_the_array_is_sent(qtbot):
     qtbot.waitUntil(lambda: getattr(device.streamer.last_frame[0], "hold_s", None) == 0.731,
                     timeout=10_000)  # fmt: skip
     qtbot.waitUntil(lambda: device.sent_levels().any(), timeout=10_000)
-    win.tune.live._on_timer_timeout()
+    win.tune.display._on_timer_timeout()
     shown = win.tune.heatmap.values
     assert shown.any()
     np.testing.assert_array_equal(quantize(shown, device.profile.levels), device.sent_levels())
@@ -166,7 +166,7 @@ def test_the_corrected_view_of_a_held_instant_is_what_the_array_is_sent(qtbot):
 def test_the_live_display_reuses_one_buffer(qtbot):
     win = _window(qtbot, "palm-5x6")
     win.state.set_view_mode("corrected")
-    live = win.tune.live
+    live = win.tune.display
     scene = win.state.scene
     first = live._values(scene, 0.25, 300.0)[0]
     assert live._values(scene, 0.75, 300.0)[0] is first  # one buffer, reused frame after frame

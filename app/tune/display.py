@@ -17,7 +17,7 @@ from ..frames import SceneFrames, stream_rate
 DISPLAY_HZ = 60
 
 
-class LiveDisplay(QtCore.QObject):
+class FrameDisplay(QtCore.QObject):
     """A display timer on the GUI thread that reads the stream's latest frame time and shows
     that instant on the heatmap (in the state's view mode) and as the curves' cursor.
 
