@@ -160,6 +160,29 @@ def test_the_logistic_mixed_model_is_the_intended_posterior():
     assert set(got["effects"]) == {"B", "C"} and got["participant_sd"] > 0
 
 
+def test_the_mixed_models_participant_sd_is_the_posterior_mean_not_the_median():
+    # statsmodels' variational posterior of the log SD is N(m, s^2): the SD is log-normal, with
+    # median exp(m) and mean exp(m + s^2 / 2). 0.3 reported exp(m) as the "posterior mean".
+    from statsmodels.genmod.bayes_mixed_glm import BinomialBayesMixedGLM
+
+    rng = np.random.default_rng(3)
+    methods = ["A", "B"]
+    answers = {
+        f"p{i}": {m: [("circle", "circle" if rng.random() < 0.5 + 0.3 * j * (i % 2) else "square")
+                      for _ in range(12)] for j, m in enumerate(methods)}
+        for i in range(8)
+    }  # fmt: skip
+    got = exp3_mixed_model(answers, methods, seed=5)
+    y = np.array([a == "circle" for p in answers.values() for m in methods for _, a in p[m]])
+    x = np.array([[1.0, m == "B"] for _ in answers for m in methods for _ in range(12)])
+    groups = np.repeat(np.eye(8), 24, axis=0)
+    fit = BinomialBayesMixedGLM(y.astype(float), x, groups, np.zeros(8, dtype=int)).fit_vb(rng=5)
+    m, s = fit.vcp_mean[0], fit.vcp_sd[0]
+    assert got["participant_sd_median"] == pytest.approx(math.exp(m), rel=1e-9)
+    assert got["participant_sd"] == pytest.approx(math.exp(m + s * s / 2), rel=1e-9)
+    assert got["participant_sd"] > got["participant_sd_median"]
+
+
 def _scipy_t_quietly(values, reference, alternative):
     """scipy's one-sample t-test; on equal values it warns of catastrophic cancellation."""
     import warnings

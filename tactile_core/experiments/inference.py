@@ -346,8 +346,15 @@ def exp3_mixed_model(answers: dict, methods, *, seed: int = 0) -> dict:
     dict
         ``{"effects": {method: (posterior mean, posterior SD)} of the log-odds of a right
         answer against the first method, "intercept": (mean, SD), "participant_sd": posterior
-        mean of the participants' SD (log-odds), "map": the posterior mode of the fixed effects
-        (``fit_map``), intercept first, "converged": False when an optimiser warned}``.
+        mean of the participants' SD (log-odds), "participant_sd_median": its posterior median,
+        "map": the posterior mode of the fixed effects (``fit_map``), intercept first,
+        "converged": False when an optimiser warned}``.
+
+    Notes
+    -----
+    statsmodels' variational posterior of the participants' log SD is normal, ``N(m, s^2)``, so
+    their SD is log-normal: ``exp(m)`` is its median and ``exp(m + s^2 / 2)`` its mean (0.3 reported
+    ``exp(m)`` and called it the mean).
     """
     import pandas as pd
     from statsmodels.genmod.bayes_mixed_glm import BinomialBayesMixedGLM
@@ -369,5 +376,6 @@ def exp3_mixed_model(answers: dict, methods, *, seed: int = 0) -> dict:
     mean, sd = fit.fe_mean, fit.fe_sd
     effects = {m: (float(mean[i]), float(sd[i])) for i, m in enumerate(methods) if i}
     return {"effects": effects, "intercept": (float(mean[0]), float(sd[0])),
-            "participant_sd": float(np.exp(fit.vcp_mean[0])),
+            "participant_sd": float(np.exp(fit.vcp_mean[0] + fit.vcp_sd[0] ** 2 / 2)),
+            "participant_sd_median": float(np.exp(fit.vcp_mean[0])),
             "map": tuple(float(v) for v in mode), "converged": not caught}  # fmt: skip

@@ -148,5 +148,6 @@ def exp3(out, scores: dict, answers: dict, confusion: dict) -> dict:
     out("    " + "  ".join(f"{m} {mean:+.2f} ({sd:.2f})"
                           for m, (mean, sd) in model["effects"].items()))  # fmt: skip
     note = "" if model["converged"] else " (an optimiser did not converge fully)"
-    out(f"    participant SD {model['participant_sd']:.2f} (log-odds){note}")
+    out(f"    participant SD {model['participant_sd']:.2f} (log-odds; posterior mean, median "
+        f"{model['participant_sd_median']:.2f}){note}")  # fmt: skip
     return result
