@@ -297,3 +297,18 @@ def test_free_points_beyond_the_coordinate_bound_are_refused():
         with pytest.raises(ValueError, match="x and y must be coordinates within 1e\\+06"):
             tc.render_xy("RO", 1e300, 0.0, grid=grid)
     assert tc.render_xy("AS", [1e6, -1e6], 0.5).sum() == 0.0  # at the bound: off the array
+
+
+def test_ba_beyond_a_45_degree_edge_fades_by_the_product_not_the_distance():
+    # The fade is max(0, 1 - |dx|) * max(0, 1 - |dy|) of the offset from the nearest boundary
+    # point: one pitch straight out from the hypotenuse x + y = 2, dx = dy = 1/sqrt(2), leaves
+    # (1 - 1/sqrt(2))^2 = 0.0858 of that point's weights (the midpoint's: 0.5 and 0.5); a point
+    # sqrt(2) pitches out (dx = dy = 1) is off.
+    triangle = Layout([(0.0, 0.0), (2.0, 0.0), (0.0, 2.0)])
+    out = 1.0 + 1.0 / np.sqrt(2.0)
+    fade = (1.0 - 1.0 / np.sqrt(2.0)) ** 2
+    np.testing.assert_allclose(tc.render_xy("BA", out, out, grid=triangle),
+                               [0.0, 0.5 * fade, 0.5 * fade], atol=1e-12)  # fmt: skip
+    assert tc.render_xy("BA", 2.0, 2.0, grid=triangle).sum() == 0.0
+    # along an axis-aligned edge one pitch is enough: below the edge y = 0
+    assert tc.render_xy("BA", 1.0, -1.0, grid=triangle).sum() == 0.0
