@@ -211,7 +211,17 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="print the speed/accuracy tables")
     p.add_argument(
         "--part",
-        choices=("core", "methods", "device", "link", "gui", "experiments", "tuning", "all"),
+        choices=(
+            "core",
+            "methods",
+            "motor",
+            "device",
+            "link",
+            "gui",
+            "experiments",
+            "tuning",
+            "all",
+        ),
         default="all",
     )
     p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")
