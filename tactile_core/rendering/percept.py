@@ -338,8 +338,8 @@ class PerceptRange:
 def predict_range(shape, method, mu: float = 0.33, gamma: float = 0.7, *, participants=None,
                   grid: Grid | None = None, samples: int = 2001, rate_hz: float = 300.0,
                   levels: int = 23, motor=None, duration_s: float = 2.0,
-                  own_correction: bool = True,
-                  pitch_mm: float = PITCH_MM) -> PerceptRange:  # fmt: skip
+                  own_correction: bool = True, pitch_mm: float = PITCH_MM,
+                  compensate=None) -> PerceptRange:  # fmt: skip
     """Predict ``method`` for every participant of a range, continuous and as sent.
 
     Parameters
@@ -353,6 +353,8 @@ def predict_range(shape, method, mu: float = 0.33, gamma: float = 0.7, *, partic
         With it, the ``"felt"`` stage too.
     own_correction : bool
         Drive each method with its own correction (True by default: EN, PK and RO without one).
+    compensate : MotorResponse, optional
+        Send motor-aware drive for these motors (the ``"sent"`` and ``"felt"`` stages).
     shape, method, mu, gamma, grid, samples, duration_s, pitch_mm
         As for :func:`predict`.
 
@@ -366,13 +368,13 @@ def predict_range(shape, method, mu: float = 0.33, gamma: float = 0.7, *, partic
         participants += tuple(p for p in (REFERENCE, LINEAR_ENERGY) if p not in participants)
     participants = tuple(participants)
     kw = dict(grid=grid, duration_s=duration_s, own_correction=own_correction)
+    sent = dict(rate_hz=rate_hz, levels=levels, compensate=compensate)
     drives = {
         "continuous": trace_drive(shape, method, mu, gamma, samples=samples, **kw),
-        "sent": trace_drive(shape, method, mu, gamma, rate_hz=rate_hz, levels=levels, **kw),
+        "sent": trace_drive(shape, method, mu, gamma, **sent, **kw),
     }
     if motor is not None:
-        drives["felt"] = trace_drive(shape, method, mu, gamma, rate_hz=rate_hz, levels=levels,
-                                     motor=motor, **kw)  # fmt: skip
+        drives["felt"] = trace_drive(shape, method, mu, gamma, motor=motor, **sent, **kw)
     ripple, error = {}, {}
     for stage, drive in drives.items():
         got = [percept_of(drive, p.threshold, p.exponent, grid=grid, pitch_mm=pitch_mm)
