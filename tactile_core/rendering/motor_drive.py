@@ -104,8 +104,11 @@ def motor_drive(drive, motor: MotorResponse, rate_hz: float, *,
     frames = np.asarray(drive, dtype=np.float64)
     if frames.ndim < 2:
         raise ValueError(f"drive must be frames x tactors, got shape {frames.shape}")
-    if not np.isfinite(frames).all() or frames.min(initial=0.0) < 0 or frames.max(initial=0) > 1:
-        raise ValueError("drive must hold fractions of full drive in [0, 1]")
+    bad = ~np.isfinite(frames) | (frames < -1e-12) | (frames > 1.0 + 1e-12)
+    if bad.any():
+        raise ValueError(f"drive must hold fractions of full drive in [0, 1], got "
+                         f"{_validate.shown(float(frames[bad][0]))}")  # fmt: skip
+    frames = np.clip(frames, 0.0, 1.0)  # (rounding by a few ulps either side)
     if not isinstance(motor, MotorResponse):
         raise ValueError(f"motor must be a MotorResponse, got {_validate.shown(motor)}")
     rate_hz = _validate.positive("rate_hz", rate_hz)

@@ -25,7 +25,9 @@ participant feels them unevenly.
 rounded to the device's levels (the paper's 23), and with ``motor`` (a
 :class:`~tactile_core.rendering.motor.MotorResponse`) low-passed by the motors before it is
 felt: the prediction then starts from motors at rest and leaves the first ``3 tau_up`` of the
-trace, while they spin up (alike for every method), out of the ripple and the error.
+trace, while they spin up (alike for every method), out of the ripple and the error. With
+``compensate`` the frames are sent as motor-aware drive for those motors
+(:mod:`~tactile_core.rendering.motor_drive`), which ``motor`` then feels.
 """
 
 from __future__ import annotations
