@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
@@ -29,11 +30,16 @@ class CompareView(QtWidgets.QWidget):
 
     The heatmaps draw the device's layout. On a layout that is not a grid only the methods that
     render there can be compared: a set with others loses them (BA, RO, GS and EN when fewer
-    than two are left), with a note under the set, and gets them back on a grid."""
+    than two are left), with a note under the set, and gets them back on a grid.
 
-    def __init__(self, state: TunerState, parent=None, methods=PAPER_METHODS):
+    With motor-aware drive on (the scene's ``compensate_motors``), each column's curves are the
+    drive sent for the device's motors (``motors()``, its profile's), solid, beside the plain
+    corrected drive, dashed."""
+
+    def __init__(self, state: TunerState, parent=None, methods=PAPER_METHODS, motors=None):
         super().__init__(parent)
         self.state = state
+        self._motors = motors or (lambda: None)
         outer = QtWidgets.QVBoxLayout(self)
         outer.setContentsMargins(0, 0, 0, 0)
         self.chooser = MethodSetWidget(methods, 2, 6)
@@ -164,6 +170,7 @@ class CompareView(QtWidgets.QWidget):
         for name in self.methods:
             self.heatmaps[name].set_caption("")
         outline = scene.shape.outline()
+        motors = self._motors() if scene.compensate_motors else None
         for name in self.methods:
             mu, gamma = get_method(name).own_correction(scene.mu, scene.gamma)
             curves = activation_curves(
@@ -175,10 +182,13 @@ class CompareView(QtWidgets.QWidget):
                 gamma=gamma,
                 samples=600,
                 grid=self.state.layout,
+                compensate=motors,
             )
+            if motors is not None:  # motor-aware drive solid, the plain drive dashed
+                curves = dataclasses.replace(curves, raw=curves.corrected, corrected=curves.drive)
             colors = cell_colors(curves.cells)
             self.curves[name].set_curves(
-                curves, colors, scene.duration_s + scene.pause_s, raw=False
+                curves, colors, scene.duration_s + scene.pause_s, raw=motors is not None
             )
             self.heatmaps[name].set_cell_frames(colors)
             self.heatmaps[name].set_outline(outline)

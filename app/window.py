@@ -110,7 +110,7 @@ class MainWindow(QtWidgets.QMainWindow):
 
         # The tabs --------------------------------------------------------------------------
         self.tune = TuneWidget(self.state, self.device)
-        self.compare = CompareView(self.state)
+        self.compare = CompareView(self.state, motors=lambda: self.device.profile.motor)
         self.blind = BlindPanel(self.state)
         self.experiments = ExperimentsPanel(
             self.state,
@@ -186,7 +186,7 @@ class MainWindow(QtWidgets.QMainWindow):
         if screen is not None:  # a default that fits; a saved size replaces it below
             area = screen.availableGeometry()
             self.resize(min(1400, round(area.width() * 0.92)), min(900, round(area.height() * 0.9)))
-        self.controls.set_felt_available(self.device.profile.response is not None)
+        self.controls.set_profile(self.device.profile)
         self.tune.display.start()
 
         if restore:
@@ -389,7 +389,7 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def _on_device_connection_changed(self, description: str) -> None:
         self.statusBar().showMessage(f"streaming to {description}", 5000)
-        self.controls.set_felt_available(self.device.profile.response is not None)
+        self.controls.set_profile(self.device.profile)
 
     def _on_device_status_changed(self, stats) -> None:
         """A lost device is obvious: a banner over the tabs and the heatmap marked."""

@@ -125,10 +125,14 @@ class Array:
     """An open array: play shapes, drive points, turn it off. Made by :func:`open_array`."""
 
     def __init__(self, link, profile: DeviceProfile, *, rate_hz: float, options: StreamOptions,
-                 lsl: bool, lsl_levels: bool, point_timeout_s: float | None):  # fmt: skip
+                 lsl: bool, lsl_levels: bool, point_timeout_s: float | None,
+                 compensate_motors: bool = False):  # fmt: skip
         self.link = link
         self.profile = profile
         self.rate_hz = _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
+        self.compensate_motors = compensate_motors
+        """Whatever is played goes out as motor-aware drive (``open_array(...,
+        compensate_motors=True)``)."""
         self.points = LivePoints(timeout_s=point_timeout_s)
         self.streamer = Streamer(link, profile, options=options, on_onset=[self._on_onset],
                                  on_status=self._on_stream_status)  # fmt: skip
@@ -202,7 +206,8 @@ class Array:
         kind = {"shape": shape} if isinstance(shape, Shape) else {"source": shape}
         scene = Scene(method=method, mu=mu, gamma=gamma, duration_s=duration_s, pause_s=0.0,
                       repeat=False, rate_hz=self.rate_hz, gain=gain, direction=direction,
-                      marker=marker, epoch=next(self._epochs), **kind)  # fmt: skip
+                      marker=marker, epoch=next(self._epochs),
+                      compensate_motors=self.compensate_motors, **kind)  # fmt: skip
         live = scene.live(self.profile.layout, self.rate_hz)  # refused here, by name
         if "source" in kind:  # a pattern: its table now, not beside the output thread
             live.precompute()  # (the stream plays from it: the same frames, see TactPattern.live)
@@ -235,7 +240,8 @@ class Array:
             with self._lock:
                 self._finish_current()
             self.streamer.set_scene(Scene(method=method, mu=mu, gamma=gamma, rate_hz=self.rate_hz,
-                                          source=self.points, marker="script-points"))  # fmt: skip
+                                          source=self.points, marker="script-points",
+                                          compensate_motors=self.compensate_motors))  # fmt: skip
 
     def _check_open(self) -> None:
         if self._closed.is_set():
@@ -356,8 +362,8 @@ def _release_sigterm(array: Array) -> None:
 
 
 def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_ms: float = 0.0,
-               lsl: bool = False, lsl_levels: bool = False,
-               point_timeout_s: float | None = None) -> Array:  # fmt: skip
+               lsl: bool = False, lsl_levels: bool = False, point_timeout_s: float | None = None,
+               compensate_motors: bool = False) -> Array:  # fmt: skip
     """Open a device and start streaming to it (all off until something is played).
 
     Parameters
@@ -374,6 +380,10 @@ def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_m
         Open the LSL marker outlet (``tactile-markers``), and the levels outlet.
     point_timeout_s : float or None
         Release a live point not refreshed within this long (None: it stays until released).
+    compensate_motors : bool
+        Motor-aware drive: pre-compensate each lit tactor's motor lag with the profile's
+        motor constants (:mod:`tactile_core.rendering.motor_drive`); off, the paper's
+        pipeline, by default. A profile without motor constants (``motor``) is refused.
 
     Returns
     -------
@@ -391,10 +401,15 @@ def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_m
     _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
     if point_timeout_s is not None:  # named as the caller wrote it, before anything opens
         _validate.in_range("point_timeout_s", point_timeout_s, *POINT_TIMEOUT_RANGE_S)
+    compensate_motors = _validate.boolean("compensate_motors", compensate_motors)
+    if compensate_motors and profile.motor is None:
+        raise ValueError(f"compensate_motors needs the motors' time constants: profile "
+                         f"{profile.name} has none ('motor')")  # fmt: skip
     link = open_link(url, profile)
     try:
         array = Array(link, profile, rate_hz=rate_hz, options=options, lsl=lsl,
-                      lsl_levels=lsl_levels, point_timeout_s=point_timeout_s)  # fmt: skip
+                      lsl_levels=lsl_levels, point_timeout_s=point_timeout_s,
+                      compensate_motors=compensate_motors)  # fmt: skip
         return array._start()
     except BaseException:
         link.close()

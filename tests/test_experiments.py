@@ -341,7 +341,7 @@ def test_session_records_the_whole_pipeline(tmp_path):
     Experiment2(session).close()
     data = json.loads((tmp_path / "participant-pp02" / "session.json").read_text())
     assert data["pipeline"] == {"rate_hz": 300.0, "filter": "point", "subsamples": 1,
-                                "dither": False}  # fmt: skip
+                                "dither": False, "compensate_motors": False}  # fmt: skip
     run = data["runs"]["exp2"]
     assert run["pipeline"] == data["pipeline"] and run["levels"] == 23
     paper, l2 = {"mu": 0.33, "gamma": 0.7}, {"mu": 0.0, "gamma": 1.4}
@@ -382,7 +382,8 @@ def test_filter_and_dithering_are_explicit_recorded_choices(tmp_path):
     runner.close()
     data = json.loads((tmp_path / "participant-pp04" / "session.json").read_text())
     assert data["runs"]["exp1"]["pipeline"] == {"rate_hz": 200.0, "filter": "box",
-                                                "subsamples": 4, "dither": True}  # fmt: skip
+                                                "subsamples": 4, "dither": True,
+                                                "compensate_motors": False}  # fmt: skip
 
 
 def test_each_trial_row_notes_the_stream_health(tmp_path):

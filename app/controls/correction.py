@@ -1,4 +1,5 @@
-"""The correction (1 - mu) I^gamma + mu: threshold and gamma, on drive or on felt amplitude."""
+"""The correction (1 - mu) I^gamma + mu: threshold and gamma, on drive or on felt amplitude, and
+motor-aware drive after it."""
 
 from __future__ import annotations
 
@@ -65,11 +66,16 @@ class CorrectionWidget(SceneGroupWidget):
         self.felt_domain_check.setObjectName("felt_domain")
         self.felt_domain_check.toggled.connect(lambda on: self._set(felt_domain=on))
         form.addWidget(self.felt_domain_check, 2, 0, 1, 3)
+        self.motor_drive_check = QtWidgets.QCheckBox("motor-aware drive (spin-up overdrive)")
+        self.motor_drive_check.setObjectName("compensate_motors")
+        self.motor_drive_check.toggled.connect(lambda on: self._set(compensate_motors=on))
+        form.addWidget(self.motor_drive_check, 3, 0, 1, 3)
         state.scene_changed.connect(self.refresh)
         self.refresh()
 
     def _show(self, scene) -> None:
         self.felt_domain_check.setChecked(scene.felt_domain)
+        self.motor_drive_check.setChecked(scene.compensate_motors)
         self.mu_slider.setValue(round(scene.mu * 100))
         self.mu_spin.setValue(scene.mu)
         self.gamma_slider.setValue(gamma_to_slider(scene.gamma))
@@ -84,4 +90,15 @@ class CorrectionWidget(SceneGroupWidget):
             "profile's response curve). Off: on drive, as the paper."
             if available
             else "Not available: the device profile has no motor response curve ('response')."
+        ))  # fmt: skip
+
+    def set_motor_available(self, available: bool) -> None:
+        """Motor-aware drive needs the device profile's motor time constants."""
+        self.motor_drive_check.setEnabled(available)
+        self.motor_drive_check.setToolTip(tip(
+            "After the correction, each lit tactor's drive makes up for its motor's lag (the "
+            "profile's time constants): full drive while it spins up, off while it runs down. "
+            "Off: plain drive, as the paper."
+            if available
+            else "Not available: the device profile has no motor time constants ('motor')."
         ))  # fmt: skip

@@ -26,7 +26,7 @@ class ControlsPanel(QtWidgets.QWidget):
     method : MethodWidget
         The method (keys 1-4, the others, a parameter).
     correction : CorrectionWidget
-        mu and gamma, on drive or on felt amplitude.
+        mu and gamma, on drive or on felt amplitude; motor-aware drive.
     shape : ShapeWidget
         The shape and its coordinates.
     trace : TraceWidget
@@ -67,6 +67,12 @@ class ControlsPanel(QtWidgets.QWidget):
         if not available and self.state.view_mode == "felt":
             self.state.set_view_mode("sent")
         self.correction.set_felt_available(available)
+
+    def set_profile(self, profile) -> None:
+        """What the device profile knows of its motors: their response curve (the 'felt'
+        view and domain), their time constants (motor-aware drive)."""
+        self.set_felt_available(profile.response is not None)
+        self.correction.set_motor_available(profile.motor is not None)
 
     def set_draw_mode(self, on: bool) -> None:
         """Reflect draw mode: MM and IM are unavailable on free points, the shape is not

@@ -246,6 +246,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         heatmap.set_path(None)
         felt_view = self.state.view_mode == "felt" and profile.motor is not None
         motor = profile.motor if felt_view else None
+        aware = motor if scene.compensate_motors else None  # felt of the motor-aware drive
         period = scene.duration_s + scene.pause_s
         try:
             if pattern is not None:
@@ -257,7 +258,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
                 frames = max(curve_samples(pattern.duration_s, scene.rate_hz) - 1, 3)
                 curves = pattern.curves(scene.method, self.state.layout, mu=scene.mu,
                                         gamma=scene.gamma, samples=frames,
-                                        motor=motor)  # fmt: skip
+                                        motor=motor,
+                                        compensate=aware)  # fmt: skip
                 period = pattern.duration_s
             else:
                 outline = scene.shape.outline()
@@ -271,6 +273,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
                     samples=curve_samples(scene.duration_s, scene.rate_hz),
                     grid=self.state.layout,
                     motor=motor,
+                    compensate=aware,
                 )
         except ValueError as exc:  # a plug-in that cannot render here (the state checks ours)
             self.error_raised.emit(f"no activation curves: {exc}")
@@ -285,6 +288,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         heatmap.set_outline(outline)
         if not self.method_hidden:
             what = "felt (motor lag and response)" if felt_view else "activation"
+            what = f"{what}, motor-aware drive" if aware is not None else what
             title = f"{scene.method} {what}, mu {value3(scene.mu)}, gamma {value3(scene.gamma)}"
             set_title(self.curves.plotItem, title)
 
@@ -305,7 +309,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         error, and the ripple's range over the grid of participants."""
         profile = self.device.profile
         sent = dict(grid=profile.layout, rate_hz=min(scene.rate_hz, 1000.0), levels=profile.levels,
-                    motor=profile.motor, duration_s=scene.duration_s)  # fmt: skip
+                    motor=profile.motor, duration_s=scene.duration_s,
+                    compensate=profile.motor if scene.compensate_motors else None)  # fmt: skip
         try:
             percept = predict(scene.shape, scene.method, scene.mu, scene.gamma, **sent)
             band = predict_range(scene.shape, scene.method, scene.mu, scene.gamma,

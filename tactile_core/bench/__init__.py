@@ -6,7 +6,8 @@ Timings are the minimum over repeated runs (the least disturbed by other process
 Inside, one module per part: ``_common`` (scenes, timer, :class:`Table`), ``_batch`` and
 ``_live`` (the rendering cost), ``_layouts`` (on actuators anywhere), ``_accuracy`` (speed
 against accuracy), ``_device`` (the link into the emulator), ``_audio`` (the audio callback's
-cost per block), ``_methods``, ``_staircase``, ``_tuning`` and ``_validation`` (the tuning
+cost per block), ``_methods``, ``_motor_drive`` (motor-aware drive, felt and its cost),
+``_staircase``, ``_tuning`` and ``_validation`` (the tuning
 against other observers, QUEST+);
 :func:`run` picks the parts.
 """
@@ -25,11 +26,24 @@ from ._layouts import layouts_table
 from ._link import link_table
 from ._live import live_table
 from ._methods import methods_table, winners_table
+from ._motor_drive import (
+    BOUND_LAG_MM,
+    BOUND_ONSET_MS,
+    BOUND_RIPPLE,
+    FeltEffect,
+    felt_effect,
+    motor_drive_cost_table,
+    motor_drive_rows,
+    motor_drive_table,
+)
 from ._staircase import fit_table, staircase_table
 from ._tuning import TUNING_OBSERVERS, TUNING_PLANS, tuning_table
 from ._validation import quest_table, validation_table
 
 __all__ = [
+    "BOUND_LAG_MM",
+    "BOUND_ONSET_MS",
+    "BOUND_RIPPLE",
     "FILTERS",
     "GAMMA",
     "MU",
@@ -38,6 +52,7 @@ __all__ = [
     "TUNING_OBSERVERS",
     "TUNING_PLANS",
     "EmulatorProcess",
+    "FeltEffect",
     "Table",
     "accuracy_table",
     "audio_table",
@@ -45,11 +60,15 @@ __all__ = [
     "best_time",
     "dense_area_sampling",
     "device_tables",
+    "felt_effect",
     "fit_table",
     "layouts_table",
     "link_table",
     "live_table",
     "methods_table",
+    "motor_drive_cost_table",
+    "motor_drive_rows",
+    "motor_drive_table",
     "naive_area_sampling",
     "quest_table",
     "ratio_table",
@@ -62,7 +81,7 @@ __all__ = [
 
 
 def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
-    """Run the benchmark tables of ``part`` ("core", "methods", "device", "link",
+    """Run the benchmark tables of ``part`` ("core", "methods", "motor", "device", "link",
     "experiments", "tuning", "gui" or "all"), printed as Markdown."""
     tables = []
 
@@ -87,6 +106,9 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
         ranges = _ranges(samples, [*method_names(), *VARIANTS], PALM_MOTOR)
         show(methods_table(samples=samples, ranges=ranges))
         show(winners_table(samples=samples, ranges=ranges))
+    if part in ("motor", "all"):
+        show(motor_drive_table())
+        show(motor_drive_cost_table())
     if part in ("device", "all"):
         for table in device_tables(seconds=3.0 if quick else 10.0):
             show(table)

@@ -92,6 +92,26 @@ def _add_scene_arguments(p: argparse.ArgumentParser, *, duration: float) -> None
     p.add_argument("--rows", type=whole, default=6, help="grid rows (default 6)")
 
 
+def add_compensate_motors(p: argparse.ArgumentParser) -> None:
+    """``--compensate-motors``: motor-aware drive from the profile's motor constants."""
+    p.add_argument("--compensate-motors", action="store_true",
+                   help="motor-aware drive: pre-compensate each lit tactor's motor lag with the "
+                   "profile's motor constants (overdrive while it spins up, off while it runs "
+                   "down; the paper's pipeline has none)")  # fmt: skip
+
+
+def motors_to_compensate(args, profile):
+    """The profile's :class:`~tactile_core.rendering.motor.MotorResponse` when
+    ``--compensate-motors`` is given (None otherwise); a profile without motor constants is a
+    usage error, as the stage would change nothing."""
+    if not getattr(args, "compensate_motors", False):
+        return None
+    if profile.motor is None:
+        raise UsageError(f"--compensate-motors needs the motors' time constants: profile "
+                         f"{profile.name} has none ('motor')")  # fmt: skip
+    return profile.motor
+
+
 def _scene(args):
     """Validate the shared scene arguments; ValueError names what is wrong. The shape is None
     for ``--shape tact:FILE`` (a pattern, loaded by the command)."""

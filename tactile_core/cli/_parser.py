@@ -6,7 +6,14 @@ import argparse
 
 from .._version import __version__
 from ..stream import DEFAULT_LEAD_MS
-from ._common import DEVICE_HELP, _add_scene_arguments, number, profile_help, whole
+from ._common import (
+    DEVICE_HELP,
+    _add_scene_arguments,
+    add_compensate_motors,
+    number,
+    profile_help,
+    whole,
+)
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
 from ._render import cmd_emulate, cmd_render, cmd_stream
 from ._serve import add_lsl_arguments, add_serve_parser
@@ -42,6 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--ramp-ms", type=number, default=None,
                    help=".wav: the raised-cosine ramp between levels, 0-20 ms "
                    "(default 1.5)")  # fmt: skip
+    add_compensate_motors(p)
     add_tact_option(p)
     p.set_defaults(func=cmd_render)
 
@@ -78,6 +86,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--felt-amplitude", action="store_true",
                    help="mu and gamma act on felt amplitude: send the drive that the profile's "
                    "motor response curve turns into the corrected value")  # fmt: skip
+    add_compensate_motors(p)
     p.add_argument("--record", default=None, help="record the frames sent to .csv or .npz")
     p.add_argument("--reconnect", action="store_true", help="keep retrying after the link fails")
     p.add_argument(
@@ -202,7 +211,17 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="print the speed/accuracy tables")
     p.add_argument(
         "--part",
-        choices=("core", "methods", "device", "link", "gui", "experiments", "tuning", "all"),
+        choices=(
+            "core",
+            "methods",
+            "motor",
+            "device",
+            "link",
+            "gui",
+            "experiments",
+            "tuning",
+            "all",
+        ),
         default="all",
     )
     p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")

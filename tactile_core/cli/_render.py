@@ -13,6 +13,7 @@ from .._shared.outfile import check_output
 from ..files.frames import write_frames
 from ..files.tact import MAX_TABLE_FRAMES
 from ..rendering.correction import correct
+from ..rendering.motor_drive import motor_drive
 from ..rendering.rasterize import check_renders, render
 from ..stream import StreamOptions, check_lead_ms
 from ._common import (
@@ -20,6 +21,7 @@ from ._common import (
     _install_stop_handlers,
     _scene,
     _seconds,
+    motors_to_compensate,
     write_failed,
 )
 from ._tact import load_tact_arg, not_played, warn_of_notes
@@ -99,6 +101,7 @@ def cmd_render(args) -> int:
         grid = profile.layout
         check_renders(method, grid)
         names = list(profile.layout.names)
+    motor = _motor_of(args, profile)
     pattern = load_tact_arg(args)
     _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
     if pattern is not None:  # frame k samples the middle of [k / rate, (k + 1) / rate)
@@ -117,6 +120,10 @@ def cmd_render(args) -> int:
         what, left_out = shape.spec, ""
     warn_if_dark("render", shape, grid, frames)
     what = f"{what} ({method}, mu={mu:g}, gamma={gamma:g})"
+    if motor is not None:  # after the correction, before any quantisation
+        frames, _ = motor_drive(frames, motor, args.rate)
+        taus = "/".join(f"{np.max(t) * 1e3:g}" for t in (motor.tau_up_s, motor.tau_down_s))
+        what = f"{what[:-1]}, motor-aware drive for {taus} ms motors)"
     if wav:
         return _write_wav(args, out, profile, frames, what)
     try:
@@ -125,6 +132,14 @@ def cmd_render(args) -> int:
         raise write_failed(out, exc) from None
     print(f"wrote {len(time_s)} frames of {what} to {out}{left_out}")
     return 0
+
+
+def _motor_of(args, profile):
+    """``--compensate-motors``: the motors to compensate, the profile's (the palm array's
+    without ``--profile``); None without the option."""
+    from ..device.profile import default_profile
+
+    return motors_to_compensate(args, profile or default_profile())
 
 
 def _render_profile(args, wav: bool):
@@ -242,12 +257,14 @@ def cmd_stream(args) -> int:
         subsamples=args.subsamples,
         dither=args.dither,
         felt_domain=args.felt_amplitude,
+        compensate_motors=args.compensate_motors,
         source=pattern,
         marker="stream",
     )
     if args.felt_amplitude and profile.response is None:
         raise UsageError(f"--felt-amplitude needs a motor response curve: profile "
                          f"{profile.name} has none ('response')")  # fmt: skip
+    motors_to_compensate(args, profile)
     args.seconds = _seconds(args.seconds)
     try:
         options = StreamOptions(reconnect=args.reconnect, realtime=args.realtime,

@@ -19,6 +19,8 @@ from ._common import (
     UsageError,
     _install_stop_handlers,
     _seconds,
+    add_compensate_motors,
+    motors_to_compensate,
     number,
     profile_help,
     whole,
@@ -85,6 +87,7 @@ def add_serve_parser(sub) -> None:
     p.add_argument("--mu", type=number, default=0.0, help="threshold in [0, 1] (default 0)")
     p.add_argument("--gamma", type=number, default=1.0, help="gamma > 0 (default 1)")
     p.add_argument("--rate", type=number, default=300.0, help="frames per second (default 300)")
+    add_compensate_motors(p)
     p.add_argument(
         "--timeout-ms",
         type=number,
@@ -187,7 +190,10 @@ def _check(args):
     method = free_method(args.method).spec
     check_renders(method, profile.layout)
     mu, gamma = check_correction(args.mu, args.gamma)
-    scene = Scene(method=method, mu=mu, gamma=gamma, rate_hz=args.rate)
+    compensate = motors_to_compensate(args, profile) is not None
+    scene = Scene(
+        method=method, mu=mu, gamma=gamma, rate_hz=args.rate, compensate_motors=compensate
+    )
     if not 1.0 <= args.timeout_ms <= 60_000.0:
         raise UsageError(f"--timeout-ms must be within [1, 60000], got {args.timeout_ms:g}")
     try:
@@ -252,8 +258,9 @@ def cmd_serve(args) -> int:
         where = f"[{host}]:{port}" if ":" in host else f"{host}:{port}"  # IPv6 in brackets
         print(f"osc://{where}", flush=True)
         print(
-            f"serving {profile.name} ({scene.method}, mu={scene.mu:g}, gamma={scene.gamma:g})"
-            f" to {link.description} on udp {where}; Ctrl-C to end",
+            f"serving {profile.name} ({scene.method}, mu={scene.mu:g}, gamma={scene.gamma:g}"
+            f"{', motor-aware drive' if scene.compensate_motors else ''}) to "
+            f"{link.description} on udp {where}; Ctrl-C to end",
             file=sys.stderr,
             flush=True,
         )

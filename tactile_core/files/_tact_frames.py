@@ -222,7 +222,7 @@ class TactPattern:
         )
 
     def curves(self, method, target, *, mu: float, gamma: float, samples: int = 400,
-               motor=None) -> ActivationCurves:  # fmt: skip
+               motor=None, compensate=None) -> ActivationCurves:  # fmt: skip
         """The pattern's activation curves with ``method`` on ``target``: each actuator it
         lights, raw and corrected, over the pattern's duration (``samples`` point samples,
         the frames' own combination of paths and dots).
@@ -237,6 +237,8 @@ class TactPattern:
             Samples over the duration, >= 3.
         motor : MotorResponse, optional
             Also the curves through the motors (``felt``).
+        compensate : MotorResponse, optional
+            Also the motor-aware drive for these motors (``drive``; ``felt`` is of it).
 
         Returns
         -------
@@ -250,7 +252,8 @@ class TactPattern:
         sampling = Sampling(samples / self.duration_s, "point")
         start_s, frames = self.frames(method, target, sampling=sampling, corrected=False)
         return curves_from_frames(frames, start_s + sampling.offsets_s()[0], mu=mu,
-                                  gamma=gamma, grid=check_target(target), motor=motor)  # fmt: skip
+                                  gamma=gamma, grid=check_target(target), motor=motor,
+                                  compensate=compensate)  # fmt: skip
 
 
 @lru_cache(maxsize=4)

@@ -10,6 +10,7 @@ A preset file::
       "shape": {"type": "line", "p0": [0.5, 1.84], "p1": [4.5, 4.16]},
       "trace": {"duration_s": 2.0, "pause_s": 0.5, "direction": "forward", "repeat": true},
       "rate_hz": 300.0, "filter": "box", "subsamples": 4, "dither": true,
+      "compensate_motors": false,            # optional: motor-aware drive (off by default)
       "lead_ms": 20.0                        # optional: frames sent ahead to scheduled arrays
     }
 
@@ -39,7 +40,7 @@ MAX_PRESET_BYTES = 4 << 20
 (:class:`~tactile_core.rendering.shapes.TimedPath`) is about 1.2 MB; the others a few KB."""
 
 _SCENE_KEYS = ("method", "mu", "gamma", "rate_hz", "filter", "subsamples", "dither", "gain",
-               "felt_domain")  # fmt: skip
+               "felt_domain", "compensate_motors")  # fmt: skip
 _TRACE_KEYS = ("duration_s", "pause_s", "direction", "repeat", "emphasis")
 
 
@@ -93,6 +94,7 @@ class Preset:
             "dither": s.dither,
             "gain": s.gain,
             "felt_domain": s.felt_domain,
+            "compensate_motors": s.compensate_motors,
             "lead_ms": self.lead_ms,
         }
 
@@ -145,7 +147,7 @@ def preset_from_dict(data, source: str = "preset") -> Preset:
         if key in trace:
             kwargs[key] = trace[key]
     for key, value in kwargs.items():
-        if key in ("dither", "repeat", "felt_domain"):
+        if key in ("dither", "repeat", "felt_domain", "compensate_motors"):
             if not isinstance(value, bool):
                 raise PresetError(
                     f"{source}: field '{key}' must be true or false, got {_validate.shown(value)}"

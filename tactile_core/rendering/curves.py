@@ -9,6 +9,7 @@ import numpy as np
 from .._shared import validate as _validate
 from .correction import check_correction, correct
 from .geometry import Grid
+from .motor_drive import motor_drive
 from .rasterize import check_target, render
 from .trace import DIRECTIONS
 
@@ -43,6 +44,10 @@ class ActivationCurves:
     names: tuple = ()
     """Each cell's name as the tuner shows it: ``"(4,2)"`` on a grid, the actuator's name
     (``"front-left"``) on a layout."""
+    drive: np.ndarray | None = None
+    """``(n, k)``: the motor-aware drive of the corrected curves
+    (:mod:`tactile_core.rendering.motor_drive`, each sample held until the next), when motors
+    to compensate were given; ``felt`` is then of this drive."""
 
     def onsets_s(self) -> np.ndarray:
         """``(k,)`` time of each tactor's first sample with nonzero intensity, in seconds."""
@@ -60,6 +65,7 @@ def activation_curves(
     samples: int = 2001,
     grid: Grid = _DEFAULT_GRID,
     motor=None,
+    compensate=None,
 ) -> ActivationCurves:
     """Sample the activation curves of one trace.
 
@@ -80,6 +86,9 @@ def activation_curves(
     motor : MotorResponse, optional
         Also low-pass the corrected curves through the motors (``felt``): each sample is held
         until the next, from motors at rest; only the tactors the trace lights are simulated.
+    compensate : MotorResponse, optional
+        Also the motor-aware drive for these motors (``drive``), at the curves' sample rate,
+        from motors at rest; ``felt`` is then of that drive.
 
     Returns
     -------
@@ -93,11 +102,12 @@ def activation_curves(
     u = np.linspace(0.0, 1.0, samples)
     t = 1.0 - u if direction == "reverse" else u
     frames = render(shape, method, t, grid=grid)
-    return curves_from_frames(frames, u * duration_s, mu=mu, gamma=gamma, grid=grid, motor=motor)
+    return curves_from_frames(frames, u * duration_s, mu=mu, gamma=gamma, grid=grid, motor=motor,
+                              compensate=compensate)  # fmt: skip
 
 
 def curves_from_frames(frames, time_s, *, mu: float, gamma: float, grid: Grid = _DEFAULT_GRID,
-                       motor=None) -> ActivationCurves:  # fmt: skip
+                       motor=None, compensate=None) -> ActivationCurves:  # fmt: skip
     """The activation curves of frames sampled evenly in time: of a shape's trace
     (:func:`activation_curves`), or of any frame source, such as a ``.tact`` pattern.
 
@@ -111,7 +121,7 @@ def curves_from_frames(frames, time_s, *, mu: float, gamma: float, grid: Grid = 
     mu, gamma : float, keyword-only
         Correction for the ``corrected`` curves.
     grid : Grid or Layout, keyword-only
-    motor : MotorResponse, optional
+    motor, compensate : MotorResponse, optional
         As :func:`activation_curves`.
 
     Returns
@@ -135,16 +145,17 @@ def curves_from_frames(frames, time_s, *, mu: float, gamma: float, grid: Grid = 
     order = active[np.argsort(first, kind="stable")]
     raw = frames[:, order]
     corrected = correct(raw, mu, gamma)
-    felt = None
+    felt = drive = None
+    rate = (samples - 1) / (time_s[-1] - time_s[0])
+    if compensate is not None:
+        drive, _ = motor_drive(corrected, compensate.select(order), rate)
     if motor is not None:
-        rate = (samples - 1) / (time_s[-1] - time_s[0])
-        felt, _ = motor.select(order).effective(corrected, rate)
+        felt, _ = motor.select(order).effective(corrected if drive is None else drive, rate)
     if not grid.is_grid:
         cells = tuple(int(i) for i in order)
         names = tuple(grid.names[i] for i in cells)
     else:
         cells = tuple(grid.cell(int(i)) for i in order)
         names = tuple(f"({col},{row})" for col, row in cells)
-    return ActivationCurves(
-        time_s=time_s, cells=cells, raw=raw, corrected=corrected, felt=felt, names=names
-    )
+    return ActivationCurves(time_s=time_s, cells=cells, raw=raw, corrected=corrected, felt=felt,
+                            names=names, drive=drive)  # fmt: skip

@@ -135,6 +135,54 @@ class MotorResponse:
         end[cols] = s
         return mean, end
 
+    def onsets_s(self, drive, rate_hz: float, level: float) -> np.ndarray:
+        """When each tactor's effective drive first rises above ``level``, from rest.
+
+        Parameters
+        ----------
+        drive : array_like of float, shape (n, size)
+            Drive fractions in [0, 1], one frame of ``1 / rate_hz`` s per row, held for it.
+        rate_hz : float
+            Frames per second.
+        level : float
+            Effective drive to cross, in [0, 1) (a participant's threshold: the felt onset).
+
+        Returns
+        -------
+        ndarray of float64, shape (size,)
+            Seconds from the start of the first frame, solved exactly within the frame
+            (``t = tau_up ln((d - s0) / (d - level))`` into a frame that starts at ``s0`` under
+            the drive ``d``); ``inf`` for a tactor whose effective drive never gets above it.
+        """
+        d = np.asarray(drive, dtype=np.float64)
+        if d.ndim != 2:
+            raise ValueError(f"drive must be frames x tactors, got shape {d.shape}")
+        rate_hz = _validate.positive("rate_hz", rate_hz)
+        level = _validate.in_range("level", level, 0.0, 0.999)
+        n, size = d.shape
+        onset = np.full(size, np.inf)
+        cols = np.flatnonzero((d > level).any(axis=0))
+        if cols.size == 0:
+            return onset
+        dt = 1.0 / rate_hz
+        up, down = (t[cols] for t in self.taus(size))
+        a_up, a_down = _decay(up, dt), _decay(down, dt)
+        s = np.zeros(cols.size)
+        found = np.full(cols.size, np.inf)
+        for k in range(n):
+            target = d[k, cols]
+            end = target + (s - target) * np.where(target > s, a_up, a_down)
+            new = np.isinf(found) & (end > level) & (target > level)
+            if new.any():
+                gap = target[new] - s[new]
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    into = np.where(s[new] > level, 0.0,
+                                    up[new] * np.log(gap / (target[new] - level)))  # fmt: skip
+                found[new] = k * dt + np.minimum(np.nan_to_num(into), dt)
+            s = end
+        onset[cols] = found
+        return onset
+
 
 def _count(motor: MotorResponse) -> int:
     """How many tactors per-tactor time constants describe (1 when shared)."""

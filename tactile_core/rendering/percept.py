@@ -25,7 +25,9 @@ participant feels them unevenly.
 rounded to the device's levels (the paper's 23), and with ``motor`` (a
 :class:`~tactile_core.rendering.motor.MotorResponse`) low-passed by the motors before it is
 felt: the prediction then starts from motors at rest and leaves the first ``3 tau_up`` of the
-trace, while they spin up (alike for every method), out of the ripple and the error.
+trace, while they spin up (alike for every method), out of the ripple and the error. With
+``compensate`` the frames are sent as motor-aware drive for those motors
+(:mod:`~tactile_core.rendering.motor_drive`), which ``motor`` then feels.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ from .._shared import validate as _validate
 from .correction import correct, quantize
 from .geometry import Grid
 from .methods import get_method
+from .motor_drive import motor_drive
 from .rasterize import render
 from .trace import Sampling, Trace, render_frames
 
@@ -179,7 +182,7 @@ class Drive:
 def trace_drive(shape, method, mu: float = 0.33, gamma: float = 0.7, *,
                 grid: Grid | None = None, samples: int = 2001, rate_hz: float | None = None,
                 levels: int | None = None, motor=None, duration_s: float = 2.0,
-                own_correction: bool = False) -> Drive:  # fmt: skip
+                own_correction: bool = False, compensate=None) -> Drive:  # fmt: skip
     """The drive of one trace, in continuous time or as sent (see the module notes).
 
     Parameters
@@ -205,6 +208,10 @@ def trace_drive(shape, method, mu: float = 0.33, gamma: float = 0.7, *,
         Drive the method with its own correction
         (:meth:`~tactile_core.rendering.methods.Method.own_correction`: none for EN) instead of
         ``mu``/``gamma`` as given.
+    compensate : MotorResponse, optional
+        Send motor-aware drive (:mod:`~tactile_core.rendering.motor_drive`) pre-compensated for
+        these motors, before the levels (needs ``rate_hz``); ``motor`` stays the motors that
+        feel it, so a mismatch between the two can be predicted.
 
     Returns
     -------
@@ -215,8 +222,8 @@ def trace_drive(shape, method, mu: float = 0.33, gamma: float = 0.7, *,
     if own_correction:
         mu, gamma = m.own_correction(mu, gamma)
     if rate_hz is None:
-        if levels is not None or motor is not None:
-            raise ValueError("levels and motor need rate_hz: they act on frames")
+        if levels is not None or motor is not None or compensate is not None:
+            raise ValueError("levels, motor and compensate need rate_hz: they act on frames")
         samples = _validate.integer("samples", samples, 2, 1_000_000)
         t = np.linspace(0.0, 1.0, samples)
         drive = correct(render(shape, m, t, grid=grid), mu, gamma)
@@ -226,6 +233,8 @@ def trace_drive(shape, method, mu: float = 0.33, gamma: float = 0.7, *,
     n = max(2, round(trace.duration_s * rate_hz))
     start, frames = render_frames(trace, m, sampling=Sampling(rate_hz, "point"), mu=mu,
                                   gamma=gamma, grid=grid, n_frames=n)  # fmt: skip
+    if compensate is not None:
+        frames, _ = motor_drive(frames, compensate, rate_hz)
     if levels is not None:
         levels = _validate.integer("levels", levels, 2, 256)
         frames = quantize(frames, levels) / (levels - 1)
@@ -261,7 +270,8 @@ def predict(shape, method, mu: float = 0.33, gamma: float = 0.7, *,
             threshold: float | None = None, exponent: float | None = None,
             grid: Grid | None = None, samples: int = 2001, rate_hz: float | None = None,
             levels: int | None = None, motor=None, duration_s: float = 2.0,
-            own_correction: bool = False, pitch_mm: float = PITCH_MM) -> Percept:  # fmt: skip
+            own_correction: bool = False, pitch_mm: float = PITCH_MM,
+            compensate=None) -> Percept:  # fmt: skip
     """The predicted percept of ``shape`` rendered by ``method`` for one participant.
 
     Parameters
@@ -274,7 +284,7 @@ def predict(shape, method, mu: float = 0.33, gamma: float = 0.7, *,
     threshold, exponent : float, optional
         The participant's ``TH`` and ``K``; by default those of :data:`REFERENCE`. Pass
         ``tailored(mu, gamma)``'s to see the participant the correction is right for.
-    grid, samples, rate_hz, levels, motor, duration_s, own_correction
+    grid, samples, rate_hz, levels, motor, duration_s, own_correction, compensate
         As for :func:`trace_drive`: continuous time by default; ``rate_hz=300, levels=23`` is
         what the paper's array was sent.
     pitch_mm : float
@@ -291,7 +301,7 @@ def predict(shape, method, mu: float = 0.33, gamma: float = 0.7, *,
     who = Participant(th, k)
     drive = trace_drive(shape, method, mu, gamma, grid=grid, samples=samples, rate_hz=rate_hz,
                         levels=levels, motor=motor, duration_s=duration_s,
-                        own_correction=own_correction)  # fmt: skip
+                        own_correction=own_correction, compensate=compensate)  # fmt: skip
     return percept_of(drive, who.threshold, who.exponent, grid=grid, pitch_mm=pitch_mm)
 
 
@@ -330,8 +340,8 @@ class PerceptRange:
 def predict_range(shape, method, mu: float = 0.33, gamma: float = 0.7, *, participants=None,
                   grid: Grid | None = None, samples: int = 2001, rate_hz: float = 300.0,
                   levels: int = 23, motor=None, duration_s: float = 2.0,
-                  own_correction: bool = True,
-                  pitch_mm: float = PITCH_MM) -> PerceptRange:  # fmt: skip
+                  own_correction: bool = True, pitch_mm: float = PITCH_MM,
+                  compensate=None) -> PerceptRange:  # fmt: skip
     """Predict ``method`` for every participant of a range, continuous and as sent.
 
     Parameters
@@ -345,6 +355,8 @@ def predict_range(shape, method, mu: float = 0.33, gamma: float = 0.7, *, partic
         With it, the ``"felt"`` stage too.
     own_correction : bool
         Drive each method with its own correction (True by default: EN, PK and RO without one).
+    compensate : MotorResponse, optional
+        Send motor-aware drive for these motors (the ``"sent"`` and ``"felt"`` stages).
     shape, method, mu, gamma, grid, samples, duration_s, pitch_mm
         As for :func:`predict`.
 
@@ -358,13 +370,13 @@ def predict_range(shape, method, mu: float = 0.33, gamma: float = 0.7, *, partic
         participants += tuple(p for p in (REFERENCE, LINEAR_ENERGY) if p not in participants)
     participants = tuple(participants)
     kw = dict(grid=grid, duration_s=duration_s, own_correction=own_correction)
+    sent = dict(rate_hz=rate_hz, levels=levels, compensate=compensate)
     drives = {
         "continuous": trace_drive(shape, method, mu, gamma, samples=samples, **kw),
-        "sent": trace_drive(shape, method, mu, gamma, rate_hz=rate_hz, levels=levels, **kw),
+        "sent": trace_drive(shape, method, mu, gamma, **sent, **kw),
     }
     if motor is not None:
-        drives["felt"] = trace_drive(shape, method, mu, gamma, rate_hz=rate_hz, levels=levels,
-                                     motor=motor, **kw)  # fmt: skip
+        drives["felt"] = trace_drive(shape, method, mu, gamma, motor=motor, **sent, **kw)
     ripple, error = {}, {}
     for stage, drive in drives.items():
         got = [percept_of(drive, p.threshold, p.exponent, grid=grid, pitch_mm=pitch_mm)

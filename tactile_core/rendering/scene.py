@@ -65,6 +65,12 @@ class Scene:
         gives it (:meth:`~tactile_core.device.DeviceProfile.drive_for`), so mu and gamma act on
         felt amplitude rather than drive. Off (the paper's: on drive) by default; without a
         response curve it changes nothing.
+    compensate_motors : bool
+        Motor-aware drive (:mod:`~tactile_core.rendering.motor_drive`): after the correction
+        and before quantisation, each lit tactor's drive pre-compensates its motor's
+        first-order lag (the device profile's ``motor`` constants): overdrive while it spins
+        up, off while it runs down, within [0, 1]. Off (the paper's pipeline) by default;
+        without motor constants in the profile it changes nothing.
     epoch : int
         Changing it restarts the trace from its beginning.
     hold_s : float or None
@@ -101,6 +107,7 @@ class Scene:
     gain: float = 1.0
     emphasis: float = 0.0
     felt_domain: bool = False
+    compensate_motors: bool = False
     epoch: int = 0
     hold_s: float | None = None
     source: object = None
@@ -131,7 +138,7 @@ class Scene:
         object.__setattr__(
             self, "subsamples", _validate.integer("subsamples", self.subsamples, 1, 1024)
         )
-        for name in ("repeat", "dither", "playing", "felt_domain"):
+        for name in ("repeat", "dither", "playing", "felt_domain", "compensate_motors"):
             object.__setattr__(self, name, _validate.boolean(name, getattr(self, name)))
         object.__setattr__(self, "gain", _validate.in_range("gain", self.gain, 0.0, 1.0))
         object.__setattr__(
@@ -202,30 +209,36 @@ class Pipeline:
         Sub-samples of the box filter (1 for point sampling).
     dither : bool
         Temporal dithering of the quantisation (error feedback per tactor).
+    compensate_motors : bool
+        Motor-aware drive (see :class:`Scene`); off, as the paper ran, by default.
     """
 
     rate_hz: float = 300.0
     filter: str = "point"
     subsamples: int = 1
     dither: bool = False
+    compensate_motors: bool = False
 
     def __post_init__(self):
         Scene(None, rate_hz=self.rate_hz, filter=self.filter, subsamples=self.subsamples)
         object.__setattr__(self, "rate_hz", float(self.rate_hz))
         object.__setattr__(self, "subsamples", int(self.subsamples))
-        if not isinstance(self.dither, bool):
-            raise ValueError(f"dither must be true or false, got {_validate.shown(self.dither)}")
+        for name in ("dither", "compensate_motors"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name} must be true or false, got "
+                                 f"{_validate.shown(getattr(self, name))}")  # fmt: skip
 
     def apply(self, scene: Scene) -> Scene:
-        """``scene`` with this pipeline's rate, filter and dithering."""
-        return scene.replace(
-            rate_hz=self.rate_hz, filter=self.filter, subsamples=self.subsamples, dither=self.dither
-        )
+        """``scene`` with this pipeline's rate, filter, dithering and motor-aware drive."""
+        return scene.replace(rate_hz=self.rate_hz, filter=self.filter, subsamples=self.subsamples,
+                             dither=self.dither,
+                             compensate_motors=self.compensate_motors)  # fmt: skip
 
     @property
     def is_paper(self) -> bool:
-        """True for point sampling and plain rounding, as the paper ran."""
-        return self.filter == "point" and not self.dither
+        """True for point sampling and plain rounding without motor-aware drive, as the paper
+        ran."""
+        return self.filter == "point" and not self.dither and not self.compensate_motors
 
     def to_dict(self) -> dict:
         """The JSON form (what ``session.json`` records)."""
@@ -234,20 +247,24 @@ class Pipeline:
             "filter": self.filter,
             "subsamples": self.subsamples if self.filter == "box" else 1,
             "dither": self.dither,
+            "compensate_motors": self.compensate_motors,
         }
 
     @classmethod
     def from_dict(cls, data, source: str = "pipeline") -> Pipeline:
-        """Validate the JSON form; ``ValueError`` names the field."""
+        """Validate the JSON form; ``ValueError`` names the field. ``compensate_motors`` may
+        be missing (sessions recorded before it existed ran without it)."""
         if not isinstance(data, dict):
             raise ValueError(f"{source} must be an object, got {type(data).__name__}")
         kwargs = {}
         for key, kinds in (("rate_hz", (int, float)), ("filter", str), ("subsamples", int),
-                           ("dither", bool)):  # fmt: skip
+                           ("dither", bool), ("compensate_motors", bool)):  # fmt: skip
             if key not in data:
+                if key == "compensate_motors":
+                    continue
                 raise ValueError(f"{source}.{key} is missing")
             value = data[key]
-            wrong_bool = isinstance(value, bool) and key != "dither"
+            wrong_bool = isinstance(value, bool) and key not in ("dither", "compensate_motors")
             if wrong_bool or not isinstance(value, kinds):
                 raise ValueError(f"{source}.{key} has the wrong type: {_validate.shown(value)}")
             kwargs[key] = value

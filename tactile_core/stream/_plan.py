@@ -18,6 +18,7 @@ import numpy as np
 from ..device.profile import DeviceProfile
 from ..device.wire import KEEPALIVE_S
 from ..rendering.correction import Dither, quantize1
+from ..rendering.motor_drive import LiveMotorDrive
 from ..rendering.scene import Scene
 
 
@@ -64,6 +65,8 @@ class _Plan:
         # Felt-amplitude correction: the drive is the motor response's inverse of the value.
         self.inverse = (profile.drive_for1 if self.active and scene.felt_domain
                         and profile.response is not None else None)  # fmt: skip
+        # Motor-aware drive: the motors whose lag the drive pre-compensates (None: plain).
+        self.motor = profile.motor if self.active and scene.compensate_motors else None
         self.period = 1.0 / self.rate
         # At any rate a frame goes out at least every KEEPALIVE_S (repeating the last one), so
         # the array's 250 ms watchdog never trips while the host is alive; the ticks divide
@@ -90,6 +93,10 @@ class _Plan:
                 f"requested, the link carries {self.max_rate:.0f} frames/s ({why})"
             )
         note = f" ({priority_note})" if priority_note else ""
+        if self.motor is not None:
+            note += ", motor-aware drive"
+        elif self.scene.compensate_motors:
+            note += f", plain drive: profile {profile.name} has no motor constants ('motor')"
         return "streaming", (
             f"streaming {self.scene.method} at {self.rate:g} Hz to {link.description}{note}"
         )
@@ -99,9 +106,14 @@ class _ChannelLevels:
     """A frame as device levels in channel order, and back on the grid for display.
 
     Per lit tactor of a plan's frame: the inverse of the motor response (felt-amplitude
-    correction, if the plan has one), the profile's calibration ``clip(offset + gain * I, 0,
-    1)``, then quantisation to the profile's levels, by rounding or by temporal dithering per
-    channel.
+    correction, if the plan has one), motor-aware drive (if the plan has motors to compensate),
+    the profile's calibration ``clip(offset + gain * I, 0, 1)`` of a driven tactor, then
+    quantisation to the profile's levels, by rounding or by temporal dithering per channel.
+
+    Motor-aware drive carries its motors' state from frame to frame and across plans (the
+    motors go on spinning when a slider moves): one frame period per frame, the periods of
+    skipped deadlines, and the time a paused or idle plan held them off. A plan with plain
+    drive forgets the state (the next motor-aware frame starts from motors at rest).
     """
 
     def __init__(self, profile: DeviceProfile):
@@ -112,6 +124,33 @@ class _ChannelLevels:
         self._cell_of_channel = profile.array.channel_index
         self._offset = None if profile.offset is None else list(profile.offset)
         self._gain = None if profile.gain is None else list(profile.gain)
+        self._drive: LiveMotorDrive | None = None
+        self._drive_at = None  # (plan, k) of the last motor-aware frame
+        self._off_since = None  # when a paused or idle plan turned the motors off (plan.since)
+
+    def _motor_aware(self, plan: _Plan, k: int, entries) -> list:
+        """The motor-aware drive of frame ``k``'s entries (see the class notes)."""
+        drive = self._drive
+        if drive is None or drive.motor is not plan.motor:
+            drive = self._drive = LiveMotorDrive(plan.motor, self.profile.layout.size)
+            self._drive_at = self._off_since = None
+        if self._off_since is not None:
+            drive.coast(plan.since - self._off_since)
+            self._off_since = None
+        last = self._drive_at
+        held = k - last[1] if last is not None and last[0] is plan and k > last[1] else 1
+        drive.set_rate(plan.rate)
+        self._drive_at = (plan, k)
+        return drive.frame(entries, held)
+
+    def _plain(self, plan: _Plan) -> None:
+        """A frame without motor-aware drive: off (the motors coast from now) or plain."""
+        if plan.live is None:
+            if self._off_since is None and self._drive_at is not None:
+                self._off_since = plan.since
+            self._drive_at = None
+        else:
+            self._drive = self._drive_at = self._off_since = None
 
     def levels(self, plan: _Plan, k: int, dither: Dither | None, lit_before: set) -> tuple:
         """Levels of frame ``k`` of ``plan``: a ``bytearray`` with one level per channel, and
@@ -120,16 +159,24 @@ class _ChannelLevels:
         n = self.profile.channels
         levels = bytearray(n)
         lit = set()
+        if plan.motor is None and self._drive is not None:
+            self._plain(plan)
         if plan.live is None:
             return levels, lit
         top = self.profile.levels - 1
         offset, gain = self._offset, self._gain
         channel_of_cell = self._channel_of_cell
         inverse = plan.inverse
-        for cell, value in plan.live.entries(k):
+        entries = plan.live.entries(k)
+        if plan.motor is not None:
+            if inverse is not None:  # the drive wanted, then what gets the motor there
+                entries = [(cell, inverse(value)) for cell, value in entries]
+                inverse = None
+            entries = self._motor_aware(plan, k, entries)
+        for cell, value in entries:
             if inverse is not None:
                 value = inverse(value)
-            if offset is not None:
+            if offset is not None and value > 0.0:  # (motor-aware drive off stays off)
                 value = min(max(offset[cell] + gain[cell] * value, 0.0), 1.0)
             ch = channel_of_cell[cell]
             level = dither.level1(ch, value) if dither is not None else quantize1(value, top + 1)

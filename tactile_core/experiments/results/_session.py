@@ -157,6 +157,8 @@ class Session:
             self.save()
             return
         for key in ("pipeline", "conditions", "device_profile"):
+            if _same(key, old.get(key), record.get(key)):
+                continue
             if old.get(key) != record.get(key):
                 raise SessionError(
                     f"{self.path}: {experiment} was started with {key} {_short(old.get(key))}; "
@@ -169,6 +171,17 @@ class Session:
         data = asdict(self)
         data.pop("folder")
         write_json_atomic(self.path, data)
+
+
+def _same(key: str, old, new) -> bool:
+    """Whether two recorded pipelines are the same: one recorded before ``compensate_motors``
+    existed is the same as one without it."""
+    if key != "pipeline":
+        return False
+    try:
+        return Pipeline.from_dict(old) == Pipeline.from_dict(new)
+    except ValueError:
+        return False
 
 
 def _short(value) -> str:
@@ -233,8 +246,8 @@ def session_from_dict(data, path) -> Session:
                 f"{_short({name: order})}"
             )
     if "pipeline" in kwargs:
-        try:
-            Pipeline.from_dict(kwargs["pipeline"], source="pipeline")
+        try:  # in full: one recorded before a field existed says what it ran
+            kwargs["pipeline"] = Pipeline.from_dict(kwargs["pipeline"], source="pipeline").to_dict()
         except ValueError as exc:
             raise SessionError(f"{path}: field {exc}") from None
     for name, record in kwargs.get("runs", {}).items():
