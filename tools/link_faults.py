@@ -1,7 +1,7 @@
 """Faults between ``tactile stream`` and an array, measured from outside (issue 31, F2-F4).
 
     python tools/link_faults.py stalls [--stalls 40] [--socket]
-    python tools/link_faults.py socket [--seconds 25] [--rate 300]
+    python tools/link_faults.py socket [--seconds 25] [--rate 300] [--pty]
     python tools/link_faults.py delayed [--seconds 20] [--delay-ms 300]
     python tools/link_faults.py reset [--seconds 24] [--reset-at 16]
     python tools/link_faults.py reconnect [--seconds 16] [--reconnect-at 8]
@@ -14,7 +14,8 @@ stalls: SIGSTOP and SIGCONT of the streaming process, each stall 0.25-2 s with 0
 running between; a stream that ends is restarted. Counts the stalls that ended a stream, and
 the array's sequence gaps.
 
-socket: a stream straight into ``tactile emulate --socket``: timed frames the array played late.
+socket: a stream straight into ``tactile emulate --socket`` (``--pty``: a pseudo-terminal, to
+compare): timed frames the array played late.
 
 delayed: a TCP proxy between the two that, from ``--delay-after`` s in (after the start-up
 burst), holds every byte from the array 300 ms (its clock replies): late frames, what the host
@@ -44,7 +45,8 @@ import threading
 import time
 from pathlib import Path
 
-CLI = [sys.executable, "-m", "tactile_core.cli"]
+CLI = [sys.executable, "-m", "tactile_core.cli"]  # (the code of the working folder: run it from an
+# older checkout to measure that one)
 
 
 class Emulator:
@@ -233,7 +235,7 @@ def cmd_stalls(args, folder: Path) -> None:
 
 
 def cmd_socket(args, folder: Path) -> None:
-    emu = Emulator(folder, "socket", "--socket")
+    emu = Emulator(folder, "socket", *([] if args.pty else ["--socket"]))
     proc = start_stream(emu.path, "--seconds", str(args.seconds), "--rate", str(args.rate))
     rc, out, _ = end_stream_after(proc, args.seconds + 30)
     report, _ = emu.finish()
@@ -344,6 +346,7 @@ def main() -> None:
     p = sub.add_parser("socket")
     p.add_argument("--seconds", type=float, default=25.0)
     p.add_argument("--rate", type=float, default=300.0)
+    p.add_argument("--pty", action="store_true", help="a pseudo-terminal instead, to compare")
     p = sub.add_parser("delayed")
     p.add_argument("--seconds", type=float, default=24.0)
     p.add_argument("--delay-ms", type=float, default=300.0)

@@ -38,6 +38,12 @@ socket's reset in a ``SerialException`` ("read failed: [Errno 104] Connection re
 and which of the two a refused second client sees is a race."""
 
 
+_GONE_TEXTS = ("write failed", "read failed", "returned no data")
+"""How pyserial says a device went away when it gives no errno: a failed write or read, and a
+port that "reports readiness to read but returned no data" (a pseudo-terminal whose other end
+closed, an unplugged adapter)."""
+
+
 def _explain(exc: BaseException, url: str) -> str:
     """Turn a pyserial/OS error into a short status line."""
     code = getattr(exc, "errno", None)
@@ -55,7 +61,9 @@ def _explain(exc: BaseException, url: str) -> str:
     if code in (errno.ECONNRESET, errno.ECONNABORTED) or any(r in text for r in _RESET_TEXTS):
         return (f"device disconnected: {url} closed the connection (an array serves one host "
                 f"at a time: is another program connected to it?)")  # fmt: skip
-    if code in (errno.EIO, errno.ENXIO, errno.ENODEV, errno.EPIPE) or "write failed" in text:
+    if code in (errno.EIO, errno.ENXIO, errno.ENODEV, errno.EPIPE) or any(
+        words in text for words in _GONE_TEXTS
+    ):
         return f"device disconnected: {url} ({text})"
     if isinstance(exc, ValueError):
         return f"invalid device URL {url!r}: {text}"
@@ -370,9 +378,12 @@ def identify(link, profile: DeviceProfile, seq: int = 0, timeout_s: float = HELL
     return info, ""
 
 
-def open_link(url: str | None, profile: DeviceProfile | None = None, **kwargs):
+def open_link(url: str | None, profile: DeviceProfile | None = None, *,
+              open_timeout_s: float | None = None, **kwargs):  # fmt: skip
     """Open a link: the simulated array for None or ``"sim"``, an audio interface for
-    ``audio:...`` (:class:`~.audio.AudioLink`), else a :class:`SerialLink`."""
+    ``audio:...`` (:class:`~.audio.AudioLink`, given up after ``open_timeout_s`` seconds if
+    set, else its own :data:`~.audio.OPEN_DEVICE_TIMEOUT_S`), else a :class:`SerialLink`
+    (``kwargs``: its own)."""
     from ._audio_url import is_audio_url
 
     profile = profile or default_profile()
@@ -387,5 +398,7 @@ def open_link(url: str | None, profile: DeviceProfile | None = None, **kwargs):
     if is_audio_url(url):
         from .audio import AudioLink
 
-        return AudioLink(url, profile)
+        if open_timeout_s is None:
+            return AudioLink(url, profile)
+        return AudioLink(url, profile, open_timeout_s=open_timeout_s)
     return SerialLink(url, baud=profile.baud, **kwargs)
