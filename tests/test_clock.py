@@ -90,3 +90,28 @@ def test_the_wrap_of_the_arrays_clock_is_invisible():
 def test_before_any_exchange_the_error_is_unbounded():
     clock = ArrayClock()
     assert not clock.synced and clock.error_s == float("inf")
+
+
+def test_a_restarted_arrays_clock_is_a_jump_and_a_slow_or_paused_exchange_is_not():
+    array = ModelArray(offset_s=40.0, drift_ppm=30.0)  # an array up for 40 s
+    clock = ArrayClock(byte_s=BYTE_S)
+    for k in range(40):
+        array.exchange(clock, t0=k * 0.25, up_s=150e-6, down_s=150e-6)
+
+    def measured(model, t0, up_s, down_s):
+        arrive = t0 + up_s + 6 * BYTE_S
+        t3 = arrive + 100e-6 + 23 * BYTE_S + down_s
+        reply = ClockReply(0, model.us(arrive), model.us(arrive + 100e-6), 0, 0, 0)
+        return clock.measure(t0, t3, reply)
+
+    # an answer held up 300 ms on its way back, a host paused 2 s with a request out: both only
+    # widen what the exchange can say (half its delay), neither is a jump
+    assert clock.jump_s(measured(array, 10.0, 150e-6, 0.3)) == 0.0
+    assert clock.jump_s(measured(array, 10.25, 2.0, 150e-6)) == 0.0
+    assert clock.jump_s(measured(array, 10.5, 150e-6, 150e-6)) == 0.0
+    # the array starts again at host time 10.6: its clock reads 0 there where the old one would
+    # have read 40 s + 10.6 s (the same crystal: the drifts cancel)
+    restarted = ModelArray(offset_s=-10.6, drift_ppm=30.0)
+    jump = clock.jump_s(measured(restarted, 10.75, 150e-6, 150e-6))
+    assert jump == pytest.approx(-(40.0 + 10.6), abs=1e-3)
+    assert len(clock.samples) == 40  # measuring records nothing

@@ -105,6 +105,8 @@ def test_unplugged_device_says_disconnected(pty_pair):
                 time.sleep(0.01)
         with pytest.raises(LinkError):  # and again: a dead link stays an error, no crash
             link.write(b"\x00")
+        with pytest.raises(LinkError, match=r"^device disconnected: "):  # reading it, too
+            link.read()
     finally:
         link.close()
 
@@ -138,6 +140,16 @@ def test_reopen_after_close_and_close_is_idempotent(pty_pair):
             "closed the connection (an array serves one host",
         ),
         (ConnectionResetError(errno.ECONNRESET, "Connection reset by peer"), "closed the"),
+        # what a read of a port whose other end has gone raises (the link reads until a port
+        # has nothing more, so an unplug may show there before a write)
+        (
+            serial.SerialException(
+                "device reports readiness to read but returned no data (device disconnected or "
+                "multiple access on port?)"
+            ),
+            "device disconnected",
+        ),
+        (serial.SerialException("read failed: [Errno 5] Input/output error"), "disconnected"),
     ],
 )
 def test_error_explanations(exc, words):

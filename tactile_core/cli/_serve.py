@@ -158,8 +158,12 @@ def open_outputs(args, profile, rate_hz: float):
     except LslError as exc:
         print(f"tactile {args.command}: error: {exc}", file=sys.stderr)
         return None
+    from ..device.audio import OPEN_DEVICE_TIMEOUT_S
+
+    seconds = getattr(args, "seconds", None)  # no longer than the run: an opening may hang
+    timeout_s = OPEN_DEVICE_TIMEOUT_S if seconds is None else min(OPEN_DEVICE_TIMEOUT_S, seconds)
     try:
-        return lsl, open_link(args.device, profile)
+        return lsl, open_link(args.device, profile, open_timeout_s=timeout_s)
     except LinkError as exc:
         print(f"tactile {args.command}: {exc}", file=sys.stderr)
         if lsl is not None:

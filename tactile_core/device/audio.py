@@ -24,6 +24,7 @@ callback reads it once per block) and a few numbers each of them alone writes.
 from __future__ import annotations
 
 import atexit
+import math
 import threading
 import weakref
 
@@ -48,17 +49,57 @@ from .array import ArrayModel
 from .host_clock import HostClock
 from .profile import DeviceProfile, default_profile
 
+_WHAT_TO_CHECK = (
+    "is it plugged in and not held by another program? For ALSA's file plugin: does something "
+    "read the file it writes? A named pipe without a reader blocks its opening"
+)
+
 BLOCK = 256
 """Samples per callback: 5.3 ms at 48 kHz."""
 STALL_S = 0.5
 """A stream whose callback has not run for this long is taken for a device that vanished."""
 OPEN_TIMEOUT_S = 0.5
 """Opening waits at most this long for the stream to run steadily (its clock map locked)."""
+OPEN_DEVICE_TIMEOUT_S = 5.0
+"""Opening the device (PortAudio's check of the settings, then the stream) may take this long:
+an opening that never returns (ALSA's ``file`` plugin writing into a named pipe nobody reads
+waits in ``open(2)``) is given up, and said."""
 FADE_TIMEOUT_S = 0.5
 """Closing waits at most this long for the callback to fade out and play silence."""
 
 _OPEN: weakref.WeakSet = weakref.WeakSet()
 _EXIT_HOOK: list = []
+_STUCK: list[threading.Thread] = []
+"""Openings given up on that are still waiting in the system: PortAudio is not to be asked
+anything else meanwhile (it is not safe from two threads at once)."""
+
+
+def _still_stuck() -> bool:
+    _STUCK[:] = [t for t in _STUCK if t.is_alive()]
+    return bool(_STUCK)
+
+
+def _within(timeout_s: float, call, gave_up):
+    """``call()`` on a thread of its own, waited for ``timeout_s`` seconds; past that the
+    thread is left waiting (in :data:`_STUCK`) and ``gave_up()`` (a :class:`LinkError`) is
+    raised. Whatever ``call`` raises is raised here."""
+    done: dict = {}
+
+    def run():
+        try:
+            done["value"] = call()
+        except BaseException as exc:  # handed to the caller
+            done["error"] = exc
+
+    thread = threading.Thread(target=run, name="tactile-audio-open", daemon=True)
+    thread.start()
+    thread.join(timeout_s)
+    if thread.is_alive():
+        _STUCK.append(thread)
+        raise gave_up()
+    if "error" in done:
+        raise done["error"]
+    return done["value"]
 
 
 def _close_all() -> None:
@@ -87,7 +128,7 @@ def audio_outputs(rescan: bool = False) -> list[tuple[str, str]]:
     """
     try:
         sd = load_sounddevice()
-        if rescan and not _OPEN and hasattr(sd, "_terminate"):
+        if rescan and not _OPEN and not _still_stuck() and hasattr(sd, "_terminate"):
             sd._terminate()
             sd._initialize()
         devices = output_devices(sd)
@@ -141,22 +182,33 @@ class AudioLink:
     clock : HostClock, optional
         The host's clock (``time.perf_counter``); the tests drive a fake stream on a
         :class:`~.host_clock.VirtualClock`.
+    open_timeout_s : float
+        Opening the device (each time, reopening too) is given up after this many seconds
+        (real time, > 0; :data:`OPEN_DEVICE_TIMEOUT_S` by default).
 
     Raises
     ------
     LinkError
-        A bad URL (naming the key), no PortAudio, no such device, or a device that cannot play
-        the channels at the samplerate (listing what it supports).
+        A bad URL (naming the key), no PortAudio, no such device, a device that cannot play
+        the channels at the samplerate (listing what it supports), or one that does not open
+        within ``open_timeout_s``.
     TypeError
         A ``profile`` that is not a :class:`~.profile.DeviceProfile`.
+    ValueError
+        An ``open_timeout_s`` that is not a positive number of seconds.
     """
 
     byte_s = 0.0
     """Seconds a byte takes on this link: none, it is received in-process."""
 
-    def __init__(self, url: str, profile: DeviceProfile | None = None, *, clock=None):
+    def __init__(self, url: str, profile: DeviceProfile | None = None, *, clock=None,
+                 open_timeout_s: float = OPEN_DEVICE_TIMEOUT_S):  # fmt: skip
         if profile is not None and not isinstance(profile, DeviceProfile):
             raise TypeError(f"profile must be a DeviceProfile, got {type(profile).__name__}")
+        if not (isinstance(open_timeout_s, (int, float)) and 0 < open_timeout_s < math.inf):
+            raise ValueError(f"open_timeout_s must be a positive number of seconds, got "
+                             f"{open_timeout_s!r}")  # fmt: skip
+        self.open_timeout_s = float(open_timeout_s)
         self.url = url
         self.profile = profile or default_profile()
         self.settings = parse_audio_url(url)
@@ -188,6 +240,11 @@ class AudioLink:
     def reopen(self) -> None:
         """(Re)open the output stream; :class:`LinkError` with the reason if it cannot."""
         self.close()
+        if _still_stuck():
+            raise LinkError(
+                f"audio device for {self.url!r} not opened: an earlier opening still waits in "
+                f"the system ({_WHAT_TO_CHECK})"
+            )
         sd = self._sd = load_sounddevice()
         device = find_device(sd, self.settings.device)
         rate = self.settings.samplerate or round(device["default_samplerate"])
@@ -202,7 +259,17 @@ class AudioLink:
             if self.settings.channels
             else (f"the {profile.channels} actuators of the profile {profile.name}")
         )
-        check_device(sd, device, self.channels, rate, asked=asked)
+
+        def gave_up():
+            return LinkError(
+                f"audio device {device['name']!r} did not open within "
+                f"{self.open_timeout_s:g} s: PortAudio still waits in the system "
+                f"({_WHAT_TO_CHECK})"
+            )
+
+        opened_by = self._clock.now() + self.open_timeout_s  # both openings together
+        _within(self.open_timeout_s, lambda: check_device(sd, device, self.channels, rate,
+                                                          asked=asked), gave_up)  # fmt: skip
         self.device, self.samplerate = device, rate
         self.player = Player(self.carrier_hz, rate, ramp_s=self.ramp_s, outputs=self.channels,
                              top=self.profile.levels - 1)  # fmt: skip
@@ -211,6 +278,21 @@ class AudioLink:
         self._finished = False
         self.underflows = 0
         self._late_taken = 0
+        left = max(opened_by - self._clock.now(), 0.05)
+        self._stream = stream = _within(left, lambda: self._start(sd, device, rate), gave_up)
+        deadline = self._clock.now() + OPEN_TIMEOUT_S  # frames wait for a steady stream
+        while not self.player.clock.locked and self._clock.now() < deadline and _active(stream):
+            self._clock.sleep(0.002)
+        self.description = (
+            f"{self.url} ({device['name']}, {self.channels} channels at {rate} Hz, latency "
+            f"{self.latency_s * 1e3:.1f} ms)"
+        )
+        _OPEN.add(self)
+        if not _EXIT_HOOK:  # after sounddevice's own hook, so that it runs before it
+            _EXIT_HOOK.append(atexit.register(_close_all))
+
+    def _start(self, sd, device: dict, rate: int):
+        """Open and start the output stream (on the opening's thread); :class:`LinkError`."""
         stream = None
         try:
             stream = sd.OutputStream(
@@ -235,17 +317,7 @@ class AudioLink:
                 f"cannot open audio device {device['name']!r} ({self.channels} channels at "
                 f"{rate} Hz): {exc}"
             ) from None
-        self._stream = stream
-        deadline = self._clock.now() + OPEN_TIMEOUT_S  # frames wait for a steady stream
-        while not self.player.clock.locked and self._clock.now() < deadline and _active(stream):
-            self._clock.sleep(0.002)
-        self.description = (
-            f"{self.url} ({device['name']}, {self.channels} channels at {rate} Hz, latency "
-            f"{self.latency_s * 1e3:.1f} ms)"
-        )
-        _OPEN.add(self)
-        if not _EXIT_HOOK:  # after sounddevice's own hook, so that it runs before it
-            _EXIT_HOOK.append(atexit.register(_close_all))
+        return stream
 
     @property
     def max_rate_hz(self) -> float:

@@ -29,6 +29,11 @@ from dataclasses import dataclass
 
 from .wire import CLOCK_WRAP, ClockReply, clock_diff
 
+JUMP_MARGIN_S = 0.005
+"""What :meth:`ArrayClock.jump_s` allows beyond the errors an exchange and the fit state: more
+than a 100 ppm crystal drifts over the 16 s of a fit's window, and than the bias of a link
+whose bytes take no line time (a clock exchange's 29 bytes at 115200 baud are 2.5 ms)."""
+
 
 @dataclass(frozen=True)
 class ClockSample:
@@ -76,8 +81,10 @@ class ArrayClock:
         self.drift_after_s = drift_after_s
         self._fit = (0.0, 0.0, 0.0, math.inf)  # offset at t_ref, drift, t_ref, error
 
-    def add(self, t0: float, t3: float, reply: ClockReply) -> ClockSample:
-        """Record one exchange: request written at host time ``t0``, reply read at ``t3``."""
+    def measure(self, t0: float, t3: float, reply: ClockReply) -> ClockSample:
+        """One exchange's offset and delay, without recording it: request written at host time
+        ``t0``, reply read at ``t3``; the offset unwrapped to the reading nearest the last one
+        recorded."""
         rx_s, tx_s = reply.rx_us * 1e-6, reply.tx_us * 1e-6
         offset = ((rx_s - t0 - self.s_request) + (tx_s + self.s_reply - t3)) / 2
         delay = (t3 - t0) - ((reply.tx_us - reply.rx_us) % CLOCK_WRAP) * 1e-6
@@ -85,10 +92,31 @@ class ArrayClock:
         if self.samples:  # unwrap: the reading nearest to the last offset
             last = self.samples[-1].offset_s
             offset = last + clock_diff(round(offset * 1e6), round(last * 1e6)) * 1e-6
-        sample = ClockSample((t0 + t3) / 2, offset, max(delay, 0.0))
+        return ClockSample((t0 + t3) / 2, offset, max(delay, 0.0))
+
+    def add(self, t0: float, t3: float, reply: ClockReply) -> ClockSample:
+        """Record one exchange: request written at host time ``t0``, reply read at ``t3``."""
+        sample = self.measure(t0, t3, reply)
         self.samples.append(sample)
         self._refit()
         return sample
+
+    def jump_s(self, sample: ClockSample) -> float:
+        """How far ``sample`` (from :meth:`measure`) puts the array's clock from where the
+        exchanges so far put it, when no error allows that (seconds; 0 when it agrees).
+
+        The true offset lies within half an exchange's delay of the offset it measured, and
+        the fit's within :attr:`error_s` of it; beyond both, and :data:`JUMP_MARGIN_S` for the
+        drift since, the array's clock itself moved: the array restarted (its clock counts from
+        its start), or the host's clock stood still while the array's ran on (a suspend). An
+        exchange spanning a host pause has a delay as long, so a pause is never a jump.
+        Negative: the array's clock went back.
+        """
+        if not self.samples:
+            return 0.0
+        moved = sample.offset_s - self.offset_at(sample.host_s)
+        allowed = sample.delay_s / 2 + self.error_s + JUMP_MARGIN_S
+        return moved if abs(moved) > allowed else 0.0
 
     @property
     def synced(self) -> bool:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import errno
 import os
+import select
 import socket
 import threading
 import time
@@ -37,6 +38,12 @@ socket's reset in a ``SerialException`` ("read failed: [Errno 104] Connection re
 and which of the two a refused second client sees is a race."""
 
 
+_GONE_TEXTS = ("write failed", "read failed", "returned no data")
+"""How pyserial says a device went away when it gives no errno: a failed write or read, and a
+port that "reports readiness to read but returned no data" (a pseudo-terminal whose other end
+closed, an unplugged adapter)."""
+
+
 def _explain(exc: BaseException, url: str) -> str:
     """Turn a pyserial/OS error into a short status line."""
     code = getattr(exc, "errno", None)
@@ -54,11 +61,40 @@ def _explain(exc: BaseException, url: str) -> str:
     if code in (errno.ECONNRESET, errno.ECONNABORTED) or any(r in text for r in _RESET_TEXTS):
         return (f"device disconnected: {url} closed the connection (an array serves one host "
                 f"at a time: is another program connected to it?)")  # fmt: skip
-    if code in (errno.EIO, errno.ENXIO, errno.ENODEV, errno.EPIPE) or "write failed" in text:
+    if code in (errno.EIO, errno.ENXIO, errno.ENODEV, errno.EPIPE) or any(
+        words in text for words in _GONE_TEXTS
+    ):
         return f"device disconnected: {url} ({text})"
     if isinstance(exc, ValueError):
         return f"invalid device URL {url!r}: {text}"
     return f"link error on {url}: {text or type(exc).__name__}"
+
+
+READ_CHUNK_BYTES = 4096
+"""Bytes asked of the port at a time by :meth:`SerialLink.read`."""
+READ_MAX_BYTES = 1 << 16
+"""The most :meth:`SerialLink.read` returns at once (a device that sends without end cannot
+keep the output thread reading)."""
+
+
+def _how_writes_wait(port) -> str:
+    """How a port's writes wait for room: ``"own"`` (:meth:`SerialLink._write_all` waits on
+    the descriptor: a serial port, ``spy://``, ``socket://``), ``"rfc2217"`` (pyserial's RFC 2217
+    client, which takes no write timeout) or ``"pyserial"`` (``loop://``, Windows ports)."""
+    module = type(port).__module__
+    if module.endswith("protocol_socket"):
+        return "own"
+    if module.endswith("rfc2217"):
+        return "rfc2217"
+    if os.name == "posix" and isinstance(port, serial.serialposix.Serial):
+        return "own"
+    return "pyserial"
+
+
+def _write_fileno(port) -> int | None:
+    """The descriptor to wait on for room to write (the port is open)."""
+    sock = getattr(port, "_socket", None)
+    return sock.fileno() if sock is not None else port.fd
 
 
 class SerialLink:
@@ -72,7 +108,9 @@ class SerialLink:
     baud : int
         Link speed, 8N1.
     write_timeout_s : float
-        A write that cannot complete within this time fails with "write timeout".
+        A write that makes no progress for this long (the port takes no byte: a device that
+        stopped reading) fails with "write timeout". A write that completed never does, however
+        long the host was paused during it.
 
     Raises
     ------
@@ -85,6 +123,7 @@ class SerialLink:
         self.baud = baud
         self.write_timeout_s = write_timeout_s
         self._port = None
+        self._write_fd = None
         self._lock = threading.Lock()
         self.reopen()
 
@@ -97,13 +136,12 @@ class SerialLink:
         """(Re)open the port; raises :class:`LinkError` with the reason if it cannot."""
         self.close()
         try:
-            port = serial.serial_for_url(
-                self.url,
-                baudrate=self.baud,
-                timeout=0,
-                write_timeout=self.write_timeout_s,
-                do_not_open=True,
-            )
+            port = serial.serial_for_url(self.url, baudrate=self.baud, timeout=0,
+                                         do_not_open=True)  # fmt: skip
+            waits = _how_writes_wait(port)
+            # Our own waiting: each write takes what fits. rfc2217:// refuses any write
+            # timeout (its writes wait in the socket's own, 5 s); loop:// keeps pyserial's.
+            port.write_timeout = {"own": 0, "rfc2217": None}.get(waits, self.write_timeout_s)
             if hasattr(port, "exclusive") and not self.url.startswith(("loop://", "socket://")):
                 try:
                     port.exclusive = True  # fail on a port another program holds (POSIX)
@@ -114,7 +152,8 @@ class SerialLink:
             if sock is not None:
                 # Frames are small and due now: no waiting for the last one's acknowledgement.
                 sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        except (serial.SerialException, OSError, ValueError) as exc:
+            self._write_fd = _write_fileno(port) if waits == "own" else None
+        except (serial.SerialException, OSError, ValueError, NotImplementedError) as exc:
             raise LinkError(_explain(exc, self.url)) from None
         self._port = port
 
@@ -125,20 +164,54 @@ class SerialLink:
             if port is None:
                 raise LinkError(f"not connected: {self.url}")
             try:
-                port.write(data)
+                if self._write_fd is None:
+                    port.write(data)  # loop://, rfc2217://: pyserial waits
+                else:
+                    self._write_all(port, data)
             except (serial.SerialException, OSError, ValueError) as exc:
                 raise LinkError(_explain(exc, self.url)) from None
 
+    def _write_all(self, port, data: bytes) -> None:
+        """Write ``data`` in the pieces the port takes, waiting for room between them; a
+        timeout only after ``write_timeout_s`` without room for a byte.
+
+        pyserial's own write (3.5) starts its timer before writing and looks at it after: a
+        host paused between the two (SIGSTOP, a VM pause, a swap storm) turned a write that had
+        completed into "write timeout" and ended the stream, though the device read all along.
+        Here only a device that takes nothing for the whole timeout is one, and that is judged
+        by ``select`` on the port, asked twice: a host that was paused through the first wait
+        finds the room the device made meanwhile on the second look.
+        """
+        view = memoryview(data)
+        while view:
+            _, ready, _ = select.select([], [self._write_fd], [], self.write_timeout_s)
+            if not ready:
+                _, ready, _ = select.select([], [self._write_fd], [], 0)
+            if not ready:
+                raise serial.SerialTimeoutException("Write timeout")
+            view = view[port.write(view) or 0 :]
+
     def read(self) -> bytes:
-        """The bytes received so far (without waiting); :class:`LinkError` on failure."""
+        """The bytes received so far (without waiting); :class:`LinkError` on failure.
+
+        Everything that has arrived, on every transport: pyserial's ``in_waiting`` is a byte
+        count only on a serial port (``socket://`` answers 1 when anything is there, and an
+        ``rfc2217://`` read without waiting returns one byte), so the port is read until it has
+        nothing more, up to :data:`READ_MAX_BYTES` a call.
+        """
         port = self._port
         if port is None:
             raise LinkError(f"not connected: {self.url}")
+        data = bytearray()
         try:
-            waiting = port.in_waiting
-            return port.read(waiting) if waiting else b""
+            while len(data) < READ_MAX_BYTES:
+                chunk = port.read(READ_CHUNK_BYTES)
+                if not chunk:
+                    break
+                data += chunk
         except (serial.SerialException, OSError, ValueError) as exc:
             raise LinkError(_explain(exc, self.url)) from None
+        return bytes(data)
 
     def close(self) -> None:
         """Close the port (idempotent; never raises)."""
@@ -305,9 +378,12 @@ def identify(link, profile: DeviceProfile, seq: int = 0, timeout_s: float = HELL
     return info, ""
 
 
-def open_link(url: str | None, profile: DeviceProfile | None = None, **kwargs):
+def open_link(url: str | None, profile: DeviceProfile | None = None, *,
+              open_timeout_s: float | None = None, **kwargs):  # fmt: skip
     """Open a link: the simulated array for None or ``"sim"``, an audio interface for
-    ``audio:...`` (:class:`~.audio.AudioLink`), else a :class:`SerialLink`."""
+    ``audio:...`` (:class:`~.audio.AudioLink`, given up after ``open_timeout_s`` seconds if
+    set, else its own :data:`~.audio.OPEN_DEVICE_TIMEOUT_S`), else a :class:`SerialLink`
+    (``kwargs``: its own)."""
     from ._audio_url import is_audio_url
 
     profile = profile or default_profile()
@@ -322,5 +398,7 @@ def open_link(url: str | None, profile: DeviceProfile | None = None, **kwargs):
     if is_audio_url(url):
         from .audio import AudioLink
 
-        return AudioLink(url, profile)
+        if open_timeout_s is None:
+            return AudioLink(url, profile)
+        return AudioLink(url, profile, open_timeout_s=open_timeout_s)
     return SerialLink(url, baud=profile.baud, **kwargs)

@@ -13,6 +13,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..device.wire import WATCHDOG_S
+
+PAUSE_S = 0.1
+"""A stall of the output thread longer than this beyond a frame counts as a pause of the host:
+past the 100 ms within which a frame is promised to the array."""
+
 
 @dataclass(frozen=True)
 class StreamStats:
@@ -61,6 +67,15 @@ class StreamStats:
     array_late, array_full : int
         The array's scheduling counters from its last clock answer (-1 before any): timed frames
         played after their time, and dropped for a full queue.
+    clock_relearned : int
+        Times the array's clock was learned afresh while streaming because it jumped (the array
+        restarted while the line stayed up).
+    pauses : int
+        Times the output thread was held up more than :data:`PAUSE_S` beyond a frame: the host
+        paused the stream (a SIGSTOP, a VM pause, a suspend, a swap storm) or the link took no
+        data for that long. The stream resumes on time after each.
+    longest_pause_s, paused_s : float
+        The longest of those pauses, and all of them together (seconds).
     """
 
     state: str = "stopped"
@@ -88,6 +103,10 @@ class StreamStats:
     schedule: str = ""
     array_late: int = -1
     array_full: int = -1
+    clock_relearned: int = 0
+    pauses: int = 0
+    longest_pause_s: float = 0.0
+    paused_s: float = 0.0
 
     def summary(self) -> str:
         """Multi-line human summary (what ``tactile stream`` prints at the end)."""
@@ -102,6 +121,12 @@ class StreamStats:
                 f"interval error:  p50 {self.interval_error_p50_ms:.3f} ms, "
                 f"p99 {self.interval_error_p99_ms:.3f} ms",
                 f"late (>1 ms):    {self.late}, skipped deadlines: {self.skipped}",
+                (
+                    f"host paused:     {self.pauses} times, longest {self.longest_pause_s:.2f} s, "
+                    f"{self.paused_s:.2f} s in all"
+                    if self.pauses
+                    else f"host paused:     never (no stall over {PAUSE_S * 1e3:g} ms)"
+                ),
                 f"link errors:     {self.errors}",
                 f"priority:        {'real-time' if self.realtime else 'normal'}",
                 f"array:           {self.array or '-'}",
@@ -111,7 +136,10 @@ class StreamStats:
                     if self.array_frames >= 0
                     else "array counters:  not reported"
                 ),
-                f"timing:          {self.schedule or '-'}",
+                f"timing:          {self.schedule or '-'}"
+                + (
+                    f"; clock learned again {self.clock_relearned}x" if self.clock_relearned else ""
+                ),
                 (
                     f"array schedule:  late {self.array_late}, queue full {self.array_full}"
                     if self.array_late >= 0
@@ -159,6 +187,17 @@ class StatsBook:
             self._recent.append(now_s)
             if len(self._recent) > 4 * 1024:
                 del self._recent[: len(self._recent) - 2048]
+
+    def paused(self, held_s: float) -> str:
+        """The output thread was held up ``held_s`` seconds beyond a frame (> :data:`PAUSE_S`)
+        and now resumes; returns the status line that says so."""
+        with self._lock:
+            old = self.current
+            self.current = StreamStats(**{**old.__dict__, "pauses": old.pauses + 1,
+                                          "longest_pause_s": max(old.longest_pause_s, held_s),
+                                          "paused_s": old.paused_s + held_s})  # fmt: skip
+        off = " (the array's watchdog had turned it off)" if held_s > WATCHDOG_S else ""
+        return f"resumed after the host paused {held_s:.2f} s{off}"
 
     def record_interval(self, error_s: float) -> None:
         """One interval between successive frames, ``error_s`` off the period."""

@@ -19,11 +19,11 @@ timed: to be played ``lead_s`` after its deadline on the array's own clock, whic
 from clock exchanges. The host's scheduler then only has to get each frame there within the
 lead; the array's timer decides when it reaches the motors. Pausing, all-off and the final
 frame stay frames for now (they also drop what is scheduled). An array without the extension is
-driven with frames for now, and the status says so.
+driven with frames for now, and the status says so. A host that stops running the thread
+(SIGSTOP, a VM pause) finds it skipping the deadlines it missed, and the pause is reported.
 
-Here is the thread; its statistics (:class:`StreamStats` and their book) live in ``_stats``,
-what it derives from a scene (rate, period, device levels) in ``_plan``, and what it says
-to the array besides frames (hello, counters, the clock) in ``_talk``.
+Here is the thread; its statistics in ``_stats``, what it derives from a scene in ``_plan``,
+and what it says to the array besides frames (hello, counters, the clock) in ``_talk``.
 """
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ from ._plan import (
     _reduce_timer_slack,
     same_source,
 )
-from ._stats import StatsBook, StreamStats
+from ._stats import PAUSE_S, StatsBook, StreamStats
 from ._talk import ArrayTalk
 from .options import StreamOptions
 
@@ -185,6 +185,7 @@ class Streamer:
         """``(scene, trace_time_s)`` of the last frame written (time None while off), one
         tuple assigned at once so a reader on another thread sees a consistent pair."""
         self.last_seq = None
+        self._seq = 0  # the next frame's; taken before its write, which may go out and fail
         self._channels = _ChannelLevels(self.profile)
         self._bits = level_bits(self.profile.levels)
 
@@ -324,12 +325,7 @@ class Streamer:
 
     def _identify(self) -> bool:
         """Hello and check (False: refused), then learn the array's clock for a lead."""
-        if not self.identify:
-            return True
-        if not self._talk.hello():
-            return False
-        self._talk.start_schedule()
-        return True
+        return not self.identify or self._talk.connect()
 
     def _run(self) -> None:
         _reduce_timer_slack()
@@ -337,7 +333,6 @@ class Streamer:
             self._priority_note = raise_priority()
             self._set(realtime=not self._priority_note)
         self._started_at = self.clock.now()
-        seq = 0
         plan = None
         dither = None
         lit: set = set()
@@ -411,10 +406,11 @@ class Streamer:
                     levels, lit = self._levels(plan, k, dither, lit)
                     plan.last_k, plan.last_levels = k, levels
                 levels = plan.last_levels
+                seq, self._seq = self._seq, self._seq + 1
                 try:
                     at = None
+                    self._talk.before_frame(deadline)
                     if plan.active and self._talk.scheduled:  # pausing and all-off are for now
-                        self._talk.before_frame(deadline)
                         at = (self._talk.at_us(deadline + self.lead_s), deadline + self.lead_s)
                     sent = self._write(seq, levels, at)
                     self._onsets.written(sent if at is None else at[1], seq, at is not None, k)
@@ -428,7 +424,6 @@ class Streamer:
                     deadline = self.clock.now()
                     last_sent = None
                     continue
-                seq += 1
                 lateness = sent - deadline
                 if lateness > 1e-3:
                     self._count("late")
@@ -446,12 +441,14 @@ class Streamer:
                         trace_time += missed * plan.tick
                     self._count("skipped", missed)
                     last_sent = None
+                    if behind + plan.tick > PAUSE_S:  # held up (wherever in the frame): say so
+                        self._set(status=self._book.paused(behind + plan.tick))
         except Exception as exc:  # a bug must still end with the array off, and say so
             self._failure = f"internal error: {type(exc).__name__}: {exc}"
             self.failure_traceback = traceback.format_exc()
             self._set(state="failed", status=self._failure)
         finally:
-            self._all_off_final(seq)
+            self._all_off_final()
 
     def _recover(self) -> bool:
         """After a link error: reconnect (True) or give up (False)."""
@@ -470,9 +467,10 @@ class Streamer:
             return True
         return False
 
-    def _all_off_final(self, seq: int) -> None:
+    def _all_off_final(self) -> None:
         zeros = bytes(self.profile.channels)
-        try:
+        try:  # the count goes on: a reused number reads as 255 frames lost at the array
+            seq, self._seq = self._seq, self._seq + 1
             self._write(seq, zeros)  # a frame for now: also drops what is scheduled
             if self.array_info is not None:  # an array that answers: read its counters
                 self._talk.send_query()
