@@ -89,13 +89,22 @@ def bundle(elements: list[bytes], limit: int) -> bytes:
     return out
 
 
-def datagram(kind: str) -> bytes:
-    """The heaviest datagram of ``kind`` (see the module's docstring)."""
-    try:
-        from tactile_core.serve._osc_addresses import MAX_SHAPE_NUMBERS as numbers
-        from tactile_core.serve._osc_wire import MAX_DATAGRAM_BYTES as limit
-    except ImportError:  # the code before the bounds: a datagram of 64 KB, 10,000 points
-        limit, numbers = 65_000, 20_000
+BOUNDS = (
+    "try:\n"
+    "    from tactile_core.serve._osc_addresses import MAX_SHAPE_NUMBERS as n\n"
+    "    from tactile_core.serve._osc_wire import MAX_DATAGRAM_BYTES as b\n"
+    "    print(b, n)\n"
+    "except ImportError:\n"
+    "    print(65000, 20000)\n"  # the code before the bounds: 64 KB, a shape of 10,000 points
+)
+
+
+def datagram(kind: str, env: dict) -> bytes:
+    """The heaviest datagram of ``kind`` (see the module's docstring) that the server run with
+    ``env`` accepts."""
+    found = subprocess.run([sys.executable, "-c", BOUNDS], env=env, capture_output=True,
+                           text=True, check=True)  # fmt: skip
+    limit, numbers = map(int, found.stdout.split())
     if kind == "brackets":
         return _padded(b"/tactile/point") + _padded(b"," + b"[" * 65_000)
     if kind == "bundle":
@@ -118,7 +127,7 @@ def run(args) -> None:
     env = dict(os.environ)
     if args.pythonpath:
         env["PYTHONPATH"] = args.pythonpath
-    data = datagram(args.kind)
+    data = datagram(args.kind, env)
     with tempfile.TemporaryDirectory() as folder:
         record, summary = Path(folder) / "frames.npz", Path(folder) / "serve.json"
         emulator = subprocess.Popen([sys.executable, "-c", EMULATOR, str(record)], env=env,
