@@ -40,8 +40,8 @@ From :data:`BATCH_FROM` points on, a frame renders all of them with a handful of
 <tactile_core.rendering.methods._layout.LayoutSampler>` on a layout) instead of one Python loop
 per point (:meth:`PointFrames.at_each`, about 3-10 µs a point): the same candidates and the
 same operations, so the same values to rounding (``tests/test_live_points.py`` compares them).
-64 points on a 255-actuator layout cost 40-130 µs a frame instead of 200-700 µs
-(``docs/benchmarks.md``). Plug-ins are rendered point by point.
+64 points on a 255-actuator layout cost 113-220 µs a frame instead of 0.3-1.5 ms
+(``docs/benchmarks.md``, Many live points). Plug-ins are rendered point by point.
 """
 
 from __future__ import annotations
@@ -321,8 +321,8 @@ class PointFrames:
 def _grid_many(method, cols: int, rows: int):
     """``many(x, y, tol) -> (point, index, value)`` from a built-in grid method's batch form
     (:mod:`.methods._cells`), as :attr:`~.methods._layout.LayoutSampler.many` gives them: flat
-    indices ``row * cols + col`` (-1 off the grid). None for a method without that form or whose
-    candidates add up (IM, which needs a shape anyway)."""
+    indices ``row * cols + col`` (-1 off the grid). None for a method without that form; one
+    whose candidates add up (IM's, which needs a shape and never renders points) raises."""
     sample_cells = method.sample_cells
     if sample_cells is None:
         return None
