@@ -16,7 +16,7 @@ COUNTERS = (
     ("timed_out", "released by timeout"),
 )
 """The counters the box shows by name (``ServeStats`` fields); the others add up as "other"."""
-OTHER = ("wrong_type", "out_of_range", "refused", "kernel_dropped", "errors")
+OTHER = ("wrong_type", "out_of_range", "refused", "too_large", "kernel_dropped", "errors")
 
 
 def counters_text(stats) -> str:

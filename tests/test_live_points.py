@@ -212,3 +212,95 @@ def test_points_writers_never_disturb_the_reader():
         for w in writers:
             w.join(5)
     assert errors == []
+
+
+def jittered_layout(cols=15, rows=17, seed=255):
+    """255 actuators on a jittered lattice (no two rectangles: BA's cells are triangles)."""
+    from tactile_core.rendering.layout import Layout
+
+    rng = np.random.default_rng(seed)
+    xy = [(c + 0.5 + rng.uniform(-0.2, 0.2), r + 0.5 + rng.uniform(-0.2, 0.2))
+          for r in range(rows) for c in range(cols)]  # fmt: skip
+    return Layout(xy)
+
+
+def many_points(target, n, seed, clock):
+    """``n`` points anywhere near ``target`` and a few hard ones: on actuators, far away, at
+    intensity 0, stale, and with a previous update to interpolate from."""
+    rng = np.random.default_rng(seed)
+    if isinstance(target, Grid):
+        x0, x1, y0, y1 = 0.0, target.cols, 0.0, target.rows
+        on = [(c + 0.5, r + 0.5) for c, r in ((0, 0), (2, 3))]
+    else:
+        x0, x1, y0, y1 = target.bounds(0.0)
+        on = [target.positions[0], target.positions[-1]]
+    points = LivePoints(timeout_s=0.1, clock=clock, max_points=n + 8)
+    for k in range(n):
+        x, y = rng.uniform(x0 - 2, x1 + 2), rng.uniform(y0 - 2, y1 + 2)
+        points.put(str(k), x - 0.3, y + 0.2, rng.uniform(0, 1), clock.now - 0.05)  # previous
+        points.put(str(k), x, y, rng.uniform(0, 1), clock.now - rng.uniform(0, 0.04))
+    for k, (x, y) in enumerate(on):
+        points.put(f"on{k}", x, y, 1.0, clock.now)
+    points.put("far", 1e5, -3e4, 1.0, clock.now)
+    points.put("dark", x0 + 0.5, y0 + 0.5, 0.0, clock.now)
+    points.put("stale", x0 + 1.0, y0 + 1.0, 1.0, clock.now - 0.5)
+    return points
+
+
+TARGETS = {
+    "palm grid": lambda: Grid(),
+    "belt-8": lambda: load_profile("belt-8").layout,
+    "sleeve-2x6": lambda: load_profile("sleeve-2x6").layout,
+    "vest-4x5": lambda: load_profile("vest-4x5").layout,
+    "255 jittered": jittered_layout,
+}
+
+
+@pytest.mark.parametrize("interpolate", [False, True])
+@pytest.mark.parametrize(
+    ("method", "target"),
+    [(m, t) for t in TARGETS for m in ("RO", "BA", "PK", "GS", "EN", "VRCH", "RO:r=2.5")]
+    + [("AS", "palm grid"), ("CT", "palm grid")],
+)
+def test_points_many_at_once_equal_one_at_a_time_and_render_xy(method, target, interpolate):
+    grid = TARGETS[target]()
+    clock = Clock()
+    points = many_points(grid, 64, seed=len(target) + len(method), clock=clock)
+    points.interpolate = interpolate
+    live = Scene(method=method, mu=0.33, gamma=0.7, gain=0.9, source=points).live(grid, 300)
+    now = clock.now
+    one_by_one, at_once = live.at_each(points.points, now), live.at_many(points.points, now)
+    assert set(at_once) == set(one_by_one)
+    for i, v in one_by_one.items():
+        assert at_once[i] == pytest.approx(v, abs=1e-12)
+    # and an independent computation: render_xy's dense frames of the live points, corrected
+    # with each point's intensity as the master intensity, max over points
+    size = grid.size
+    want = np.zeros(size)
+    for p in points.points.values():
+        age = now - p.time_s
+        x, y, a = p.x, p.y, p.intensity
+        if age > 0.1:
+            continue
+        if interpolate and p.previous is not None and age < p.time_s - p.previous[3]:
+            f = age / (p.time_s - p.previous[3])
+            x, y, a = (q + (v - q) * f for v, q in zip((x, y, a), p.previous[:3]))
+        if a > 0:
+            want = np.maximum(want, expected(method, x, y, 0.33, 0.7, 0.9 * a, grid).reshape(-1))
+    got = np.zeros(size)
+    for i, v in at_once.items():
+        got[i] = v
+    np.testing.assert_allclose(got, want, atol=1e-12)
+
+
+def test_points_many_points_render_without_a_python_loop_per_point():
+    points = many_points(jittered_layout(), 64, seed=1, clock=Clock())
+    live = Scene(method="PK", source=points).live(jittered_layout(), 300)
+    calls = []
+    one = live._entries1
+    live._entries1 = lambda *a: calls.append(a) or one(*a)
+    assert live.entries(0)  # 64 points on 255 actuators: a handful of numpy calls
+    assert calls == []
+    points.release()
+    points.set("a", 2.0, 3.0)
+    assert live.entries(1) and len(calls) == 1  # one point: the scalar path, cheaper there

@@ -166,6 +166,28 @@ def test_lsl_repeating_trace_gets_a_marker_per_cycle():
     assert outlets.markers_sent >= 6
 
 
+def test_lsl_marker_presentation_counts_on_where_the_wire_seq_wraps():
+    from tactile_core.stream import Onset
+
+    sid = f"test-{uuid.uuid4().hex}"
+    outlets = LslOutlets(default_profile(), source_id=sid)
+    inlet, _ = inlet_for(f"source_id='{sid}-markers'")
+    scene = Scene(tc.Circle((2.5, 3), 2), "AS", marker="trial")
+    try:
+        for k in range(300):  # presentations 75 frames apart: the wire's seq wraps often
+            outlets.onset(Onset(scene, 100.0 + k, (75 * k) & 0xFF))
+        got = []
+        deadline = time.monotonic() + 20
+        while len(got) < 300 and time.monotonic() < deadline:
+            sample, _ = inlet.pull_sample(timeout=1.0)
+            if sample:
+                got.append(json.loads(sample[0]))
+    finally:
+        outlets.close()
+    assert [m["presentation"] for m in got] == list(range(1, 301))
+    assert [m["seq"] for m in got] == [(75 * k) % 256 for k in range(300)]
+
+
 def test_lsl_offset_is_measured_not_assumed():
     assert abs(lsl_offset_s() - own_offset()) < 1e-4
 

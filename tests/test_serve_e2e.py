@@ -226,3 +226,47 @@ def test_serve_subprocess_sigterm_and_bad_options():
     out, err = stop_with(serve, signal.SIGTERM, 20)
     assert serve.returncode == 0, err
     assert "stopped: all off" in out
+
+
+def test_serve_busy_port_is_said_before_the_device_is_touched():
+    import socket
+
+    busy = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    busy.bind(("127.0.0.1", 0))
+    device = socket.socket()  # a device on a TCP port: opening it would connect here
+    device.bind(("127.0.0.1", 0))
+    device.listen(1)
+    device.settimeout(0)
+    try:
+        out = subprocess.run(
+            [*CLI, "serve", "--device", f"socket://127.0.0.1:{device.getsockname()[1]}",
+             "--osc-port", str(busy.getsockname()[1]), "--seconds", "1"],
+            capture_output=True, text=True, timeout=60,
+        )  # fmt: skip
+        assert out.returncode == 1 and out.stdout == ""
+        assert f"cannot listen on 127.0.0.1:{busy.getsockname()[1]}" in out.stderr
+        assert "--osc-port 0 takes any free port" in out.stderr
+        assert "identifying" not in out.stderr  # the stream never started
+        try:
+            device.accept()
+            raise AssertionError("tactile serve opened the device before checking the port")
+        except BlockingIOError:
+            pass
+    finally:
+        busy.close()
+        device.close()
+
+
+def test_serve_cli_takes_the_bracketed_ipv6_host_it_prints():
+    out = subprocess.run([*CLI, "serve", "--device", "sim", "--host", "[not-ipv6]"],
+                         capture_output=True, text=True, timeout=60)  # fmt: skip
+    assert out.returncode == 2 and "::1 or [::1]" in out.stderr
+    out = subprocess.run(
+        [*CLI, "serve", "--device", "sim", "--host", "[::1]", "--osc-port", "0",
+         "--seconds", "0.3", "--status-s", "0"],
+        capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
+    if "Cannot assign" in out.stderr or "not supported" in out.stderr:
+        return  # no IPv6 loopback on this machine: the host was taken, the address was not
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith("osc://[::1]:")

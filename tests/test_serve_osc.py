@@ -79,8 +79,8 @@ def test_osc_reader_refuses_deep_nesting():
 
 
 def test_osc_reader_finds_string_ends_without_walking_them():
-    junk = b"/" + b"a" * 65000 + b"\x00" * 3  # 65,004 bytes, no type tags: one message
-    assert read_packet(junk, 10)[0][0][0] == "/" + "a" * 65000
+    junk = b"/" + b"a" * 16000 + b"\x00" * 3  # 16,004 bytes, no type tags: one message
+    assert read_packet(junk, 10)[0][0][0] == "/" + "a" * 16000
 
 
 def test_serve_points_render_as_sent():
@@ -376,3 +376,117 @@ def test_serve_restarts_after_stop_like_a_toggle():
         rig.send("/tactile/point", 1.5, 1.5)
         rig.taps.wait_levels(levels_of("AS", [(1.5, 1.5, 1.0)], 0.33, 0.7))
         assert rig.server.running and rig.server.stats.points == 1
+
+
+def test_serve_listens_on_bracketed_ipv6_as_it_prints_it():
+    from tactile_core.serve import listen_host
+
+    assert listen_host("[::1]") == "::1" and listen_host(" 127.0.0.1 ") == "127.0.0.1"
+    for bad in ("[localhost]", "", "[]"):
+        with pytest.raises(ValueError, match=r"::1 or \[::1\]"):
+            listen_host(bad)
+    if not socket.has_ipv6:
+        return
+    rig = ServerRig()
+    rig.server.host = "[::1]"  # what the server prints on its first line: osc://[::1]:PORT
+    try:
+        rig.streamer.start()
+        rig.server.start()
+    except OSError as exc:
+        rig.streamer.stop()
+        assert "Name or service" not in str(exc)  # refused as a name before
+        pytest.skip(f"no IPv6 loopback: {exc}")
+    try:
+        assert rig.server.address[0] == "::1" and rig.server.stats.address.startswith("[::1]:")
+    finally:
+        rig.server.stop()
+        rig.streamer.stop()
+
+
+def test_serve_status_line_names_the_last_refused_message_and_why():
+    with ServerRig() as rig:
+        rig.send("/tactile/method", "MM")
+        rig.wait_count("refused", 1)
+        line = rig.server.stats.line()
+        assert "1 refused; last: /tactile/method MM: method MM needs a shape" in line
+
+
+class ReplyCatcher:
+    """python-osc's own server as the client that asks for replies, as a patch does."""
+
+    def __init__(self):
+        import threading
+
+        from pythonosc.dispatcher import Dispatcher
+        from pythonosc.osc_server import ThreadingOSCUDPServer
+
+        self.got = []
+        dispatcher = Dispatcher()
+        dispatcher.set_default_handler(lambda address, *args: self.got.append((address, args)))
+        self.server = ThreadingOSCUDPServer(("127.0.0.1", 0), dispatcher)
+        self.port = self.server.server_address[1]
+        threading.Thread(target=self.server.serve_forever, daemon=True).start()
+
+    def sendto(self, dgram, address):  # from the listening socket: replies come back here
+        self.server.socket.sendto(dgram, address)
+
+    def close(self):
+        self.server.shutdown()
+        self.server.server_close()
+
+
+def test_serve_replies_errors_and_state_where_the_sender_asked():
+    catcher = ReplyCatcher()
+    try:
+        with ServerRig() as rig:
+            rig.send("/tactile/mu", 2.0)  # nobody asked: no reply
+            rig.wait_count("out_of_range", 1)
+            rig.send("/tactile/reply", catcher.port)  # a patch's [udpreceive PORT]
+            rig.send("/tactile/mu", 2.0)
+            rig.send("/tactile/point", 1.5, 1.5)
+            rig.send("/tactile/state")
+            wait_for(lambda: len(catcher.got) >= 2, what="two replies")
+            (error, why), (state, values) = catcher.got[:2]
+            assert (error, why[:2]) == ("/tactile/error", ("/tactile/mu", "out of range"))
+            assert "mu" in why[2] and "[0, 1]" in why[2]
+            assert state == "/tactile/state"
+            assert values == ("AS", pytest.approx(0.33), pytest.approx(0.7), 1, "points")
+            s = rig.server.stats
+            assert (s.replies, s.queries, s.out_of_range) == (2, 2, 2)
+    finally:
+        catcher.close()
+
+
+def test_serve_answers_a_query_where_it_came_from_and_never_a_reply():
+    catcher = ReplyCatcher()
+    try:
+        with ServerRig(reply_port=catcher.port) as rig:  # tactile serve --reply-port
+            catcher.sendto(message("/tactile/state").dgram, rig.server.address)
+            rig.send("/tactile/method", "MM")  # another socket: its host at the reply port
+            wait_for(lambda: len(catcher.got) >= 2, what="two replies")
+            assert catcher.got[0][0] == "/tactile/state"
+            why = rig.server.stats.last_problem
+            assert catcher.got[1] == ("/tactile/error", ("/tactile/method", "refused", why))
+            for echo in ("/tactile/error", "/tactile/state"):  # another server's replies
+                rig.send(echo, "x", "y")
+            rig.wait_count("datagrams", 4)
+            wait_for(lambda: rig.server.stats.unknown + rig.server.stats.wrong_type == 2)
+            assert rig.server.stats.replies == 2  # no ping-pong between two servers
+    finally:
+        catcher.close()
+
+
+def test_serve_replies_are_rate_limited_and_never_wait():
+    frozen = lambda: 1000.0  # noqa: E731 -- the reply bucket never fills again
+    with ServerRig(reply_port=9, clock=frozen, max_rate_hz=1e6) as rig:  # 9: nobody listens
+        bad = message("/tactile/mu", 5.0).dgram
+        for _ in range(60):
+            rig.client._sock.sendto(bad, rig.server.address)
+        rig.wait_count("out_of_range", 60)
+        # a refusal is counted before its reply is: wait for all 60 to be sent or dropped
+        stats = lambda: rig.server.stats  # noqa: E731
+        wait_for(lambda: stats().replies + stats().replies_dropped >= 60, what="60 replies")
+        s = stats()
+        assert (s.replies, s.replies_dropped) == (20, 40)  # a burst of 20, then none
+        rig.send("/tactile/point", 1.5, 1.5)  # the receiver went on
+        rig.wait_count("points", 1)

@@ -4,6 +4,7 @@
     python tools/serve_bench.py split [--messages 600] [--rate 300]
     python tools/serve_bench.py flood [--flood-rate 50000] [--seconds 2] [--tuner]
     python tools/serve_bench.py tuner [--messages 600] [--rate 300] [--lead-ms 0] [--realtime]
+    python tools/serve_bench.py points [--methods RO,BA,PK,GS,EN] [--seconds 6] [--pythonpath DIR]
 
 Three processes, as in use: the array (the emulator on a pseudo-terminal, in a child process
 that reports the ``CLOCK_MONOTONIC`` time it received each frame), ``tactile serve`` streaming
@@ -23,6 +24,16 @@ tuner: the same as latency, through the tuner (offscreen, its display running) i
 flood: a second process sends ``/tactile/point/flood`` at ``--flood-rate`` for ``--seconds``;
 the server's counters (``--json``) and the frame intervals at the array before, during and
 after the flood are printed.
+
+points: 64 points (``--points``) held on a 255-actuator layout (a jittered 15 x 17 lattice, a
+profile written for the run; the points anywhere on it and up to 1.5 pitches beyond), one
+method at a time:
+``tactile serve`` at 300 Hz into the emulator, a sender
+refreshing every point every 20 ms (3,200 messages a second); the stream's late frames (sent
+more than 1 ms after their deadline) and skipped deadlines, and the cost of a frame of those
+points in this process, one point at a time (``PointFrames.at_each``, what every frame did
+before) and all at once (``at_many``). ``--pythonpath DIR`` runs the emulator and the server
+from another checkout (the code before a change).
 """
 
 from __future__ import annotations
@@ -342,6 +353,98 @@ def flood(args) -> None:
     print(f"  frames at the array after:  {intervals(times, end, end + args.seconds, period)}")
 
 
+POINTS_SENDER = textwrap.dedent("""
+    import random, sys, time
+    from pythonosc.udp_client import SimpleUDPClient
+    client = SimpleUDPClient("127.0.0.1", int(sys.argv[1]))
+    rng = random.Random(2)
+    points = [(rng.uniform(-1.5, 16.5), rng.uniform(-1.5, 18.5)) for _ in range(64)]
+    points = points[: int(sys.argv[3])]
+    end = time.perf_counter() + float(sys.argv[2])
+    k = 0
+    while time.perf_counter() < end:  # every point every 20 ms, moving a little
+        for i, (x, y) in enumerate(points):
+            client.send_message(f"/tactile/point/p{i}", [x + 0.3 * (k % 7) / 7, y, 0.8])
+        k += 1
+        time.sleep(0.02)
+""")
+
+
+def jittered_profile(path: Path) -> None:
+    """A device profile of 255 actuators on a jittered 15 x 17 lattice (pitch units)."""
+    rng = random.Random(255)
+    actuators = [[round(c + 0.5 + rng.uniform(-0.2, 0.2), 4),
+                  round(r + 0.5 + rng.uniform(-0.2, 0.2), 4)]
+                 for r in range(17) for c in range(15)]  # fmt: skip
+    path.write_text(json.dumps({
+        "format": "tactile-device-profile", "version": 1, "name": "jitter-255",
+        "pitch_mm": 10.0, "levels": 23, "baud": 3_000_000,
+        "layout": {"units": "pitch", "actuators": actuators},
+    }))  # fmt: skip
+
+
+def frame_cost_us(profile_path: Path, method: str, n: int) -> tuple[float, float]:
+    """Median us of a frame of the sender's ``n`` points, one at a time and all at once."""
+    from tactile_core.device.profile import load_profile
+    from tactile_core.rendering.points import LivePoints
+    from tactile_core.rendering.scene import Scene
+
+    target = load_profile(str(profile_path)).layout
+    rng = random.Random(2)
+    points = LivePoints(timeout_s=None)
+    for i in range(64):
+        x, y = rng.uniform(-1.5, 16.5), rng.uniform(-1.5, 18.5)
+        if i < n:
+            points.set(f"p{i}", x, y, 0.8)
+    live = Scene(method=method, mu=0.33, gamma=0.7, source=points).live(target, 300.0)
+    table = points.points
+    out = []
+    for at in (live.at_each, live.at_many):
+        times = []
+        for _ in range(300):
+            t = time.perf_counter()
+            at(table, 0.0)
+            times.append(time.perf_counter() - t)
+        out.append(float(np.median(times)) * 1e6)
+    return out[0], out[1]
+
+
+def many_points(args) -> None:
+    env = dict(os.environ, PYTHONPATH=args.pythonpath) if args.pythonpath else None
+    with tempfile.TemporaryDirectory() as folder:
+        profile = Path(folder) / "jitter-255.json"
+        jittered_profile(profile)
+        print(f"{args.points} points on 255 actuators, tactile serve at 300 Hz for "
+              f"{args.seconds:g} s"
+              f"{', real-time priority' if args.realtime else ''}"
+              f"{' (code from ' + args.pythonpath + ')' if args.pythonpath else ''}:")  # fmt: skip
+        print("| method | frames | late > 1 ms | skipped | one at a time us/frame | all at once "
+              "us/frame |")  # fmt: skip
+        for method in args.methods.split(","):
+            summary = Path(folder) / f"{method}.json"
+            emulator = subprocess.Popen([*CLI, "emulate", "--profile", str(profile)], env=env,
+                                        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                        text=True)  # fmt: skip
+            path = emulator.stdout.readline().strip()
+            serve = subprocess.Popen(
+                [*CLI, "serve", "--device", path, "--profile", str(profile), "--method", method,
+                 "--osc-port", "0", "--status-s", "0", "--json", str(summary),
+                 "--seconds", str(args.seconds + 1.0), *(["--realtime"] if args.realtime else [])],
+                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+            )  # fmt: skip
+            port = serve.stdout.readline().strip().rsplit(":", 1)[1]
+            time.sleep(0.5)
+            subprocess.run([sys.executable, "-c", POINTS_SENDER, port, str(args.seconds),
+                            str(args.points)])  # fmt: skip
+            serve.communicate(timeout=60)
+            emulator.send_signal(signal.SIGINT)
+            emulator.communicate(timeout=30)
+            stream = json.loads(summary.read_text())["stream"]
+            each, many = frame_cost_us(profile, method, args.points)
+            print(f"| {method} | {stream['frames']} | {stream['late']} | {stream['skipped']} | "
+                  f"{each:.0f} | {many:.0f} |")  # fmt: skip
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="what", required=True)
@@ -362,8 +465,15 @@ def main(argv=None) -> int:
     fl.add_argument("--flood-rate", type=float, default=50_000.0)
     fl.add_argument("--seconds", type=float, default=2.0)
     fl.add_argument("--tuner", action="store_true", help="through the tuner's server")
+    pts = sub.add_parser("points")
+    pts.add_argument("--methods", default="RO,BA,PK,GS,EN")
+    pts.add_argument("--seconds", type=float, default=6.0)
+    pts.add_argument("--pythonpath", default=None, help="run the code of this checkout")
+    pts.add_argument("--realtime", action="store_true", help="tactile serve --realtime")
+    pts.add_argument("--points", type=int, default=64, help="points held (1 to 64)")
     args = p.parse_args(argv)
-    commands = {"latency": latency, "split": latency_split, "flood": flood, "tuner": latency_tuner}
+    commands = {"latency": latency, "split": latency_split, "flood": flood, "tuner": latency_tuner,
+                "points": many_points}  # fmt: skip
     commands[args.what](args)
     return 0
 

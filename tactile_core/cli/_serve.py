@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import errno
 import math
 import sys
 import time
@@ -66,8 +67,9 @@ def add_serve_parser(sub) -> None:
     p.add_argument(
         "--host",
         default="127.0.0.1",
-        help="address to listen on (default 127.0.0.1: this machine only; another "
-        "address lets other machines drive the array, with a warning)",
+        help="address to listen on: 127.0.0.1 (the default) or ::1 (also written [::1]): this "
+        "machine only; 0.0.0.0, :: or a LAN address or host name let other machines drive the "
+        "array, with a warning",
     )
     p.add_argument(
         "--device",
@@ -104,7 +106,18 @@ def add_serve_parser(sub) -> None:
         "--max-rate",
         type=number,
         default=10_000.0,
-        help="messages read per second at most; more are dropped and counted (default 10000)",
+        help="units of work read per second at most, shared among the senders (a point "
+        "message is one unit, a datagram one per 64 bytes, a shape one more per point); "
+        "more are dropped and counted (default 10000)",
+    )
+    p.add_argument(
+        "--reply-port",
+        type=whole,
+        default=None,
+        metavar="PORT",
+        help="send replies (/tactile/error for a refused message) to each sender's host at "
+        "this port, e.g. a Max [udpreceive PORT] (default: only to senders that send "
+        "/tactile/reply)",
     )
     p.add_argument(
         "--lead-ms",
@@ -184,6 +197,7 @@ def _check(args):
     from ..rendering.points import free_method
     from ..rendering.rasterize import check_renders
     from ..rendering.scene import Scene
+    from ..serve import listen_host
 
     try:
         profile = load_profile(args.profile)
@@ -208,23 +222,40 @@ def _check(args):
         raise UsageError(f"--status-s must be 0 or within [0.1, 3600], got {args.status_s:g}")
     if not 1.0 <= args.max_rate <= 1e7:
         raise UsageError(f"--max-rate must be within [1, 10000000], got {args.max_rate:g}")
-    if not args.host.strip():
-        raise UsageError("--host must be an address or a host name (127.0.0.1: this machine "
-                         "only), got ''")  # fmt: skip
+    try:
+        args.host = listen_host(args.host)
+    except ValueError as exc:
+        raise UsageError(f"--{exc}") from None
     if not 0 <= args.osc_port <= 65535:
         raise UsageError(f"--osc-port must be within [0, 65535], got {args.osc_port}")
+    if args.reply_port is not None and not 1 <= args.reply_port <= 65535:
+        raise UsageError(f"--reply-port must be within [1, 65535], got {args.reply_port}")
     args.seconds = _seconds(args.seconds)
     if args.json is not None:
         check_output(args.json, (), "--json")
     return profile, scene
 
 
+def _cannot_listen(exc: OSError) -> str:
+    """The line for a port the server cannot have, with what to do about one in use."""
+    text = f"tactile serve: {exc}"
+    if exc.errno == errno.EADDRINUSE:
+        text += ("; another program listens there (another tactile serve?): --osc-port 0 "
+                 "takes any free port and prints it on the first line")  # fmt: skip
+    return text
+
+
 def cmd_serve(args) -> int:
     """Serve OSC until stopped; all off on every way out; print the counters."""
-    from ..serve import OscServer
+    from ..serve import OscServer, check_listen
     from ..stream import Streamer
 
     profile, scene = _check(args)
+    try:  # before the device and the outlets: a port in use is said first, nothing touched
+        check_listen(args.host, args.osc_port)
+    except OSError as exc:
+        print(_cannot_listen(exc), file=sys.stderr)
+        return 1
     stop = _install_stop_handlers()
     opened = open_outputs(args, profile, scene.rate_hz)
     if opened is None:
@@ -248,6 +279,7 @@ def cmd_serve(args) -> int:
         timeout_s=args.timeout_ms / 1e3,
         interpolate=args.interpolate,
         max_rate_hz=args.max_rate,
+        reply_port=args.reply_port,
     )
     try:
         if lsl is not None:
@@ -255,8 +287,8 @@ def cmd_serve(args) -> int:
         streamer.start()
         try:
             server.start()
-        except OSError as exc:
-            print(f"tactile serve: {exc}", file=sys.stderr)
+        except OSError as exc:  # taken since the check
+            print(_cannot_listen(exc), file=sys.stderr)
             return 1
         host, port = server.address
         where = f"[{host}]:{port}" if ":" in host else f"{host}:{port}"  # IPv6 in brackets

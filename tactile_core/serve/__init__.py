@@ -19,6 +19,7 @@ scenes) and listens to it (the first frame of each presentation, the levels sent
 
 from ._lsl import LEVELS_NAME, MARKERS_NAME, LslError, LslOutlets, lsl_offset_s, marker_text
 from ._osc_server import DEFAULT_PORT, SWITCH_INTERVAL_S, OscServer
+from ._osc_socket import check_listen, listen_host
 from ._osc_wire import Malformed, read_packet
 from ._serve_stats import ServeStats
 from ._services_host import ServicesHost
@@ -34,6 +35,8 @@ __all__ = [
     "OscServer",
     "ServeStats",
     "ServicesHost",
+    "check_listen",
+    "listen_host",
     "lsl_offset_s",
     "marker_text",
     "read_packet",

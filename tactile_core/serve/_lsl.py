@@ -5,9 +5,10 @@ Two outlets, both off unless asked for:
 - ``tactile-markers`` (type ``Markers``, one string channel, irregular rate): one sample per
   presentation (an :class:`~tactile_core.device.Onset` of the streamer), a JSON object with its
   kind (the scene's ``marker``: ``trial``, ``interval``, ``ab``, ``osc-shape``, ``script``, …;
-  ``scene`` when it has none), method, shape, μ, γ, gain, duration and the frame's ``seq``,
-  stamped with the time its first frame was written to the device (or, for a frame scheduled
-  ahead, the host time it is to play at);
+  ``scene`` when it has none), method, shape, μ, γ, gain, duration, the presentation's number
+  on this outlet (``presentation``: 1, 2, 3, …, never wrapping) and the frame's wire sequence
+  number (``seq``, 0 to 255: it wraps every 256 frames), stamped with the time its first frame
+  was written to the device (or, for a frame scheduled ahead, the host time it is to play at);
 - ``tactile-levels`` (type ``Levels``, one int16 channel per actuator in channel order, at the
   frame rate): the levels of every frame written, stamped likewise.
 
@@ -168,8 +169,16 @@ def lsl_offset_s(tries: int = 50) -> float:
     return offset
 
 
-def marker_text(onset) -> str:
-    """The JSON string of an :class:`~tactile_core.device.Onset`'s marker."""
+def marker_text(onset, presentation: int | None = None) -> str:
+    """The JSON string of an :class:`~tactile_core.device.Onset`'s marker.
+
+    Parameters
+    ----------
+    onset : Onset
+    presentation : int, optional
+        The presentation's number (1 for the first an outlet sends; it never wraps, unlike
+        the wire's ``seq``); left out of the object when None.
+    """
     scene = onset.scene
     source = getattr(scene, "source", None)
     data = {
@@ -183,8 +192,11 @@ def marker_text(onset) -> str:
         "duration_s": scene.duration_s if scene.shape is not None else None,
         "cycle": onset.cycle,
         "seq": onset.seq,
+        "presentation": presentation,
         "timed": onset.timed,
     }
+    if presentation is None:
+        del data["presentation"]
     return json.dumps(data, separators=(",", ":"))
 
 
@@ -279,7 +291,8 @@ class LslOutlets:
     def onset(self, onset) -> None:
         """Push the marker of a presentation (a streamer's ``on_onset`` hook)."""
         if self._markers is not None:
-            self._markers.push_sample([marker_text(onset)], onset.time_s + self.offset_s)
+            text = marker_text(onset, self.markers_sent + 1)
+            self._markers.push_sample([text], onset.time_s + self.offset_s)
             self.markers_sent += 1
 
     def push_levels(self, time_s: float, seq: int, levels: bytes) -> None:

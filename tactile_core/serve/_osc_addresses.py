@@ -19,6 +19,23 @@ from ..rendering.points import MAX_ID_CHARS
 
 MAX_SHAPE_S = 3600.0
 """Longest ``/tactile/shape`` duration, in seconds."""
+MAX_SHAPE_NUMBERS = 512
+"""Most numbers in a ``/tactile/shape`` spec (a polyline of 256 points, a timed path of 128),
+counted before it is read: reading a point costs about what a point message does, and a
+spec of 4,000 points took 34 ms (a file or ``tactile render`` takes up to 10,000)."""
+LABEL_CHARS = 48
+"""A shape's spec longer than this is shown cut, with its number of points."""
+
+
+def shape_label(shape) -> str:
+    """A shape's spec for a status line: whole when short, else its start and how many points
+    (``polyline:0.5,0.5,1,1,… (4000 points)``), at most about 70 characters."""
+    spec = shape.spec
+    if len(spec) <= LABEL_CHARS:
+        return spec
+    points = getattr(shape, "points", None)
+    count = f" ({len(points)} points)" if points is not None else ""
+    return spec[: spec.rfind(",", 0, LABEL_CHARS) + 1] + "…" + count
 
 
 _F32 = struct.Struct(">f")
@@ -62,10 +79,12 @@ def _number(value) -> bool:
 
 class AddressSpace:
     """``/tactile/point``, ``/tactile/point/<id>``, ``/tactile/release``, ``/tactile/method``,
-    ``/tactile/mu``, ``/tactile/gamma``, ``/tactile/shape``, ``/tactile/off``.
+    ``/tactile/mu``, ``/tactile/gamma``, ``/tactile/shape``, ``/tactile/off``,
+    ``/tactile/state`` and ``/tactile/reply``.
 
     The server provides ``points``, ``_n`` (the counters), ``_base`` (the points' scene),
-    ``_problem_of``, ``_points_scene``, ``_change``, ``_play`` and ``off``.
+    ``_problem_of``, ``_points_scene``, ``_change``, ``_play``, ``off``, ``replies``, ``_from``
+    (the datagram's sender), ``_sock``, ``_current``, ``_playing`` and ``clock``.
     """
 
     def _handle(self, address: str, args: list, now: float) -> None:
@@ -96,6 +115,18 @@ class AddressSpace:
             self._correction(address, address[len("/tactile/") :], args)
         elif address == "/tactile/shape":
             self._shape_message(address, args, now)
+        elif address == "/tactile/state":
+            self._state(address, args)
+        elif address == "/tactile/reply":
+            if (
+                len(args) > 1
+                or (args and type(args[0]) is not int)
+                or not (not args or 0 <= args[0] <= 65535)
+            ):
+                return self._problem_of("wrong_type", f"{address} takes an optional port "
+                                        "(an int: 0 for no replies)")  # fmt: skip
+            self.replies.ask(self._from, args[0] if args else None)
+            self._n["queries"] += 1
         else:
             self._problem_of("unknown", f"unknown address {address[:60]}")
 
@@ -153,9 +184,25 @@ class AddressSpace:
         self._change(**{name: value})
         self._n["controls"] += 1
 
+    def _state(self, address: str, args: list) -> None:
+        """Answer ``/tactile/state`` with ``/tactile/state METHOD MU GAMMA POINTS PLAYING``."""
+        if args:  # another server's answer, not a query: never answered
+            return self._problem_of("wrong_type", f"{address} takes no arguments")
+        self._n["queries"] += 1
+        scene = self._current
+        to = self.replies.destination(self._from, query=True)
+        state = (scene.method, float(scene.mu), float(scene.gamma), len(self.points.points),
+                 self._playing)  # fmt: skip
+        self.replies.send(self._sock, to, "/tactile/state", state, self.clock())
+
     def _shape_message(self, address: str, args: list, now: float) -> None:
         if len(args) != 2 or not isinstance(args[0], str) or not _number(args[1]):
             return self._problem_of("wrong_type", f"{address} takes SHAPE DURATION_S")
+        numbers = args[0].count(",") + 1  # counted before the spec is read
+        if numbers > MAX_SHAPE_NUMBERS:
+            return self._problem_of("out_of_range", f"{address}: a shape of at most "
+                                    f"{MAX_SHAPE_NUMBERS // 2} points ({MAX_SHAPE_NUMBERS} "
+                                    f"numbers) over OSC, got {numbers} numbers")  # fmt: skip
         duration = decimal32(float(args[1]))
         if not math.isfinite(duration):
             return self._problem_of("non_finite", f"{address}: duration {args[1]!r}")

@@ -10,15 +10,17 @@ Two threads of its own, neither of them the stream's output thread:
 
 The output thread reads the points table (an immutable snapshot swapped by reference) and the
 scene (likewise) and never waits on either thread. A message that cannot be honoured is
-counted (:class:`ServeStats`) and dropped; the server goes on. Above ``max_rate_hz`` messages a
-second, datagrams are dropped unread (a token bucket holding 50 ms of messages), except
-``/tactile/off`` and ``/tactile/release``, which are always read: a flood costs the receiver a
-``recvmsg`` and a count per datagram, not a parse.
+counted (:class:`ServeStats`) and dropped, with a reply to a sender that asked for replies
+(:mod:`._osc_replies`); the server goes on. The rate limit counts what a datagram costs, not
+how many there are (:mod:`._osc_limits`): each sender has a share of ``max_rate_hz`` units a
+second, and datagrams beyond it are dropped unread, except ``/tactile/off`` and
+``/tactile/release``, which are always read; a datagram over
+:data:`~._osc_wire.MAX_DATAGRAM_BYTES` is never read. A flood costs the receiver a ``recvmsg``
+and a count per datagram, not a parse.
 """
 
 from __future__ import annotations
 
-import ipaddress
 import math
 import socket
 import struct
@@ -33,9 +35,12 @@ from ..rendering.points import DEFAULT_TIMEOUT_S, LivePoints, free_method
 from ..rendering.rasterize import check_renders
 from ..rendering.scene import Scene
 from ..rendering.shapes import parse_shape
-from ._osc_addresses import AddressSpace
-from ._osc_wire import Malformed, read_packet
-from ._serve_stats import ServeStats
+from ._osc_addresses import AddressSpace, shape_label
+from ._osc_limits import SenderBudgets, datagram_units, message_units
+from ._osc_replies import REPLY_ADDRESSES, Replies
+from ._osc_socket import _loopback, _open_socket, _printable, listen_host, where
+from ._osc_wire import MAX_DATAGRAM_BYTES, Malformed, read_packet
+from ._serve_stats import MAX_TEXT, PROBLEMS, ServeStats, shortened
 
 DEFAULT_PORT = 9100
 """The UDP port ``tactile serve`` listens on unless told otherwise."""
@@ -51,20 +56,6 @@ SWITCH_INTERVAL_S = 0.0001
 under a flood of messages the frame thread waits at most this long for it (measured in
 ``docs/serve.md``: p99 interval error at the array 2.7-3.3 ms during a 50,000 messages/s flood,
 5.9-7.1 ms at 0.5 ms)."""
-
-
-def _printable(text: str) -> str:
-    """``text`` with what a terminal would act on escaped: a sender's address or method name
-    reaches the summary printed on the operator's terminal, and ESC [ 2 J in one cleared it."""
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
-
-
-def _loopback(host: str) -> bool:
-    """True for an address of this machine only: 127/8, ::1, and IPv4 loopback written as
-    IPv6 (``::ffff:127.0.0.1``, which Python before 3.13 does not call loopback)."""
-    ip = ipaddress.ip_address(host.split("%")[0])
-    mapped = getattr(ip, "ipv4_mapped", None)
-    return (mapped or ip).is_loopback
 
 
 class OscServer(AddressSpace):
@@ -90,7 +81,12 @@ class OscServer(AddressSpace):
     interpolate : bool
         Interpolate points between their last two updates instead of showing the newest.
     max_rate_hz : float
-        Messages read per second at most (10,000); more are dropped unread, and counted.
+        Units of work read per second at most, shared among the senders (10,000; a point
+        message is one unit, see :mod:`._osc_limits`); more are dropped unread, and counted.
+    reply_port : int, optional
+        Replies to every sender go to its host at this port (``/tactile/error`` for a refused
+        message; see :mod:`._osc_replies`) unless it asked otherwise; None (the default): only
+        senders that sent ``/tactile/reply`` get replies.
     on_scene : callable, optional
         Called as ``on_scene(scene)`` from the server's threads after it swaps in a scene
         (``/tactile/method``, ``mu``, ``gamma``, ``shape``, ``off``; a shape's end).
@@ -108,13 +104,16 @@ class OscServer(AddressSpace):
     def __init__(self, stream, profile: DeviceProfile | None = None, *, scene: Scene | None = None,
                  host: str = "127.0.0.1", port: int = DEFAULT_PORT,
                  timeout_s: float = DEFAULT_TIMEOUT_S, interpolate: bool = False,
-                 max_rate_hz: float = 10_000.0, on_scene=None, on_tuning=None,
-                 on_warning=None, clock=time.perf_counter):  # fmt: skip
+                 max_rate_hz: float = 10_000.0, reply_port: int | None = None, on_scene=None,
+                 on_tuning=None, on_warning=None, clock=time.perf_counter):  # fmt: skip
         self.stream = stream
         self.profile = profile or default_profile()
         self.host = host
         self.port = _validate.integer("port", port, 0, 65535)
         self.max_rate_hz = _validate.in_range("max_rate_hz", max_rate_hz, 1.0, 1e7)
+        if reply_port is not None:
+            reply_port = _validate.integer("reply_port", reply_port, 1, 65535)
+        self.replies = Replies(reply_port)
         self.on_scene = on_scene
         self.on_tuning = on_tuning
         self.on_warning = on_warning or (lambda text: print(text, file=sys.stderr, flush=True))
@@ -125,11 +124,13 @@ class OscServer(AddressSpace):
         self._current = self._base
         self._epoch = self._base.epoch
         self._shape = None  # the shape scene playing, or None
+        self._playing = "points"  # what the status line says it plays (bounded)
         self._shape_until = math.inf
         self._n = dict.fromkeys(
-            ("datagrams", "messages", "points", "releases", "controls", "shapes", "malformed",
-             "unknown", "wrong_type", "non_finite", "out_of_range", "refused", "flood_dropped",
-             "kernel_dropped", "errors"), 0)  # fmt: skip
+            ("datagrams", "messages", "points", "releases", "controls", "shapes", "queries",
+             *(key for key, _ in PROBLEMS)), 0)  # fmt: skip
+        self._from = None  # the sender of the datagram being read (the receiver's)
+        self._reading = ""  # the address of the message being read
         self._timed_out = 0
         self._rate_hz = 0.0
         self._sender = ""
@@ -223,23 +224,27 @@ class OscServer(AddressSpace):
         """Release every point and end a shape: all off at the next frame."""
         self.points.release()
         with self._lock:
+            if self._shape is None and self._showing(self._base):
+                return  # nothing to swap: a flood of offs costs the output thread nothing
             self._shape = None
+            self._playing = "points"
             self._swap(self._base)
 
     @property
     def stats(self) -> ServeStats:
         """The counters now."""
-        shape = self._shape
         return ServeStats(
-            address=f"{self.address[0]}:{self.address[1]}",
+            address=where(*self.address),
             **self._n,
+            replies=self.replies.sent,
+            replies_dropped=self.replies.dropped,
             timed_out=self._timed_out,
             active_points=len(self.points.points),
             rate_hz=self._rate_hz,
             last_sender=self._sender,
             last_address=self._last_address,
             last_problem=self._problem,
-            playing="points" if shape is None else shape.shape.spec,
+            playing=self._playing,
             elapsed_s=0.0
             if self._started is None
             else (self._stopped or self.clock()) - self._started,
@@ -265,6 +270,10 @@ class OscServer(AddressSpace):
         check_renders(method.spec, self.profile.layout)
         return scene.replace(shape=None, source=self.points, marker="osc-points", hold_s=None)
 
+    def _showing(self, scene: Scene) -> bool:
+        """Whether the stream plays ``scene``, the server's current one."""
+        return scene is self._current and getattr(self.stream, "scene", None) is scene
+
     def _swap(self, scene: Scene) -> None:
         self._current = scene
         self.stream.set_scene(scene)
@@ -278,6 +287,8 @@ class OscServer(AddressSpace):
         """New method or correction for the points, and for a shape playing."""
         with self._lock:
             changed = {k: v for k, v in changes.items() if getattr(self._base, k) != v}
+            if not changed and self._showing(self._shape or self._base):
+                return  # the same again: no new scene for the output thread to take up
             self._base = self._base.replace(**changes)
             if changed and self.on_tuning is not None:
                 try:
@@ -298,6 +309,7 @@ class OscServer(AddressSpace):
                 shape=shape, source=None, duration_s=duration_s, pause_s=0.0, repeat=False,
                 marker="osc-shape", epoch=self._epoch,
             )  # fmt: skip
+            self._playing = shape_label(shape)
             self._shape_until = now + duration_s + 0.1  # until its first frame says when
             self._swap(self._shape)
         self._wake.set()
@@ -305,79 +317,94 @@ class OscServer(AddressSpace):
     # --- the receiver --------------------------------------------------------------------------
 
     def _bind(self) -> socket.socket:
-        where = f"{self.host}:{self.port}"
-        try:
-            family, _, _, _, addr = socket.getaddrinfo(self.host, self.port,
-                                                       type=socket.SOCK_DGRAM)[0]  # fmt: skip
-        except (socket.gaierror, UnicodeError) as exc:
-            raise OSError(f"cannot listen on {where}: {exc}") from None
-        sock = socket.socket(family, socket.SOCK_DGRAM)
-        try:
+        sock = _open_socket(listen_host(self.host), self.port)
+        try:  # a bigger buffer and its overflow count (Linux): best effort
             sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4 << 20)
-            self._ovfl = _SO_RXQ_OVFL is not None
-            if self._ovfl:
-                try:
-                    sock.setsockopt(socket.SOL_SOCKET, _SO_RXQ_OVFL, 1)
-                except OSError:
-                    self._ovfl = False
-            sock.bind(addr)
-        except OSError as exc:
-            sock.close()
-            raise OSError(f"cannot listen on {where}: {exc.strerror or exc}") from None
+        except OSError:
+            pass
+        self._ovfl = _SO_RXQ_OVFL is not None
+        if self._ovfl:
+            try:
+                sock.setsockopt(socket.SOL_SOCKET, _SO_RXQ_OVFL, 1)
+            except OSError:
+                self._ovfl = False
         sock.settimeout(0.1)
         self.address = sock.getsockname()[:2]
         if not _loopback(self.address[0]):
             self.on_warning(
-                f"warning: listening on {self.address[0]}:{self.address[1]}, beyond this "
-                "machine: anyone who can send it UDP drives the array"
+                f"warning: listening on {where(*self.address)}, beyond this machine: anyone "
+                "who can send it UDP drives the array"
             )
         return sock
 
     def _problem_of(self, kind: str, text: str) -> None:
+        """Count a message (a datagram) that did nothing, keep why (bounded, printable), and
+        tell its sender if it asked for replies."""
         self._n[kind] += 1
-        self._problem = text if text.isprintable() else _printable(text)
+        self._problem = problem = shortened(text if text.isprintable() else _printable(text))
+        sender, address = self._from, self._reading
+        if sender is None or address in REPLY_ADDRESSES:
+            return
+        to = self.replies.destination(sender)
+        if to is not None:
+            name = dict(PROBLEMS)[kind]
+            self.replies.send(self._sock, to, "/tactile/error", (address, name, problem),
+                              self.clock())  # fmt: skip
 
     def _receive(self) -> None:
         sock, n, clock = self._sock, self._n, self.clock
         space = socket.CMSG_SPACE(4) if self._ovfl else 0
-        capacity = max(1.0, self.max_rate_hz * 0.05)
-        tokens, last = capacity, clock()
+        budgets = SenderBudgets(self.max_rate_hz)
+        size = MAX_DATAGRAM_BYTES + 1  # one byte more: a longer datagram shows as too long
         while not self._stopping.is_set():
+            too_long = False
             try:
                 if space:
-                    data, ancillary, _, sender = sock.recvmsg(65536, space)
+                    data, ancillary, _, sender = sock.recvmsg(size, space)
                 else:
-                    (data, sender), ancillary = sock.recvfrom(65536), ()
+                    (data, sender), ancillary = sock.recvfrom(size), ()
             except TimeoutError:
                 continue
             except OSError as exc:
                 if self._stopping.is_set():
                     break
-                self._problem_of("errors", f"receive: {exc}")
-                time.sleep(0.01)
-                continue
+                if getattr(exc, "winerror", None) != 10040:  # WSAEMSGSIZE: too long, on Windows
+                    self._from = None
+                    self._problem_of("errors", f"receive: {exc}")
+                    time.sleep(0.01)
+                    continue
+                data, ancillary, sender, too_long = b"", (), None, True
             now = clock()
             n["datagrams"] += 1
             for level, kind, payload in ancillary:
                 if level == socket.SOL_SOCKET and kind == _SO_RXQ_OVFL and len(payload) >= 4:
                     n["kernel_dropped"] = struct.unpack("=I", payload[:4])[0]
-            self._sender = f"{sender[0]}:{sender[1]}"
-            tokens = min(capacity, tokens + (now - last) * self.max_rate_hz)
-            last = now
-            if tokens < 1.0 and not data.startswith(_ALWAYS_READ):
+            if sender is not None:
+                self._sender = where(*sender[:2])
+            self._from, self._reading = sender, ""
+            if too_long or len(data) > MAX_DATAGRAM_BYTES:
+                self._problem_of("too_large", f"a datagram from {self._sender} longer than "
+                                 f"{MAX_DATAGRAM_BYTES} bytes, not read")  # fmt: skip
+                continue
+            bucket = budgets.bucket(sender, now)
+            if bucket[0] < 1.0 and not data.startswith(_ALWAYS_READ):
                 n["flood_dropped"] += 1
                 continue
+            bucket[0] -= datagram_units(len(data))
+            floor = bucket[0] - bucket[2]  # what its messages cost may take one bucket more
             try:
                 messages, skipped = read_packet(data, MAX_MESSAGES)
             except Malformed as exc:
                 self._problem_of("malformed", f"malformed datagram from {self._sender}: {exc}")
-                tokens -= 1.0
                 continue
             n["flood_dropped"] += skipped
-            tokens -= max(1, len(messages))
-            for address, args in messages:
+            for j, (address, args) in enumerate(messages):
+                if bucket[0] < floor:  # the rest are not read
+                    n["flood_dropped"] += len(messages) - j
+                    break
+                bucket[0] -= message_units(address, args)
                 n["messages"] += 1
-                self._last_address = address
+                self._last_address = self._reading = address[:MAX_TEXT]
                 try:
                     self._handle(address, args, now)
                 except Exception as exc:  # a bug: counted, and the server goes on
@@ -394,6 +421,7 @@ class OscServer(AddressSpace):
                 with self._lock:
                     if self._shape is not None and now >= self._shape_until:
                         self._shape = None
+                        self._playing = "points"
                         self._swap(self._base)
             history.append((now, self._n["datagrams"] + self._n["kernel_dropped"]))
             while len(history) > 2 and now - history[1][0] >= 1.0:

@@ -5,8 +5,12 @@ that matter on a port anyone on the machine can send to: it finds string ends wi
 ``bytes.find`` (python-osc walks strings a byte at a time in Python, so a 60 KB datagram of junk
 costs milliseconds), it turns every defect into one :class:`Malformed` (python-osc lets a bad
 UTF-8 string escape as ``UnicodeDecodeError`` and only logs an unknown type tag, then reads the
-arguments after it out of step), and it stops at a bound on messages per datagram. It reads
-what python-osc writes (``tests/test_serve_osc.py`` checks both ways).
+arguments after it out of step), and it bounds what one datagram may cost before the work is
+done: at most :data:`MAX_DATAGRAM_BYTES` bytes, :data:`MAX_ARGUMENTS` type tags a message
+(checked on the tag string's length, before a tag is read: 65,000 ``[`` tags took 41 ms to read
+one by one), bundles :data:`MAX_DEPTH` deep, and the messages it is asked for. It reads what
+python-osc writes (``tests/test_serve_osc.py`` checks both ways); :func:`encode_message`
+writes the server's replies.
 
 Bundle time tags are read and ignored: a bundle's messages apply when it arrives.
 """
@@ -15,10 +19,23 @@ from __future__ import annotations
 
 import struct
 
-__all__ = ["MAX_DEPTH", "Malformed", "read_packet"]
+__all__ = [
+    "MAX_ARGUMENTS",
+    "MAX_DATAGRAM_BYTES",
+    "MAX_DEPTH",
+    "Malformed",
+    "encode_message",
+    "read_packet",
+]
 
 MAX_DEPTH = 8
 """Deepest nesting of bundles read."""
+MAX_DATAGRAM_BYTES = 16_384
+"""Longest datagram read, in bytes: 256 point messages with their ids in one bundle, or a
+``/tactile/shape`` of the most points it may have at full precision, fit with room to spare."""
+MAX_ARGUMENTS = 16
+"""Most type tags a message may have (an array's brackets count): the address space takes at
+most three arguments."""
 
 _BUNDLE = b"#bundle\x00"
 _FIXED = {
@@ -55,6 +72,9 @@ def _message(data: bytes) -> tuple[str, list]:
         raise Malformed(f"address must start with '/', got {address[:40]!r}")
     if index >= len(data):
         return address, []  # no type tag string: no arguments (OSC 1.0 allows it)
+    end = data.find(b"\x00", index)
+    if end - index > MAX_ARGUMENTS + 1:  # (no NUL at all: _string says so)
+        raise Malformed(f"more than {MAX_ARGUMENTS} type tags (arguments) in one message")
     tags, index = _string(data, index)
     if not tags.startswith(","):
         raise Malformed("the type tag string must start with ','")
@@ -109,10 +129,40 @@ def read_packet(data: bytes, max_messages: int) -> tuple[list[tuple[str, list]],
     >>> read_packet(b"/tactile/off\x00\x00\x00\x00", 10)
     ([('/tactile/off', [])], 0)
     """
+    if len(data) > MAX_DATAGRAM_BYTES:
+        raise Malformed(f"a datagram of {len(data)} bytes: at most {MAX_DATAGRAM_BYTES} are read")
     out: list = []
     skipped = [0]
     _packet(bytes(data), out, max_messages, 0, skipped)
     return out, skipped[0]
+
+
+def _padded(raw: bytes) -> bytes:
+    raw += b"\x00"
+    return raw + b"\x00" * (-len(raw) % 4)
+
+
+def encode_message(address: str, args: tuple | list = ()) -> bytes:
+    """One OSC message: ``str`` arguments as ``s``, ``int`` as ``i``, ``float`` as ``f``
+    (32-bit, what Max, Pd and TouchDesigner read everywhere).
+
+    >>> encode_message("/tactile/error", ["/tactile/mu", "out of range"])[:16]
+    b'/tactile/error\x00\x00'
+    """
+    tags, body = [","], []
+    for value in args:
+        if isinstance(value, str):
+            tags.append("s")
+            body.append(_padded(value.encode("utf-8", "backslashreplace")))
+        elif isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ValueError(f"OSC reply argument must be str, int or float, got {value!r}")
+        elif isinstance(value, int):
+            tags.append("i")
+            body.append(struct.pack(">i", value))
+        else:
+            tags.append("f")
+            body.append(struct.pack(">f", value))
+    return _padded(address.encode()) + _padded("".join(tags).encode()) + b"".join(body)
 
 
 def _packet(data: bytes, out: list, limit: int, depth: int, skipped: list) -> None:

@@ -1,10 +1,12 @@
 """The methods that work on any layout: EN, PK, RO, GS, VRCH and BA, on actuators anywhere.
 
 On a :class:`~tactile_core.rendering.layout.Layout` that is not a grid, a method renders
-through a :class:`LayoutSampler`: ``frames(x, y, tol)`` for many points (dense ``(n, size)``)
-and ``entries1(x, y, tol)`` for one (the live path: ``((actuator, value), ...)`` of the lit
-actuators, computed from the actuators near the point only). Distances are in layout units,
-the short way round a wrap.
+through a :class:`LayoutSampler`: ``frames(x, y, tol)`` for many points (dense ``(n, size)``),
+``entries1(x, y, tol)`` for one (the live path: ``((actuator, value), ...)`` of the lit
+actuators, computed from the actuators near the point only) and ``many(x, y, tol)`` for the
+live path's many points at once (the same candidates as ``entries1`` and the same arithmetic,
+in arrays: ``(point, actuator, value)`` triples). Distances are in layout units, the short way
+round a wrap.
 
 =======  ==================================================================================
 ``RO``   ``s(1 - d / r)`` for ``d < r`` (Syntacts' roll-off; ``curve`` smoothstep or linear)
@@ -47,13 +49,20 @@ class LayoutSampler:
         ``frames(x, y, tol) -> (n, size)`` float64 for ``(n,)`` arrays.
     entries1 : callable
         ``entries1(x, y, tol) -> ((index, value), ...)`` with plain floats.
+    many : callable or None
+        ``many(x, y, tol) -> (point, index, value)`` for ``(n,)`` arrays: three ``(k,)``
+        arrays, candidate ``j`` being actuator ``index[j]`` (-1: none) of point ``point[j]``
+        with ``value[j]``; per point, what ``entries1`` gives it (the same operations on
+        float64, so the same numbers) and candidates of value 0. None where there is no such
+        form (plug-ins; BA with an actuator twice in one cell).
     """
 
-    __slots__ = ("entries1", "frames")
+    __slots__ = ("entries1", "frames", "many")
 
-    def __init__(self, frames, entries1):
+    def __init__(self, frames, entries1, many=None):
         self.frames = frames
         self.entries1 = entries1
+        self.many = many
 
 
 @functools.lru_cache(maxsize=64)
@@ -102,6 +111,7 @@ class _Candidates:
         while math.ceil((x1 - x0) / h) * math.ceil((y1 - y0) / h) > self.MAX_BUCKETS:
             h *= 2.0
         self.h, self.x0, self.y0 = h, x0, y0
+        self.table_x1, self.table_y1 = x1, y1
         ni, nj = math.ceil((x1 - x0) / h), math.ceil((y1 - y0) / h)
         b = h * math.sqrt(0.5)
         cx = x0 + (np.arange(ni) + 0.5) * h
@@ -118,6 +128,67 @@ class _Candidates:
         for flat in range(len(dist)):
             members = np.flatnonzero(near[flat])
             self.table[divmod(flat, nj)] = tuple(self.all[i] for i in members.tolist())
+
+    @functools.cached_property
+    def _arrays(self) -> tuple:
+        """The table as arrays for :meth:`many`: ``(buckets, m)`` candidate indices (highest
+        first, -1 padding), every actuator (highest first), and the positions with a NaN at
+        index -1 (a padding slot is at no distance)."""
+        ni = math.ceil((self.table_x1 - self.x0) / self.h)
+        nj = math.ceil((self.table_y1 - self.y0) / self.h)
+        width = max(len(members) for members in self.table.values())
+        index = np.full((ni * nj, width), -1, dtype=np.intp)
+        for (i, j), members in self.table.items():
+            row = sorted((m[0] for m in members), reverse=True)
+            index[i * nj + j, : len(row)] = row
+        every = np.arange(len(self.all))[::-1].copy()
+        px = np.array([a[1] for a in self.all] + [math.nan])
+        py = np.array([a[2] for a in self.all] + [math.nan])
+        return ni, nj, index, every, px, py
+
+    def many(self, x: np.ndarray, y: np.ndarray) -> list:
+        """:meth:`near` and :meth:`distance` for points ``(x, y)`` (``(n,)`` arrays) at once.
+
+        Returns
+        -------
+        list of (point, index, d)
+            One or two blocks (the points in the table's squares; those beyond it, whose
+            candidates are every actuator): ``point`` ``(p,)`` the points' positions in ``x``,
+            ``index`` ``(p, m)`` their candidates, highest index first, -1 padding a row, and
+            ``d`` ``(p, m)`` the distances, computed as :meth:`distance` computes them (the
+            same operations), NaN in padding slots.
+        """
+        ni, nj, table, every, px, py = self._arrays
+        kx, ky = x, y
+        wrap = self.wrap
+        if wrap is not None:
+            if wrap.axis == "x":
+                kx = np.mod(x, wrap.circumference)
+            else:
+                ky = np.mod(y, wrap.circumference)
+        i = np.floor((kx - self.x0) / self.h)
+        j = np.floor((ky - self.y0) / self.h)
+        inside = (i >= 0) & (i < ni) & (j >= 0) & (j < nj)
+        point = np.arange(len(x))
+        if inside.all():
+            blocks = [(point, table[(i * nj + j).astype(np.intp)])]
+        else:  # beyond the table: every actuator is a candidate
+            out = ~inside
+            key = (i[inside] * nj + j[inside]).astype(np.intp)
+            beyond = np.broadcast_to(every, (int(out.sum()), len(every)))
+            blocks = [(point[inside], table[key]), (point[out], beyond)]
+        found = []
+        for rows, index in blocks:
+            dx = x[rows, None] - px[index]
+            dy = y[rows, None] - py[index]
+            if wrap is not None:
+                c = wrap.circumference
+                if wrap.axis == "x":
+                    dx -= c * np.round(dx / c)
+                else:
+                    dy -= c * np.round(dy / c)
+            found.append((rows, index, np.sqrt(dx * dx + dy * dy)))
+        return found
 
     def near(self, x: float, y: float) -> tuple:
         """``((index, ax, ay), ...)``: the candidates for the point ``(x, y)``."""
@@ -143,6 +214,13 @@ class _Candidates:
             else:
                 dy -= c * round(dy / c)
         return math.sqrt(dx * dx + dy * dy)
+
+
+def _joined(found: list) -> tuple:
+    """``(point, index, value)`` of several blocks of candidates, one after the other."""
+    if len(found) == 1:
+        return found[0]
+    return tuple(np.concatenate(part) for part in zip(*found))
 
 
 def _distances(layout: Layout, x, y) -> np.ndarray:
@@ -173,7 +251,15 @@ def _radial(layout, reach, weight, weight1, strict=True):
                     out.append((i, v))
         return tuple(out)
 
-    return LayoutSampler(frames, entries1)
+    def many(x, y, tol):
+        found = []
+        for rows, index, d in table.many(x, y):
+            inside = d < reach if strict else d <= reach
+            point, slot = np.nonzero(inside)
+            found.append((rows[point], index[point, slot], weight(d[point, slot])))
+        return _joined(found)
+
+    return LayoutSampler(frames, entries1, many)
 
 
 def _ro(layout, r=1.0, curve="smoothstep"):
@@ -238,7 +324,25 @@ def _pk(layout, blend=0.0):
         total = sum(inv)
         return tuple((-i, math.sqrt(v / total)) for v, (_, i) in zip(inv, ranked))
 
-    return LayoutSampler(frames, entries1)
+    def many(x, y, tol):
+        return _joined([nearest(rows, index, d, tol[rows]) for rows, index, d in table.many(x, y)])
+
+    def nearest(rows, index, d, tol):
+        order = np.argsort(d, axis=1, kind="stable")[:, :k]  # highest index first: ties there
+        at = np.arange(len(d))[:, None]
+        index, d = index[at, order], d[at, order]
+        on = d[:, 0] <= tol
+        with np.errstate(divide="ignore", invalid="ignore"):  # on an actuator: set below
+            inv = 1.0 / d
+            total = inv[:, 0].copy()  # summed in order, as sum() does
+            for j in range(1, k):
+                total += inv[:, j]
+            w = np.sqrt(inv / total[:, None])
+        w[on] = 0.0
+        w[on, 0] = 1.0
+        return np.repeat(rows, k), index.reshape(-1), w.reshape(-1)
+
+    return LayoutSampler(frames, entries1, many)
 
 
 def _ba(layout):
@@ -256,8 +360,12 @@ def _ba(layout):
             out[rows, slots] = weight
         return out[:, :size]
 
+    def many(x, y, tol):
+        index, w = cells.weights(x, y, tol)
+        return np.repeat(np.arange(len(x)), index.shape[1]), index.reshape(-1), w.reshape(-1)
+
     if not cells.repeats:
-        return LayoutSampler(frames, cells.weights1)
+        return LayoutSampler(frames, cells.weights1, many)
 
     def entries1(x, y, tol):  # an actuator twice in one cell (a wrap of one or two turns)
         lit: dict = {}
@@ -277,7 +385,11 @@ def _en(layout):
     def entries1(x, y, tol):
         return tuple((i, math.sqrt(w)) for i, w in ba.entries1(x, y, tol))
 
-    return LayoutSampler(frames, entries1)
+    def many(x, y, tol):
+        point, index, w = ba.many(x, y, tol)
+        return point, index, np.sqrt(w)
+
+    return LayoutSampler(frames, entries1, None if ba.many is None else many)
 
 
 BUILT_IN = {"RO": _ro, "GS": _gs, "VRCH": _vrch, "PK": _pk, "BA": _ba, "EN": _en}
