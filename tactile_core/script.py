@@ -10,7 +10,7 @@ a pseudo-terminal from ``tactile emulate``) and streams to it from a thread of t
 :meth:`Array.play` presents a shape once and, by default, returns when it has played; the
 :class:`Presentation` it returns carries the time its first frame was written to the device
 (the same moment an LSL marker is stamped with, ``lsl=True``). :meth:`Array.point` drives
-live points. This module never imports Qt (a test imports it in a fresh interpreter).
+free points. This module never imports Qt (a test imports it in a fresh interpreter).
 
 Safety: leaving the ``with`` block in any way (an exception, Ctrl-C) turns the array off and
 stops the stream; so do :meth:`Array.close`, interpreter exit, and SIGTERM (``open_array``
@@ -35,7 +35,7 @@ from .device.profile import DeviceProfile, load_profile
 from .rendering.correction import check_correction
 from .rendering.placement import default_method
 from .rendering.points import TIMEOUT_RANGE_S as POINT_TIMEOUT_RANGE_S
-from .rendering.points import LivePoints, free_method
+from .rendering.points import FreePoints, free_method
 from .rendering.scene import Scene
 from .rendering.shapes import Shape, parse_shape
 from .stream import Streamer, StreamOptions, check_lead_ms
@@ -133,7 +133,7 @@ class Array:
         self.compensate_motors = compensate_motors
         """Whatever is played goes out as motor-aware drive (``open_array(...,
         compensate_motors=True)``)."""
-        self.points = LivePoints(timeout_s=point_timeout_s)
+        self.points = FreePoints(timeout_s=point_timeout_s)
         self.streamer = Streamer(link, profile, options=options, on_onset=[self._on_onset],
                                  on_status=self._on_stream_status)  # fmt: skip
         self._lost = ""  # the stream's last status once it stopped on its own
@@ -221,7 +221,7 @@ class Array:
 
     def point(self, x: float, y: float, intensity: float = 1.0, *, point_id: str = "",
               method: str | None = None, mu: float = 0.33, gamma: float = 0.7) -> None:  # fmt: skip
-        """Put a live point at ``(x, y)`` (grid units) with ``intensity``; it stays until
+        """Put a free point at ``(x, y)`` (grid units) with ``intensity``; it stays until
         :meth:`release` (or, with ``point_timeout_s``, until not refreshed for that long).
         ``method`` must render free points (not MM or IM): AS by default on a grid, BA on a
         layout that is not one."""
@@ -250,7 +250,7 @@ class Array:
             raise RuntimeError(f"the stream has stopped: {self._lost}")
 
     def release(self, point_id: str | None = None) -> None:
-        """Release one live point (None: all)."""
+        """Release one free point (None: all)."""
         self.points.release(point_id)
 
     def all_off(self) -> None:
@@ -379,7 +379,7 @@ def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_m
     lsl, lsl_levels : bool
         Open the LSL marker outlet (``tactile-markers``), and the levels outlet.
     point_timeout_s : float or None
-        Release a live point not refreshed within this long (None: it stays until released).
+        Release a free point not refreshed within this long (None: it stays until released).
     compensate_motors : bool
         Motor-aware drive: pre-compensate each lit tactor's motor lag with the profile's
         motor constants (:mod:`tactile_core.rendering.motor_drive`); off, the paper's

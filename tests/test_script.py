@@ -1,5 +1,5 @@
 """The scripting API (tactile_core.script, tc.open_array): presentations with their first
-frame's time, live points, the context manager, and Ctrl-C / SIGTERM leaving the array off."""
+frame's time, free points, the context manager, and Ctrl-C / SIGTERM leaving the array off."""
 
 import signal
 import subprocess

@@ -386,12 +386,12 @@ def jittered_profile(path: Path) -> None:
 def frame_cost_us(profile_path: Path, method: str, n: int) -> tuple[float, float]:
     """Median us of a frame of the sender's ``n`` points, one at a time and all at once."""
     from tactile_core.device.profile import load_profile
-    from tactile_core.rendering.points import LivePoints
+    from tactile_core.rendering.points import FreePoints
     from tactile_core.rendering.scene import Scene
 
     target = load_profile(str(profile_path)).layout
     rng = random.Random(2)
-    points = LivePoints(timeout_s=None)
+    points = FreePoints(timeout_s=None)
     for i in range(64):
         x, y = rng.uniform(-1.5, 16.5), rng.uniform(-1.5, 18.5)
         if i < n:

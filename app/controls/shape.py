@@ -146,5 +146,5 @@ def describe_content(scene, target) -> str:
                 f"{count(paths, 'path')} and {count(dots, 'dot')} over "
                 f"{source.duration_s:g} s.{pick}")  # fmt: skip
     if source is not None:
-        return "Live points sent by another program (OSC or a script)."
+        return "Free points sent by another program (OSC or a script)."
     return "Nothing: the array is off."

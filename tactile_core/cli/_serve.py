@@ -1,4 +1,4 @@
-"""``tactile serve``: an OSC server feeding live points to a device; ``--lsl`` for it and for
+"""``tactile serve``: an OSC server feeding free points to a device; ``--lsl`` for it and for
 ``tactile stream``."""
 
 from __future__ import annotations

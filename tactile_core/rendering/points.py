@@ -1,11 +1,11 @@
-"""Live points: positions another program sends, rendered each frame with a scene's method.
+"""Free points: positions another program sends, rendered each frame with a scene's method.
 
-A :class:`LivePoints` table holds named points ``{id: (x, y, intensity, time of the update)}``.
+A :class:`FreePoints` table holds named points ``{id: (x, y, intensity, time of the update)}``.
 Any thread may write it (the OSC server's, a script's); the streamer's output thread reads it
-once per frame through the frame source that :meth:`LivePoints.live` returns, which is what a
+once per frame through the frame source that :meth:`FreePoints.live` returns, which is what a
 :class:`~tactile_core.rendering.scene.Scene` takes as its ``source``::
 
-    points = LivePoints()
+    points = FreePoints()
     scene = Scene(method="AS", source=points)   # hand it to a streamer once
     points.set("hand", 2.5, 3.0)                 # then move the point from any thread
 
@@ -41,7 +41,7 @@ From :data:`BATCH_FROM` points on, a frame renders all of them with a handful of
 per point (:meth:`PointFrames.at_each`, about 3-10 µs a point): the same candidates and the
 same operations, so the same values to rounding (``tests/test_live_points.py`` compares them).
 64 points on a 255-actuator layout cost 113-220 µs a frame instead of 0.3-1.5 ms
-(``docs/benchmarks.md``, Many live points). Plug-ins are rendered point by point.
+(``docs/benchmarks.md``, Many free points). Plug-ins are rendered point by point.
 """
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ class Point(NamedTuple):
     """``(x, y, intensity, time_s)`` of the update before, or None (a new point)."""
 
 
-class LivePoints:
+class FreePoints:
     """A table of named points, written from any thread, rendered by the output thread.
 
     Parameters
@@ -114,7 +114,7 @@ class LivePoints:
 
     def __reduce__(self):
         raise TypeError(
-            "live points are fed and rendered in one process: stream them from a thread of "
+            "free points are fed and rendered in one process: stream them from a thread of "
             "this process (open_stream(..., process=False)), not through the stream process"
         )
 
@@ -188,7 +188,7 @@ class LivePoints:
 
 
 class PointFrames:
-    """Frames of a :class:`LivePoints` table with one method and correction, for the streamer.
+    """Frames of a :class:`FreePoints` table with one method and correction, for the streamer.
 
     :meth:`entries` renders the points as they are at the moment it is called (frame ``k`` is
     only counted); nothing is tabulated, so :meth:`precompute` does nothing.
@@ -196,7 +196,7 @@ class PointFrames:
 
     precomputed = False
 
-    def __init__(self, points: LivePoints, method, target, sampling, mu, gamma, gain=1.0):
+    def __init__(self, points: FreePoints, method, target, sampling, mu, gamma, gain=1.0):
         self.table = points
         self.method = free_method(method)
         self.target = check_target(target)
@@ -225,7 +225,7 @@ class PointFrames:
             self._size = cols * rows
 
     def precompute(self, background: bool = False) -> None:
-        """Nothing to tabulate: live points change every frame."""
+        """Nothing to tabulate: free points change every frame."""
 
     def entries(self, k: int) -> tuple:
         """Lit tactors now: ``((flat index, corrected value), ...)``."""

@@ -1,4 +1,4 @@
-"""Driven by other programs: live points over OSC, stimulus markers on Lab Streaming Layer.
+"""Driven by other programs: free points over OSC, stimulus markers on Lab Streaming Layer.
 
 A layer above :mod:`tactile_core.device` and below :mod:`tactile_core.stream`: it is handed a
 stream's output thread (a :class:`~tactile_core.stream.Streamer`) and feeds it (points and

@@ -3,7 +3,7 @@
 Two threads of its own, neither of them the stream's output thread:
 
 - the *receiver* reads UDP datagrams, parses them (:mod:`._osc_wire`), checks every value and
-  writes the :class:`~tactile_core.rendering.points.LivePoints` table or swaps in a new scene
+  writes the :class:`~tactile_core.rendering.points.FreePoints` table or swaps in a new scene
   (the address space, :mod:`._osc_addresses`);
 - the *keeper* releases points that were not refreshed within the timeout, ends a shape when
   its time is up, and measures the message rate.
@@ -31,7 +31,7 @@ from collections import deque
 
 from .._shared import validate as _validate
 from ..device.profile import DeviceProfile, default_profile
-from ..rendering.points import DEFAULT_TIMEOUT_S, LivePoints, free_method
+from ..rendering.points import DEFAULT_TIMEOUT_S, FreePoints, free_method
 from ..rendering.rasterize import check_renders
 from ..rendering.scene import Scene
 from ..rendering.shapes import parse_shape
@@ -64,7 +64,7 @@ class OscServer(AddressSpace):
     Parameters
     ----------
     stream : Streamer, LocalStream or anything with ``set_scene(scene)``
-        Where scenes go. Live points are read by the stream's output thread in this process,
+        Where scenes go. Free points are read by the stream's output thread in this process,
         so not a stream process (its scenes are pickled). If it has an ``on_onset`` list (a
         :class:`~tactile_core.device.Streamer`), the server adds itself to it: a shape then
         ends ``DURATION_S`` after its first frame went out.
@@ -118,7 +118,7 @@ class OscServer(AddressSpace):
         self.on_tuning = on_tuning
         self.on_warning = on_warning or (lambda text: print(text, file=sys.stderr, flush=True))
         self.clock = clock
-        self.points = LivePoints(timeout_s=timeout_s, interpolate=interpolate, clock=clock)
+        self.points = FreePoints(timeout_s=timeout_s, interpolate=interpolate, clock=clock)
         self._lock = threading.RLock()  # scene swaps: receiver, keeper, owner; never output
         self._base = self._points_scene(scene or Scene(method="AS"))
         self._current = self._base
@@ -155,7 +155,7 @@ class OscServer(AddressSpace):
 
         Raises ``OSError`` (the address in use, not an address of this machine) with the
         address in the message, and ``TypeError`` for a stream in another process."""
-        with self._lock:  # first: a stream that cannot take live points refuses them here
+        with self._lock:  # first: a stream that cannot take free points refuses them here
             self.stream.set_scene(self._current)
         try:
             self._sock = self._bind()

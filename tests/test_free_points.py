@@ -9,7 +9,7 @@ import pytest
 import tactile_core as tc
 from tactile_core.device.profile import load_profile
 from tactile_core.rendering.geometry import Grid
-from tactile_core.rendering.points import LivePoints
+from tactile_core.rendering.points import FreePoints
 from tactile_core.rendering.scene import Scene
 
 
@@ -36,7 +36,7 @@ def expected(method, x, y, mu, gamma, gain=1.0, grid=None):
 @pytest.mark.parametrize("method", ["CT", "AS", "EN", "PK", "RO:r=1.5", "GS", "VRCH"])
 def test_points_one_point_equals_render_xy_corrected(method):
     clock = Clock()
-    points = LivePoints(clock=clock)
+    points = FreePoints(clock=clock)
     live = Scene(method=method, mu=0.33, gamma=0.7, source=points).live(Grid(), 300)
     for x, y in [(1.2, 2.7), (0.5, 0.5), (4.9, 5.9), (2.5, 3.0), (-0.3, 2.0)]:
         points.set("p", x, y)
@@ -44,7 +44,7 @@ def test_points_one_point_equals_render_xy_corrected(method):
 
 
 def test_points_intensity_scales_above_the_threshold_like_the_master_intensity():
-    points = LivePoints(clock=Clock())
+    points = FreePoints(clock=Clock())
     live = Scene(method="AS", mu=0.2, gamma=0.5, gain=0.8, source=points).live(Grid(), 300)
     points.set("", 1.5, 1.5, 0.25)  # on the centre of tactor (1, 1): raw 1
     got = frame_of(live)
@@ -55,7 +55,7 @@ def test_points_intensity_scales_above_the_threshold_like_the_master_intensity()
 
 
 def test_points_on_one_tactor_combine_by_max():
-    points = LivePoints(clock=Clock())
+    points = FreePoints(clock=Clock())
     live = Scene(method="AS", mu=0.0, gamma=1.0, source=points).live(Grid(), 300)
     points.set("a", 1.5, 1.5, 0.5)  # tactor 6 at 0.5
     points.set("b", 2.0, 1.5, 1.0)  # halfway between tactors 6 and 7: 0.5 each
@@ -70,7 +70,7 @@ def test_points_on_one_tactor_combine_by_max():
 
 def test_points_stale_point_is_not_rendered_and_expire_counts_it():
     clock = Clock()
-    points = LivePoints(clock=clock, timeout_s=0.1)
+    points = FreePoints(clock=clock, timeout_s=0.1)
     live = Scene(method="CT", source=points).live(Grid(), 300)
     points.set("a", 0.5, 0.5)
     clock.now += 0.099
@@ -87,7 +87,7 @@ def test_points_stale_point_is_not_rendered_and_expire_counts_it():
 
 def test_points_without_timeout_stay_until_released():
     clock = Clock()
-    points = LivePoints(clock=clock, timeout_s=None)
+    points = FreePoints(clock=clock, timeout_s=None)
     live = Scene(method="CT", source=points).live(Grid(), 300)
     points.set("a", 0.5, 0.5)
     clock.now += 3600
@@ -98,7 +98,7 @@ def test_points_without_timeout_stay_until_released():
 
 def test_points_newest_update_wins_within_a_frame():
     clock = Clock()
-    points = LivePoints(clock=clock)
+    points = FreePoints(clock=clock)
     live = Scene(method="CT", source=points).live(Grid(), 300)
     for k in range(5):  # five updates between two frames: the frame shows the last
         points.set("a", 0.5 + k, 0.5)
@@ -108,7 +108,7 @@ def test_points_newest_update_wins_within_a_frame():
 
 def test_points_interpolated_move_from_the_previous_update_over_its_interval():
     clock = Clock()
-    points = LivePoints(clock=clock, interpolate=True)
+    points = FreePoints(clock=clock, interpolate=True)
     live = Scene(method="AS", mu=0.0, gamma=1.0, source=points).live(Grid(), 300)
     points.set("a", 0.5, 0.5)
     assert frame_of(live)[0] == 1.0  # a new point: where it is
@@ -125,7 +125,7 @@ def test_points_interpolated_move_from_the_previous_update_over_its_interval():
 
 def test_points_interpolation_skips_a_pause_longer_than_the_timeout():
     clock = Clock()
-    points = LivePoints(clock=clock, interpolate=True, timeout_s=0.1)
+    points = FreePoints(clock=clock, interpolate=True, timeout_s=0.1)
     live = Scene(method="CT", source=points).live(Grid(), 300)
     points.set("a", 0.5, 0.5)
     clock.now += 0.5  # the sender paused (the point timed out); it comes back elsewhere
@@ -135,7 +135,7 @@ def test_points_interpolation_skips_a_pause_longer_than_the_timeout():
 
 def test_points_box_filter_averages_over_the_frame_period():
     clock = Clock()
-    points = LivePoints(clock=clock, interpolate=True)
+    points = FreePoints(clock=clock, interpolate=True)
     scene = Scene(method="AS", mu=0.0, gamma=1.0, source=points, filter="box", subsamples=4)
     live = scene.live(Grid(), 100)  # 10 ms frames; sub-samples 1.25, 3.75, 6.25, 8.75 ms in
     points.set("a", 0.5, 0.5)
@@ -146,14 +146,14 @@ def test_points_box_filter_averages_over_the_frame_period():
 
 
 def test_points_refuse_methods_that_need_a_shape_naming_the_free_ones():
-    points = LivePoints()
+    points = FreePoints()
     for method in ("IM", "MM"):
         with pytest.raises(ValueError, match=f"method {method} needs a shape.*free points work"):
             Scene(method=method, source=points).live(Grid(), 300)
 
 
 def test_points_bad_values_are_refused_by_name():
-    points = LivePoints(max_points=2)
+    points = FreePoints(max_points=2)
     for args, name in [((float("nan"), 1.0), "x"), ((1.0, float("inf")), "y"),
                        ((1.0, 1.0, 1.5), "intensity"), ((1e7, 1.0), "x"),
                        ((True, 1.0), "x")]:  # fmt: skip
@@ -170,7 +170,7 @@ def test_points_bad_values_are_refused_by_name():
 
 def test_points_on_a_layout_equal_render_xy_there():
     profile = load_profile("belt-8")
-    points = LivePoints(clock=Clock())
+    points = FreePoints(clock=Clock())
     live = Scene(method="GS", mu=0.1, gamma=0.8, source=points).live(profile.layout, 300)
     for x in (0.0, 2.3, 7.9, 8.2):  # across the belt's seam too
         points.set("p", x, 0.0)
@@ -182,11 +182,11 @@ def test_points_cannot_cross_to_a_stream_process():
     import pickle
 
     with pytest.raises(TypeError, match="process=False"):
-        pickle.dumps(Scene(source=LivePoints()))
+        pickle.dumps(Scene(source=FreePoints()))
 
 
 def test_points_writers_never_disturb_the_reader():
-    points = LivePoints(timeout_s=None)
+    points = FreePoints(timeout_s=None)
     live = Scene(method="AS", source=points).live(Grid(), 300)
     stop = threading.Event()
     errors = []
@@ -234,7 +234,7 @@ def many_points(target, n, seed, clock):
     else:
         x0, x1, y0, y1 = target.bounds(0.0)
         on = [target.positions[0], target.positions[-1]]
-    points = LivePoints(timeout_s=0.1, clock=clock, max_points=n + 8)
+    points = FreePoints(timeout_s=0.1, clock=clock, max_points=n + 8)
     for k in range(n):
         x, y = rng.uniform(x0 - 2, x1 + 2), rng.uniform(y0 - 2, y1 + 2)
         points.put(str(k), x - 0.3, y + 0.2, rng.uniform(0, 1), clock.now - 0.05)  # previous
@@ -273,7 +273,7 @@ def test_points_many_at_once_equal_one_at_a_time_and_render_xy(method, target, i
     assert set(at_once) == set(one_by_one)
     for i, v in one_by_one.items():
         assert at_once[i] == pytest.approx(v, abs=1e-12)
-    # and an independent computation: render_xy's dense frames of the live points, corrected
+    # and an independent computation: render_xy's dense frames of the free points, corrected
     # with each point's intensity as the master intensity, max over points
     size = grid.size
     want = np.zeros(size)
