@@ -335,14 +335,19 @@ class PatternFrames:
         self._dot_starts = [d[0] for d in self._dots]
         self._dot_longest = max((e - s for s, e, *_ in self._dots), default=0.0)
         self._dot_columns = _dot_columns(self._dots)
-        if not self.grid.is_grid:
-            entries1 = layout_sampler(self.method, self.grid).entries1
-            self._entries = lambda shape, t: layout_entries(shape, entries1, t)
-        else:
-            sample1, cols, rows = self.method.sample1, self.grid.cols, self.grid.rows
-            self._entries = lambda shape, t: point_entries(shape, sample1, t, cols, rows)
+        # per path: a method timed by its trace (TB) plays each over the path's own duration
+        self._path_entries = {id(p): self._entries_for(self.method.on_clock(e - s))
+                              for s, e, p in self._paths}  # fmt: skip
         self._offsets = sampling.offsets_s().tolist()
         self._table: list | None = None
+
+    def _entries_for(self, method):
+        """``entries(shape, t)``: the raw ``((index, value), ...)`` of ``method`` on the target."""
+        if not self.grid.is_grid:
+            sampler = layout_sampler(method, self.grid)
+            return lambda shape, t: layout_entries(shape, sampler, t)
+        sample1, cols, rows = method.sample1, self.grid.cols, self.grid.rows
+        return lambda shape, t: point_entries(shape, sample1, t, cols, rows)
 
     @property
     def precomputed(self) -> bool:
@@ -418,7 +423,8 @@ class PatternFrames:
         last = bisect.bisect_right(self._starts, when)
         for s, e, shape in self._paths[first:last]:
             if s <= when < e:
-                for i, v in self._entries(shape, min(max((when - s) / (e - s), 0.0), 1.0)):
+                entries = self._path_entries[id(shape)]
+                for i, v in entries(shape, min(max((when - s) / (e - s), 0.0), 1.0)):
                     if v > lit.get(i, 0.0):
                         lit[i] = v
         # only the dots that can be on: started by now, and not before the longest could end
@@ -484,7 +490,8 @@ class PatternFrames:
                 on = (when >= s0) & (when < e0)
                 if on.any():
                     t = np.clip((when[on] - s0) / (e0 - s0), 0.0, 1.0)
-                    lit = render(shape, self.method, t, grid=self.grid).reshape(-1, size)
+                    method = self.method.on_clock(e0 - s0)  # (TB: the path's own duration)
+                    lit = render(shape, method, t, grid=self.grid).reshape(-1, size)
                     raw[on] = np.maximum(raw[on], lit)
             self._render_dots(when, raw)
         if corrected:

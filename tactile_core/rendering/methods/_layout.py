@@ -1,4 +1,4 @@
-"""The methods that work on any layout: EN, PK, RO, GS, VRCH and BA, on actuators anywhere.
+"""The methods that work on any layout: EN, PK, RO, GS, VRCH, BA and TB, on actuators anywhere.
 
 On a :class:`~tactile_core.rendering.layout.Layout` that is not a grid, a method renders
 through a :class:`LayoutSampler`: ``frames(x, y, tol)`` for many points (dense ``(n, size)``)
@@ -16,6 +16,8 @@ the short way round a wrap.
 ``BA``   barycentric weights over the layout's Delaunay cells, rectangles bilinear
          (:mod:`._tessellation`): AS's weights on a grid
 ``EN``   ``sqrt`` of BA's weights: Tactile Brush's energy model on BA's cells, as EN is on AS's
+``TB``   Tactile Brush along a shape's trace: its virtual points on the sides of BA's cells,
+         each rendered with EN's weights there, on at their onsets (:mod:`.brush`)
 =======  ==================================================================================
 
 A plug-in works on layouts when its module has ``sample_layout(layout, x, y, **params)``
@@ -31,11 +33,15 @@ import math
 import numpy as np
 
 from ..layout import Layout
-from . import gaussian, rolloff
+from . import brush, gaussian, rolloff
 from ._tessellation import Tessellation
 
 LAYOUT_METHODS = ("EN", "PK", "RO", "GS", "VRCH", "BA")
-"""The built-in methods that render on any layout."""
+"""The built-in methods that render any point on any layout (free points too)."""
+
+TRACED_LAYOUT_METHODS = ("TB",)
+"""The built-in methods that render a shape's trace on any layout (they need the shape and
+``t``, so no free points)."""
 
 
 class LayoutSampler:
@@ -47,13 +53,33 @@ class LayoutSampler:
         ``frames(x, y, tol) -> (n, size)`` float64 for ``(n,)`` arrays.
     entries1 : callable
         ``entries1(x, y, tol) -> ((index, value), ...)`` with plain floats.
+    traced : object, optional
+        For a method that follows the shape's trace (TB): an object with
+        ``frames(shape, t, tol)`` and ``entries1(shape, t, tol)``, which the renderer calls
+        instead (``frames`` and ``entries1`` then refuse free points).
     """
 
-    __slots__ = ("entries1", "frames")
+    __slots__ = ("entries1", "frames", "traced")
 
-    def __init__(self, frames, entries1):
+    def __init__(self, frames, entries1, traced=None):
         self.frames = frames
         self.entries1 = entries1
+        self.traced = traced
+
+    def frames_of(self, shape, t: np.ndarray) -> np.ndarray:
+        """Dense ``(n, size)`` intensities of ``shape`` at the checked parameters ``t``
+        (``(n,)`` float64)."""
+        if self.traced is not None:
+            return self.traced.frames(shape, t, shape.snap_tol)
+        x, y = shape.xy(t)
+        return self.frames(x, y, shape.snap_tol)
+
+    def entries_of(self, shape, t: float) -> tuple:
+        """``((index, value), ...)`` of the actuators ``shape`` lights at ``t``."""
+        if self.traced is not None:
+            return self.traced.entries1(shape, t, shape.snap_tol)
+        x, y = shape.point(t)
+        return self.entries1(x, y, shape.snap_tol)
 
 
 @functools.lru_cache(maxsize=64)
@@ -280,7 +306,16 @@ def _en(layout):
     return LayoutSampler(frames, entries1)
 
 
-BUILT_IN = {"RO": _ro, "GS": _gs, "VRCH": _vrch, "PK": _pk, "BA": _ba, "EN": _en}
+def _tb(layout, duration_s=brush.DURATION_S):
+    on_layout = brush.OnLayout(layout, tessellation(layout), _en(layout).entries1, duration_s)
+
+    def refuse(*args):
+        raise ValueError("method TB needs a shape: it times its actuators along the stroke")
+
+    return LayoutSampler(refuse, refuse, traced=on_layout)
+
+
+BUILT_IN = {"RO": _ro, "GS": _gs, "VRCH": _vrch, "PK": _pk, "BA": _ba, "EN": _en, "TB": _tb}
 
 
 def _plugin(module, layout, params):
@@ -320,11 +355,13 @@ def layout_sampler(method, layout: Layout) -> LayoutSampler:
         When the method is defined on grids only (the paper's four, plug-ins without
         ``sample_layout``), saying why and which methods apply.
     """
-    key = (method.name, method.params, method.module, layout)
+    key = (method.name, method.params, method.module, layout, method.clock_s)
     hit = _SAMPLERS.get(key)
     if hit is not None:
         return hit
     params = dict(method.params)
+    if method.clocked:
+        params["duration_s"] = method.duration_s
     build = BUILT_IN.get(method.name) if not method.plugin else None
     if build is not None:
         hit = build(layout, **params)
@@ -352,5 +389,6 @@ def refusal(name: str, layout: Layout) -> str:
     )
     return (
         f"method {name} cannot render on this layout ({layout.describe()}): {why}; on "
-        f"actuators anywhere use {', '.join(LAYOUT_METHODS)} (BA is AS's weights generalised)"
+        f"actuators anywhere use {', '.join(LAYOUT_METHODS + TRACED_LAYOUT_METHODS)} (BA is "
+        f"AS's weights generalised)"
     )
