@@ -18,6 +18,7 @@ import tactile_core as tc
 from tactile_core.device.profile import find_profile
 from tactile_core.rendering.layout import Layout
 from tactile_core.rendering.methods import brush, get_method
+from tactile_core.rendering.methods._brush_points import virtual_points
 from tactile_core.rendering.rasterize import render_point
 
 from .helpers import lit
@@ -106,22 +107,24 @@ def test_two_virtual_points_on_at_once_add_their_energies_at_a_shared_tactor():
 
 
 def test_a_stroke_too_short_for_its_points_keeps_the_ends():
-    # The three columns in T = 90 ms: d = (90 - 2 x 47.3) / 1.64 < 0, so three points cannot
-    # fit (T <= 47.3 (n - 1) = 94.6). The most that fit: ceil(90 / 47.3) = 2, the two ends:
-    # d = (90 - 47.3) / 1.32 = 32.3484848 ms, SOA = 0.32 x 32.3484848 + 47.3 = 57.6515152 ms
-    # (57.6515152 + 32.3484848 = 90). (0,2) over [0, 32.35] ms, (2,2) over [57.65, 90] ms,
-    # (1,2) never; nothing in between (SOA > d).
-    assert brush.timing(3, 90.0) == pytest.approx((2, 32.3484848, 57.6515152))
-    assert frame(ROW, 0.2, 0.09) == {(0, 2): 1.0}  # 18 ms
-    assert frame(ROW, 0.5, 0.09) == {}  # 45 ms: in the gap
-    assert frame(ROW, 0.8, 0.09) == {(2, 2): 1.0}  # 72 ms
-    # T = 40 ms < 47.3: one point, the start, for the whole stroke (d = T = 40, SOA unused).
-    assert brush.timing(3, 40.0) == pytest.approx((1, 40.0, 60.1))
-    assert frame(ROW, 0.99, 0.04) == {(0, 2): 1.0}
-    # T = 100 ms > 94.6: all three fit, barely: d = (100 - 94.6) / 1.64 = 3.2926829 ms,
-    # SOA = 0.32 x 3.2926829 + 47.3 = 48.3536585 ms (2 x 48.3536585 + 3.2926829 = 100).
-    assert brush.timing(3, 100.0) == pytest.approx((3, 3.2926829, 48.3536585))
-    assert frame(ROW, 0.49, 0.1) == {(1, 2): 1.0}  # 49 ms, within [48.35, 51.65]
+    # The three columns in T = 200 ms: three points would need
+    # d = (200 - 2 x 47.3) / 1.64 = 64.27 ms < SOA = 0.32 x 64.27 + 47.3 = 67.87 ms, separate taps
+    # with gaps; vibrations overlap only while d >= SOA, d >= 47.3 / 0.68 = 69.56 ms, which holds
+    # for n <= T / 69.56 = 2.88: the two ends play.
+    # d = (200 - 47.3) / 1.32 = 115.6818182 ms, SOA = 0.32 x 115.6818182 + 47.3 = 84.3181818 ms
+    # (84.3181818 + 115.6818182 = 200): (0,2) over [0, 115.68] ms, (2,2) over [84.32, 200] ms,
+    # (1,2) never.
+    assert brush.timing(3, 200.0) == pytest.approx((2, 115.6818182, 84.3181818))
+    assert frame(ROW, 0.3, 0.2) == {(0, 2): 1.0}  # 60 ms
+    assert frame(ROW, 0.5, 0.2) == {(0, 2): 1.0, (2, 2): 1.0}  # 100 ms: both on
+    assert frame(ROW, 0.8, 0.2) == {(2, 2): 1.0}  # 160 ms
+    # Two points need T >= 2 x 69.56 = 139.12 ms: in 139.2 ms d = (139.2 - 47.3) / 1.32 =
+    # 69.6212121 ms >= SOA = 0.32 x 69.6212121 + 47.3 = 69.5787879 ms; in 139.1 ms and in
+    # 90 ms (where d = (90 - 47.3) / 1.32 = 32.3 ms < SOA = 57.7 ms) the start alone, for T.
+    assert brush.timing(3, 139.2) == pytest.approx((2, 69.6212121, 69.5787879))
+    assert brush.timing(3, 139.1) == pytest.approx((1, 139.1, 0.32 * 139.1 + 47.3))
+    assert brush.timing(3, 90.0) == pytest.approx((1, 90.0, 76.1))
+    assert frame(ROW, 0.99, 0.09) == {(0, 2): 1.0}
 
 
 def test_timing_refuses_no_points_and_no_time():
@@ -190,6 +193,9 @@ def test_a_stroke_across_too_many_lines_is_refused_naming_the_method():
     # x from -60000 to 60000 crosses x = k + 0.5 for k = -60000 ... 59999: 120,000 lines
     with pytest.raises(ValueError, match="method TB: the stroke crosses 120,000 lines"):
         tc.render(tc.Line((-6e4, 0.2), (6e4, 0.2)), "TB", 0.5)
+    # round the belt (8 pitches a turn) 125,000 times
+    with pytest.raises(ValueError, match="method TB: the stroke goes round the wrap 125,000"):
+        tc.render(tc.Line((0.0, 0.0), (1e6, 0.0)), "TB", 0.5, grid=find_profile("belt-8").layout)
 
 
 def test_the_spec_carries_no_duration_and_the_clock_is_bound_not_parsed():
@@ -248,11 +254,14 @@ def test_no_tactor_is_lit_before_its_onset_nor_after_its_offset(line, duration_s
     # Brute force from the schedule's onsets: a tactor is lit at time tau only while a point
     # that names it is on, and every tactor an active point names is lit.
     schedule = brush.grid_schedule(line, duration_s)
-    # the onsets from the paper's equations, computed here: the most points m that fit
-    # (T - 47.3 (m - 1) > 0), d = (T - 47.3 (m - 1)) / (1 + 0.32 (m - 1)), onsets i SOA
+    # the onsets from the paper's equations, computed here: of the stroke's n points, the most
+    # whose vibrations overlap, m = min(n, floor(T / 69.56)) (d >= SOA <=> m <= T / (47.3 / 0.68)),
+    # at least 1; d = (T - 47.3 (m - 1)) / (1 + 0.32 (m - 1)); onsets i SOA
     total_ms, m = 1000.0 * duration_s, len(schedule.shares)
-    assert total_ms - 47.3 * (m - 1) > 0.0
+    n = len(virtual_points(line).t)
+    assert m == min(n, max(1, math.floor(total_ms / (47.3 / 0.68) + 1e-9)))
     d = (total_ms - 47.3 * (m - 1)) / (1.0 + 0.32 * (m - 1))
+    assert m == 1 or d >= 0.32 * d + 47.3 - 1e-9
     np.testing.assert_allclose(schedule.onsets_ms, np.arange(m) * (0.32 * d + 47.3), atol=1e-9)
     np.testing.assert_allclose(schedule.offsets_ms[-1], total_ms, rtol=1e-12)
     t = np.linspace(0.0, 1.0, 397)
@@ -279,10 +288,10 @@ def test_live_path_equals_batch(shape, duration_s, ts):
 @given(st.tuples(coord(0.5, 4.5), coord(0.5, 5.5)), st.tuples(coord(0.5, 4.5), coord(0.5, 5.5)),
        st.lists(coord(0, 1), min_size=1, max_size=20))  # fmt: skip
 def test_traced_backwards_it_is_the_brush_of_the_reversed_stroke(p0, p1, ts):
-    # In 2 s every point of a stroke inside the palm array fits (at most 5 column lines, 6 row
-    # lines and 2 ends: 12 x 47.3 < 2000), and with one d and one SOA for all, the schedule
-    # played backwards is the reversed stroke's: point i's [i SOA, i SOA + d] seen from the end,
-    # T - (i SOA + d) = (n - 1 - i) SOA, is point n - 1 - i's.
+    # In 2 s every point of a stroke inside the palm array is played (at most 5 column lines, 6
+    # row lines and 2 ends: 13 x 69.56 ms < 2000 ms), and with one d and one SOA for all, the
+    # schedule played backwards is the reversed stroke's: point i's [i SOA, i SOA + d] seen
+    # from the end, T - (i SOA + d) = (n - 1 - i) SOA, is point n - 1 - i's.
     t = np.array(ts)
     backwards = tc.render(tc.Line(p0, p1), "TB", 1.0 - t)
     np.testing.assert_allclose(backwards, tc.render(tc.Line(p1, p0), "TB", t), atol=1e-9)

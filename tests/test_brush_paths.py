@@ -115,9 +115,11 @@ def test_the_command_line_renders_and_streams_tb(tmp_path):
     levels = log[:, 2:]
     others = [i for i in range(30) if i not in CELLS]
     assert set(np.unique(levels)) == {0.0, 22.0} and not levels[:, others].any()
-    first = [int(np.argmax(levels[:, c] > 0)) for c in CELLS]
-    assert first[0] < first[1] < first[2]  # the columns start one after the other
-    assert (levels[:, CELLS] > 0).all(axis=1).any()  # and overlap, all three at once
+    # the columns come on one after the other (the mean frame each is lit in: about 276, 500
+    # and 724 ms into the trace; robust to frames a loaded machine skips) and overlap
+    when = [float(np.flatnonzero(levels[:, c] > 0).mean()) for c in CELLS]
+    assert when[0] < when[1] < when[2], when
+    assert (levels[:, CELLS] > 0).all(axis=1).any()  # all three at once (448-552 ms)
     assert not levels[-1].any()  # all off at the end
 
 

@@ -168,7 +168,13 @@ def _into_turns(t, x, y, wrap) -> tuple:
         return t[:-1], t[1:], x[:-1], y[:-1], x[1:], y[1:]
     c, k = wrap.circumference, wrap.index
     along = (x, y)[k]
-    pieces = np.maximum(np.ceil(np.abs(np.diff(along)) / (c / 4.0)), 1.0).astype(np.intp)
+    pieces = np.maximum(np.ceil(np.abs(np.diff(along)) / (c / 4.0)), 1.0)
+    if pieces.sum() > MAX_CROSSINGS:
+        raise ValueError(
+            f"method TB: the stroke goes round the wrap {float(pieces.sum()) / 4.0:,.0f} times, "
+            f"more than {MAX_CROSSINGS // 4:,}: render a shorter stroke"
+        )
+    pieces = pieces.astype(np.intp)
     seg = np.repeat(np.arange(len(pieces)), pieces)
     first = np.repeat(np.cumsum(pieces) - pieces, pieces)
     f0 = (np.arange(len(seg)) - first) / pieces[seg]

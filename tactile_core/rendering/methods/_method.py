@@ -147,7 +147,7 @@ class Method:
         if not self.clocked:
             return self
         duration_s = _validate.duration("duration_s", duration_s)
-        if duration_s == self.duration_s and self.clock_s is not None:
+        if duration_s == self.duration_s:
             return self
         return dataclasses.replace(self, clock_s=duration_s, _samplers={})
 

@@ -16,14 +16,17 @@ The model, as this method computes it:
    ``SOA = 0.32 d + 47.3`` ms apart (the paper's apparent-motion fit); ``n`` points in a stroke
    of ``T`` ms: ``T = (n - 1) SOA + d``, so ``d = (T - 47.3 (n - 1)) / (1 + 0.32 (n - 1))``.
    Point ``i`` is on over ``[i SOA, i SOA + d]`` (both ends, within :data:`EDGE_MS`).
-4. **Too short a stroke.** When ``T <= 47.3 (n - 1)`` no ``d > 0`` exists: the brush keeps the
-   most points, ``m = min(n, ceil(T / 47.3))``, for which ``d > 0``, spread evenly along the
-   stroke by index with both ends kept (:func:`~._brush_points.kept`), and times those.
+4. **Too short a stroke.** Consecutive vibrations overlap (apparent motion, not separate taps)
+   while ``d >= SOA``, that is ``d >= D_OVERLAP = 47.3 / (1 - 0.32) = 69.56`` ms, which the
+   equations give for ``T >= n D_OVERLAP``; below that (and for ``T <= 47.3 (n - 1)`` no
+   ``d > 0`` exists at all) the brush plays the most points that still overlap,
+   ``m = min(n, floor(T / D_OVERLAP))`` (at least 1: the start, for ``T``), spread evenly along
+   the stroke by index with both ends kept (:func:`~._brush_points.kept`), and times those.
 5. **Time.** ``t`` in [0, 1] is ``t T`` ms into the stroke. ``T`` is the trace's duration: the
    method declares :data:`DURATION_S` (the protocol's clock), and the trace clock binds its own
    duration (``Method.on_clock``); without one (``tc.render``, ``render_point``) it is 2 s, the
    default scene's.
-6. **Overlap.** Up to four points are on at once (``d < 3.125 SOA`` always); an actuator that
+6. **Overlap.** Up to four points are on at once (``SOA <= d < 3.125 SOA``); an actuator that
    two of them share gets the square root of the sum of their energies, at most 1.
 
 Between consecutive onsets the set of active points does not change, so a stroke's brush is a
@@ -59,6 +62,10 @@ scene's duration)."""
 SOA_SLOPE = 0.32
 SOA_OFFSET_MS = 47.3
 """``SOA = SOA_SLOPE d + SOA_OFFSET_MS`` (ms): the paper's fit for apparent tactile motion."""
+
+D_OVERLAP_MS = SOA_OFFSET_MS / (1.0 - SOA_SLOPE)
+"""69.56 ms: the vibration at which ``d = SOA``; longer ones overlap the next point's onset.
+Strokes too short for ``d >= D_OVERLAP_MS`` play fewer points (:func:`timing`)."""
 
 EDGE_MS = 1e-9
 """A point is on from ``EDGE_MS`` before its onset to ``EDGE_MS`` after its offset (so that a
@@ -96,22 +103,31 @@ def timing(n: int, duration_ms: float) -> Timing:
     Returns
     -------
     Timing
-        ``d = (T - 47.3 (m - 1)) / (1 + 0.32 (m - 1))`` for the most points ``m <= n`` with
-        ``d > 0``; ``SOA = 0.32 d + 47.3``.
+        ``d = (T - 47.3 (m - 1)) / (1 + 0.32 (m - 1))`` and ``SOA = 0.32 d + 47.3`` for the
+        most points ``m <= n`` whose vibrations overlap (``d >= SOA``, i.e.
+        ``m <= T / D_OVERLAP_MS``), at least one.
 
     Examples
     --------
     >>> timing(3, 1000.0)  # doctest: +ELLIPSIS
     Timing(count=3, d_ms=552.07..., soa_ms=223.96...)
-    >>> timing(3, 90.0).count  # 90 ms <= 2 x 47.3 ms: two points fit
+    >>> timing(3, 200.0).count  # 3 x 69.56 ms > 200 ms: two points
     2
     """
     if n < 1 or not duration_ms > 0:
         raise ValueError(f"timing needs n >= 1 and duration_ms > 0, got {n} and {duration_ms}")
-    count = min(n, max(1, math.ceil(duration_ms / SOA_OFFSET_MS)))
-    while count > 1 and duration_ms - SOA_OFFSET_MS * (count - 1) <= 0.0:
+
+    def d_of(m: int) -> float:
+        return (duration_ms - SOA_OFFSET_MS * (m - 1)) / (1.0 + SOA_SLOPE * (m - 1))
+
+    # d(m) >= D_OVERLAP  <=>  T - 47.3 (m - 1) >= D (1 + 0.32 (m - 1))  <=>  m <= T / D, since
+    # 47.3 + 0.32 D = D; the check on d itself settles a quotient that rounds across a whole.
+    count = min(n, max(1, math.floor(duration_ms / D_OVERLAP_MS)))
+    while count > 1 and d_of(count) < D_OVERLAP_MS * (1.0 - 1e-12):
         count -= 1
-    d = (duration_ms - SOA_OFFSET_MS * (count - 1)) / (1.0 + SOA_SLOPE * (count - 1))
+    while count < n and d_of(count + 1) >= D_OVERLAP_MS * (1.0 - 1e-12):
+        count += 1
+    d = d_of(count)
     return Timing(count, d, SOA_SLOPE * d + SOA_OFFSET_MS)
 
 
