@@ -111,10 +111,6 @@ et al., Syntacts, GS, VRCH-Server)."""
 LAYOUT_ONLY = ("BA",)
 """This project's method for actuators anywhere (AS's weights on a grid)."""
 
-TIMED_METHODS = ("TB",)
-"""Methods whose intensities depend on the time along the trace: Tactile Brush's timed onsets
-(a shape's trace only; the trace's duration is their clock)."""
-
 METHODS: dict[str, Method] = {
     **{m.NAME: _make(m, "paper") for m in (closest, midpoint, area, interpolated)},
     **{m.NAME: _make(m, "peer") for m in (energy, park, rolloff, gaussian, vrch)},
