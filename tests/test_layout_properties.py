@@ -70,11 +70,29 @@ def test_wrapped_layouts_repeat_every_turn(layout, method):
     np.testing.assert_allclose(a, b, atol=1e-9)
 
 
+def has_sliver(layout, ratio=1e-3) -> bool:
+    """Whether a Delaunay cell of ``layout`` is a sliver: its least height under ``ratio`` of
+    its longest side. Across a sliver BA's weights change by up to 1 over its width (1e-5 of a
+    pitch for three actuators 1e-5 off a line): continuous, but steeper than 1,001 samples of
+    the line's steepest interval resolve, so the zoom test above would call it a jump."""
+    xy = layout.xy
+    if len(xy) < 3 or np.linalg.matrix_rank(xy - xy.mean(0), tol=1e-9) < 2:
+        return False
+    for tri in Delaunay(xy).simplices:
+        a, b, c = xy[tri]
+        area2 = abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+        longest = max(np.hypot(*(b - a)), np.hypot(*(c - b)), np.hypot(*(a - c)))
+        if area2 / longest < ratio * longest:  # least height = 2 * area / longest side
+            return True
+    return False
+
+
 @SETTINGS
 @given(layouts(wrap=False))
 def test_ba_is_continuous_along_a_line(layout):
     # no jump: the interval holding the largest step between 2,001 samples, sampled 1,001 times
     # more finely, has no step of even half that size (a jump would stay whole)
+    assume(not has_sliver(layout))
     line = tc.Line((-1.5, 0.3), (7.5, 3.7))
     t = np.linspace(0, 1, 2001)
     steps = np.abs(np.diff(tc.render(line, "BA", t, grid=layout), axis=0)).max(axis=1)
