@@ -15,6 +15,7 @@ from ._common import (
     whole,
 )
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
+from ._measure import add_measure_parser
 from ._render import cmd_emulate, cmd_render, cmd_stream
 from ._serve import add_lsl_arguments, add_serve_parser
 from ._tact import add_export_parser, add_tact_option
@@ -226,4 +227,6 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")
     p.set_defaults(func=cmd_bench)
+
+    add_measure_parser(sub)
     return parser

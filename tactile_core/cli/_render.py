@@ -125,7 +125,8 @@ def cmd_render(args) -> int:
     if motor is not None:  # after the correction, before any quantisation
         frames, _ = motor_drive(frames, motor, args.rate)
         taus = "/".join(f"{np.max(t) * 1e3:g}" for t in (motor.tau_up_s, motor.tau_down_s))
-        what = f"{what[:-1]}, motor-aware drive for {taus} ms motors)"
+        source = motor.describe().rpartition(" (")[2].rstrip(")")  # estimate, measured DATE
+        what = f"{what[:-1]}, motor-aware drive for {taus} ms motors ({source}))"
     if wav:
         return _write_wav(args, out, profile, frames, what)
     try:

@@ -20,17 +20,26 @@ writes the result into a copy of the device profile.
 
 Inside: ``_plan`` (the stimulus and the commands), ``_response`` (the first-order model),
 ``_sim`` (the simulated sensor), ``_signal`` (envelope, spectra), ``_fit``, ``_checks``,
-``_analysis`` (one tactor), ``_result`` (a whole run, the profile), ``_recording`` (samples
-and their clock), ``_audio_input``, ``_live``, ``_simulate``, ``_open``.
+``_analysis`` (one tactor), ``_detect`` (a validator's onset), ``_result`` (a whole run, the
+profile), ``_recording`` (samples and their clock), ``_audio_input``, ``_live``,
+``_simulate``, ``_open``.
 """
 
 from ._analysis import ONSET_FRACTION, Block, TactorResult, analyse
 from ._audio_input import AudioInput, InputURL, input_devices, parse_input_url
 from ._checks import MeasureError
+from ._detect import Detection, detect_onset
 from ._fit import Fit, fit_envelope
 from ._live import LiveSimulatedSensor
 from ._open import SIM_SENSOR, is_sensor, open_sensor
-from ._plan import Commands, MeasurePlan, PlanFrames, Stimulus, commands_from_frames
+from ._plan import (
+    QUICK_PLAN,
+    Commands,
+    MeasurePlan,
+    PlanFrames,
+    Stimulus,
+    commands_from_frames,
+)
 from ._recording import Recording, fit_sample_clock
 from ._response import first_order
 from ._result import (
@@ -49,11 +58,13 @@ from ._simulate import neighbours, sensor_model, simulate_measurement, stream_fr
 __all__ = [
     "ONSET_FRACTION",
     "PALM_CURVE",
+    "QUICK_PLAN",
     "SIM_SENSOR",
     "ArrayMeasurement",
     "AudioInput",
     "Block",
     "Commands",
+    "Detection",
     "Fit",
     "InputURL",
     "LiveSimulatedSensor",
@@ -69,6 +80,7 @@ __all__ = [
     "bandpass",
     "commands_from_frames",
     "crossing_s",
+    "detect_onset",
     "envelope",
     "first_order",
     "fit_envelope",

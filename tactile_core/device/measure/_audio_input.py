@@ -27,8 +27,9 @@ from ._recording import Recording, fit_sample_clock
 KEYS = ("channel", "samplerate", "latency_ms")
 MAX_CHANNELS = 8
 """Inputs recorded at most (the sensor's and those before and after it)."""
-KEEP_S = 120.0
-"""Seconds of samples an input keeps (older ones are let go)."""
+KEEP_S = 40.0
+"""Seconds of samples an input keeps (older ones are let go): a tactor's block and more; 61 MB
+at most (8 inputs at 48 kHz)."""
 
 
 @dataclass(frozen=True)
@@ -206,19 +207,25 @@ class AudioInput:
                 self._lock.wait(min(left, 0.1))
         return True
 
-    def recording(self) -> Recording:
-        """What is kept so far, with its sample clock."""
+    def recording(self, since_s: float | None = None) -> Recording:
+        """What is kept so far (from host time ``since_s`` on, if given), with its sample
+        clock."""
         with self._lock:
             chunks, first = list(self._chunks), self._first
             arrivals = list(self._arrivals)
-        samples = (np.concatenate(chunks) if chunks
-                   else np.zeros((0, self.channels), dtype=np.float32))  # fmt: skip
         if arrivals:
             end, when = zip(*arrivals)
             zero_s, ratio = fit_sample_clock(end, when, self.samplerate)
         else:
             zero_s, ratio = time.perf_counter(), 1.0
-        start_s = zero_s + first / self.samplerate * ratio - self.latency_s
+        zero_s -= self.latency_s
+        if since_s is not None:  # whole chunks from the one holding since_s
+            wanted = (since_s - zero_s) / ratio * self.samplerate
+            while len(chunks) > 1 and first + len(chunks[0]) <= wanted:
+                first += len(chunks.pop(0))
+        samples = (np.concatenate(chunks) if chunks
+                   else np.zeros((0, self.channels), dtype=np.float32))  # fmt: skip
+        start_s = zero_s + first / self.samplerate * ratio
         return Recording(samples, self.samplerate, start_s, ratio, self.channel, self.description)
 
     def stop(self) -> None:

@@ -79,6 +79,8 @@ class LiveSimulatedSensor:
         n = int((self.clock() - MARGIN_S - self._end) * self.samplerate)
         if n <= 0:
             return
+        if len(self._changes) > 10_000:  # keep each tactor's last level before the present
+            self._changes = _trim(self._changes, self._end - 1.0)
         changes = self._changes
         commands = Commands(np.array([c[0] for c in changes], dtype=np.float64),
                             np.array([c[1] for c in changes], dtype=np.int64),
@@ -106,12 +108,21 @@ class LiveSimulatedSensor:
             time.sleep(min(0.01, max(host_s - self.clock(), 0.001)))
         return True
 
-    def recording(self) -> Recording:
-        """Everything since :meth:`start` (or :meth:`clear`), up to the present."""
+    def recording(self, since_s: float | None = None) -> Recording:
+        """Everything since :meth:`start` (or :meth:`clear`; or host time ``since_s``), up to
+        the present."""
         with self._lock:
             self._render()
+            if len(self._chunks) > 64:  # a long validator session: keep it bounded
+                drop = self._chunks[:-64]
+                self._start += sum(len(c) for c in drop) / self.samplerate
+                del self._chunks[:-64]
             chunks = list(self._chunks)
             start = self._start
+        while since_s is not None and len(chunks) > 1:
+            if start + len(chunks[0]) / self.samplerate > since_s:
+                break
+            start += len(chunks.pop(0)) / self.samplerate
         x = (np.concatenate(chunks) if chunks
              else np.zeros((0, self.model.channels), dtype=np.float32))  # fmt: skip
         return Recording(x, self.samplerate, start, 1.0, self.channel, self.description)
@@ -126,3 +137,15 @@ class LiveSimulatedSensor:
 
     def __exit__(self, *exc) -> None:
         self.stop()
+
+
+def _trim(changes: list, before_s: float) -> list:
+    """``changes`` from ``before_s`` on, with each tactor's last change before it."""
+    last: dict = {}
+    later = []
+    for change in changes:
+        if change[0] < before_s:
+            last[change[1]] = change
+        else:
+            later.append(change)
+    return sorted(last.values()) + later

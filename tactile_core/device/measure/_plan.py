@@ -197,6 +197,12 @@ class MeasurePlan:
         return Commands(t.astype(np.float64), c.astype(np.int64), lv.astype(np.int64))
 
 
+QUICK_PLAN = MeasurePlan(step_drives=(0.5, 1.0), hold_s=0.3, rest_s=0.4, ramp_points=11,
+                         ramp_step_s=0.12, pulses=3)  # fmt: skip
+"""A shorter block (``tactile measure --quick``: 8.0 s with 8 neighbours, against 14.0 s):
+two steps, an 11-level ramp, three pulses; for motors up to about 60 ms (spin-up)."""
+
+
 class PlanFrames:
     """A block as a stream's frame source: frame ``k`` holds the levels commanded at
     ``k / rate_hz`` s into the block (all off after it). The scene that plays it must leave
@@ -205,6 +211,7 @@ class PlanFrames:
     precomputed = True
 
     def __init__(self, commands: Commands, levels: int, rate_hz: float):
+        self.commands, self.levels = commands, levels
         self.top = levels - 1
         self.rate_hz = _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
         self.times = commands.time_s
@@ -216,8 +223,11 @@ class PlanFrames:
         self.end_s = float(self.times[-1]) if self.times.size else 0.0
 
     def live(self, method, target, sampling, mu, gamma, gain=1.0) -> PlanFrames:
-        """Itself (the scene's method and correction do not apply)."""
-        return self
+        """Itself at the stream's frame rate (the scene's method and correction do not
+        apply)."""
+        if sampling.rate_hz == self.rate_hz:
+            return self
+        return PlanFrames(self.commands, self.levels, sampling.rate_hz)
 
     def precompute(self, background: bool = False) -> None:
         """Nothing to tabulate."""
