@@ -28,7 +28,7 @@ profile), ``_recording`` (samples and their clock), ``_audio_input``, ``_live``,
 from ._analysis import ONSET_FRACTION, Block, TactorResult, analyse
 from ._audio_input import AudioInput, InputURL, input_devices, parse_input_url
 from ._checks import MeasureError
-from ._detect import Detection, detect_onset
+from ._detect import EDGE_S, Detection, detect_onset
 from ._fit import Fit, fit_envelope
 from ._live import LiveSimulatedSensor
 from ._open import SIM_SENSOR, is_sensor, open_sensor
@@ -56,6 +56,7 @@ from ._sim import PALM_CURVE, SensorModel, SimulatedSensor
 from ._simulate import neighbours, sensor_model, simulate_measurement, stream_frames
 
 __all__ = [
+    "EDGE_S",
     "ONSET_FRACTION",
     "PALM_CURVE",
     "QUICK_PLAN",

@@ -14,14 +14,19 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import signal
 
 from ._analysis import ONSET_FRACTION
-from ._signal import bandpass, crossing_s, envelope
+from ._signal import Envelope, bandpass, crossing_s, envelope
 
 BEFORE_S = 0.2
 """Seconds before the command the noise is measured over."""
 EARLY_S = 0.005
 """A vibration is looked for from this long before the command (clocks are not perfect)."""
+EDGE_S = 0.03
+"""The band-pass filter and the Hilbert transform ring at a segment's ends: the segment is
+tapered (a Tukey window) over this much at each end and the envelope there left out (the
+segment reaches that much further where the samples allow)."""
 MIN_SNR = 6.0
 """The onset's amplitude is at least this many times the noise's RMS amplitude (16 dB)."""
 
@@ -63,7 +68,8 @@ def detect_onset(x, samplerate: float, command_s: float, window_s: float = 0.5, 
     command_s : float
         Recording seconds of the command (the presentation's first frame).
     window_s : float
-        How long after the command a vibration is looked for.
+        How long after the command a vibration is looked for (the samples should reach
+        :data:`EDGE_S` further).
     min_snr : float
         The onset's amplitude is at least this many times the noise's RMS.
     noise_floor : float, optional
@@ -75,12 +81,16 @@ def detect_onset(x, samplerate: float, command_s: float, window_s: float = 0.5, 
     Detection
     """
     x = np.asarray(x, dtype=np.float64)
-    lo = max(round((command_s - BEFORE_S) * samplerate), 0)
-    hi = min(round((command_s + window_s) * samplerate), x.size)
-    if hi - lo < 0.05 * samplerate:
+    lo = max(round((command_s - BEFORE_S - EDGE_S) * samplerate), 0)
+    hi = min(round((command_s + window_s + EDGE_S) * samplerate), x.size)
+    if hi - lo < 0.05 * samplerate + 2 * EDGE_S * samplerate:
         return Detection(float("nan"), 0.0, float("nan"))
-    env = envelope(bandpass(x[lo:hi], samplerate), samplerate)
+    taper = signal.windows.tukey(hi - lo, min(1.0, 2 * EDGE_S * samplerate / (hi - lo)))
+    env = envelope(bandpass(x[lo:hi] * taper, samplerate), samplerate)
     t = env.t_s + lo / samplerate
+    inside = (t >= lo / samplerate + EDGE_S) & (t <= hi / samplerate - EDGE_S)
+    env = Envelope(t[inside], env.power[inside])
+    t = env.t_s
     before = (t >= command_s - BEFORE_S + 0.02) & (t < command_s - 0.002)
     noise_power = float(env.power[before].mean()) if before.any() else float(env.power.min())
     noise = math.sqrt(noise_power)

@@ -24,7 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ...device.measure import detect_onset, open_sensor
+from ...device.measure import EDGE_S, detect_onset, open_sensor
+from ...rendering.points import FreePoints
 from ..results import ResultsFile
 
 FIELDS = ("presentation", "kind", "seq", "commanded_s", "detected_s", "delay_ms", "peak",
@@ -111,7 +112,11 @@ class Validator:
             streamer.on_onset.remove(self.onset)
 
     def onset(self, onset) -> None:
-        """(The output thread.) Queue a presentation: an :class:`~tactile_core.stream.Onset`."""
+        """(The output thread.) Queue a presentation: an :class:`~tactile_core.stream.Onset`.
+        Free points (``tactile serve``'s, a script's ``point``) are left out: they come and go
+        within one scene, whose start is no stimulus."""
+        if isinstance(getattr(onset.scene, "source", None), FreePoints):
+            return
         self._count += 1
         kind = getattr(onset.scene, "marker", "") or "scene"
         self._pending.append((self._count, kind, onset.seq, onset.time_s))
@@ -128,10 +133,11 @@ class Validator:
                 self._wake.clear()
                 continue
             n, kind, seq, command = self._pending[0]
-            if not self.sensor.wait_until(command + self.window_s, 0.2):
+            until = command + self.window_s + EDGE_S
+            if not self.sensor.wait_until(until, 0.2):
                 if not self._closing.is_set():
                     continue  # not yet: wait on
-                if not self.sensor.wait_until(command + self.window_s, WAIT_SLACK_S):
+                if not self.sensor.wait_until(until, WAIT_SLACK_S):
                     self._write(n, kind, seq, command, None, "no samples from the sensor")
                     self._pending.popleft()
                     continue
