@@ -53,7 +53,13 @@ from ._result import (
 )
 from ._signal import bandpass, crossing_s, envelope, peaks
 from ._sim import PALM_CURVE, SensorModel, SimulatedSensor
-from ._simulate import neighbours, sensor_model, simulate_measurement, stream_frames
+from ._simulate import (
+    neighbours,
+    sensor_model,
+    simulate_block,
+    simulate_measurement,
+    stream_frames,
+)
 
 __all__ = [
     "EDGE_S",
@@ -98,6 +104,7 @@ __all__ = [
     "peaks",
     "save_measured",
     "sensor_model",
+    "simulate_block",
     "simulate_measurement",
     "stream_frames",
     "write_measured_profile",

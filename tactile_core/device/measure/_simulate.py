@@ -127,18 +127,11 @@ def simulate_measurement(profile: DeviceProfile | None = None, *, tau_up_ms: flo
         f"{tau_down_ms:g} ms, delay {delay_ms:g} ms, noise {noise:g})"
     )
     for cell in cells:
-        near = neighbours(layout, cell)
-        block_s = 100.0 + rng.uniform(0.0, 1.0)  # host time of the block's first frame
-        commands = stream_frames(plan.commands(cell, near, profile.levels), profile.levels,
-                                 rate_hz, block_s, profile.array.channel_index)  # fmt: skip
-        start_s = block_s - 0.05 - rng.uniform(0.0, 0.01)
-        n = int((plan.duration_s(len(near), profile.levels) + 0.1) * samplerate)
         here = model.replace(on_cell=(sensor_on or {}).get(cell, cell))
-        x = SimulatedSensor(here, samplerate, seed=1000 * seed + cell).render(commands, start_s, n)
         channel = here.channel if input_channel is None else input_channel
-        rec = Recording(x, samplerate, start_s, channel=channel, description=description)
-        block = Block(cell, near, float(rec.to_recording_s(block_s)),
-                      commands.shifted(-start_s))  # fmt: skip
+        rec, block = simulate_block(profile, cell, here, plan=plan, samplerate=samplerate,
+                                    rate_hz=rate_hz, rng=rng, seed=1000 * seed + cell,
+                                    channel=channel, description=description)  # fmt: skip
         try:
             results.append(analyse(rec.sensor, samplerate, block, plan, levels=profile.levels,
                                    names=names, others=rec.others))  # fmt: skip
@@ -146,3 +139,34 @@ def simulate_measurement(profile: DeviceProfile | None = None, *, tau_up_ms: flo
             failures[names[cell]] = str(exc)
     return ArrayMeasurement(profile.name, tuple(results), failures, description, now_text(),
                             plan.duration_s(8, profile.levels))  # fmt: skip
+
+
+def simulate_block(profile: DeviceProfile, cell: int, model: SensorModel, *, plan: MeasurePlan,
+                   samplerate: int = SIM_SAMPLERATE, rate_hz: float = 300.0, rng=None,
+                   seed: int = 0, channel: int | None = None,
+                   description: str = "") -> tuple[Recording, Block]:  # fmt: skip
+    """One tactor's block played to ``model`` (the sensor where its ``on_cell`` says): the
+    recording (from a little before the block's first frame to just after its end) and where
+    the block lies in it.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator, optional
+        Draws the block's start (a host time near 100 s) and the recording's lead.
+    seed : int
+        Seeds the sensor's noise.
+    channel : int, optional
+        The input read (the model's by default).
+    """
+    rng = rng if rng is not None else np.random.default_rng(seed)
+    near = neighbours(profile.layout, cell)
+    block_s = 100.0 + rng.uniform(0.0, 1.0)  # host time of the block's first frame
+    commands = stream_frames(plan.commands(cell, near, profile.levels), profile.levels,
+                             rate_hz, block_s, profile.array.channel_index)  # fmt: skip
+    start_s = block_s - 0.05 - rng.uniform(0.0, 0.01)
+    n = int((plan.duration_s(len(near), profile.levels) + 0.1) * samplerate)
+    x = SimulatedSensor(model, samplerate, seed=seed).render(commands, start_s, n)
+    channel = model.channel if channel is None else channel
+    rec = Recording(x, samplerate, start_s, channel=channel, description=description)
+    block = Block(cell, near, float(rec.to_recording_s(block_s)), commands.shifted(-start_s))
+    return rec, block
