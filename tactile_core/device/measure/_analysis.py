@@ -22,10 +22,13 @@ from ._checks import (
 )
 from ._fit import fit_envelope
 from ._plan import Commands, MeasurePlan
+from ._response import first_order
 from ._signal import bandpass, crossing_s, envelope, hum, peaks, remove_hum
 
 ONSET_FRACTION = 0.1
 """A pulse's first vibration: its amplitude reaching this fraction of the full-drive one."""
+EXTRAPOLATE = 0.1
+"""How far above the highest effective drive read a frequency is extrapolated (drive units)."""
 RESIDUAL_NOTE = 0.1
 """A fit residual above this (and twice the noise's) says first order does not fit well."""
 
@@ -217,8 +220,15 @@ def analyse(x, samplerate: float, block: Block, plan: MeasurePlan, *, levels: in
             f"amplitude, noise {noise:.0%}): the motor may overshoot, have two time constants "
             "or rattle; the constants are the best single time constants"
         )
-    freq = _frequencies(y, samplerate, plan, stimuli, t0 + fit.delay_s, nodes_lv, levels,
-                        fit.amplitude, math.sqrt(noise_power))  # fmt: skip
+
+    def effective(t):
+        return first_order(t, change + fit.delay_s, drive, tau_up_s=fit.tau_up_s,
+                           tau_down_s=fit.tau_down_s, start_s=float(env.t_s[0]))  # fmt: skip
+
+    readable = max(3.0 * math.sqrt(noise_power), 0.02 * fit.amplitude[-1])
+    freq = _frequencies(y, samplerate, plan, stimuli, t0 + fit.delay_s, levels, effective,
+                        lambda s: np.interp(s, fit.nodes, fit.amplitude) >= readable,
+                        np.asarray(nodes_lv) / top)  # fmt: skip
     onset = _onset(env, amplitude, [t0 + s.start_s for s in stimuli if s.kind == "pulse"],
                    ONSET_FRACTION * fit.amplitude[-1], plan.pulse_s + plan.pulse_gap_s)  # fmt: skip
     return TactorResult(
@@ -248,28 +258,43 @@ def _channel_snr(others, samplerate: float, quiet, steady) -> dict:
     return out
 
 
-def _frequencies(y, samplerate, plan, stimuli, t0, nodes_lv, levels, amplitude, noise_rms):
-    """The vibration frequency at each node level: the spectral peak of the steady part of the
-    ramp's step at that level (a step's hold where there is one: longer, finer)."""
+def _frequencies(y, samplerate, plan, stimuli, t0, levels, effective, loud, drives):
+    """The vibration frequency at each of ``drives``: the spectral peak of the steady part of
+    each ramp step and step hold, placed at the motor's mean effective drive there (from the
+    fit: a slow motor lags the ramp), and interpolated onto the drives; NaN outside the
+    effective drives read (but up to :data:`EXTRAPOLATE` past the highest, along the last two
+    readings: a slow motor never settles at full drive within a step), and where the vibration
+    is too weak to read (``loud`` false)."""
     ramp = plan.ramp_levels(levels)
-    windows = {}
+    windows = []
     for s in stimuli:
         if s.kind == "ramp":
-            for i, lv in enumerate(ramp):
+            for i in range(len(ramp)):
                 a = s.start_s + i * plan.ramp_step_s
-                windows[lv] = (a + 0.4 * plan.ramp_step_s, a + plan.ramp_step_s)
-    for s in stimuli:
-        if s.kind == "step":
-            windows[s.level] = (s.start_s + 0.5 * plan.hold_s, s.end_s)
-    out = []
-    for lv, amp in zip(nodes_lv, amplitude):
-        if lv == 0 or lv not in windows or amp < 3.0 * noise_rms:
-            out.append(float("nan"))
+                windows.append((a + 0.4 * plan.ramp_step_s, a + plan.ramp_step_s))
+        elif s.kind == "step":
+            windows.append((s.start_s + 0.5 * plan.hold_s, s.end_s))
+    read = []
+    for a, b in windows:
+        t = np.linspace(t0 + a, t0 + b, 16)
+        s_mean = float(np.mean(effective(t)))
+        if not loud(s_mean):
             continue
-        a, b = (round((t0 + v) * samplerate) for v in windows[lv])
-        found = peaks(y[max(a, 0) : b], samplerate, count=1)
-        out.append(found[0][0] if found else float("nan"))
-    return out
+        i, j = (round(v * samplerate) for v in (t0 + a, t0 + b))
+        found = peaks(y[max(i, 0) : j], samplerate, count=1)
+        if found:
+            read.append((s_mean, found[0][0]))
+    out = np.full(len(drives), np.nan)
+    if read:
+        read.sort()
+        s_read, f_read = (np.array(v) for v in zip(*read))
+        inside = (drives >= s_read[0] - 0.02) & (drives <= s_read[-1]) & (drives > 0)
+        out[inside] = np.interp(drives[inside], s_read, f_read)
+        beyond = (drives > s_read[-1]) & (drives <= s_read[-1] + EXTRAPOLATE)
+        if beyond.any() and s_read.size >= 2 and s_read[-1] - s_read[-2] > 1e-3:
+            slope = (f_read[-1] - f_read[-2]) / (s_read[-1] - s_read[-2])
+            out[beyond] = f_read[-1] + slope * (drives[beyond] - s_read[-1])
+    return out.tolist()
 
 
 def _onset(env, amplitude, starts, level: float, reach_s: float) -> float:
