@@ -3,8 +3,8 @@
 An audio interface counts samples on its own crystal; the host sees them in blocks, each handed
 over some time after its last sample was taken. The host time of sample ``n`` is estimated from
 the blocks' arrival times (:func:`fit_sample_clock`): every block gives an upper bound on when
-its samples were taken (they cannot arrive before they exist), so the line under the lowest
-arrivals, fitted over the recording, is the sample clock with the interface's rate (its drift
+its samples were taken (they cannot arrive before they exist), so the line under all the
+arrivals, touching the soonest, is the sample clock with the interface's rate (its drift
 against the host clock, some parts per million) and without the host's scheduling delays. What
 the interface adds before the host could see the samples at all (its converter and transfer,
 a millisecond or two on a USB interface) is not in the arrival times: the ``latency_ms`` of an
@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-CLOCK_WINDOW_S = 1.0
-"""The sample clock takes the earliest arrival in each stretch of this many seconds."""
+MIN_SPAN_S = 2.0
+"""Blocks spanning less than this give no clock drift (the ratio is 1)."""
 
 
 @dataclass(frozen=True)
@@ -75,7 +75,7 @@ class Recording:
 
 
 def fit_sample_clock(end_index, arrival_s, samplerate: float, *,
-                     window_s: float = CLOCK_WINDOW_S) -> tuple[float, float]:  # fmt: skip
+                     min_span_s: float = MIN_SPAN_S) -> tuple[float, float]:  # fmt: skip
     """The host time of sample 0 and the clock ratio, from when blocks of samples arrived.
 
     Parameters
@@ -86,40 +86,41 @@ def fit_sample_clock(end_index, arrival_s, samplerate: float, *,
         Host time at which each block arrived.
     samplerate : float
         Nominal samples per second.
-    window_s : float
-        Each stretch this long contributes its earliest block (relative to the nominal clock).
+    min_span_s : float
+        Over a shorter recording the ratio is taken as 1 (drift cannot be told from jitter).
 
     Returns
     -------
     start_s : float
         Host time of sample 0.
     ratio : float
-        Host seconds per nominal sample period over ``1 / samplerate``: 1 with fewer than two
-        stretches; otherwise the slope of the line through the earliest arrivals.
+        Host seconds per nominal sample period over ``1 / samplerate``.
 
     Notes
     -----
     Each block gives ``offset_i = arrival_i - end_i / samplerate``, an upper bound on the host
-    time of sample 0 (a block arrives no earlier than its last sample). The least of them in
-    each stretch of ``window_s`` seconds is nearly free of scheduling delay; a line through
-    those minima, shifted down to lie under all of them, follows the interface's clock.
+    time of sample 0 (a block arrives no earlier than its last sample), on a line whose slope is
+    the interface's drift. The line taken lies under every bound with the least mean gap to
+    them (a linear programme: it touches the lower hull of the bounds at the blocks that came
+    soonest), so neither a late block nor a stretch with few blocks moves it.
     """
+    from scipy import optimize
+
     end = np.asarray(end_index, dtype=np.float64)
     arrival = np.asarray(arrival_s, dtype=np.float64)
     if end.size == 0:
         raise ValueError("fit_sample_clock needs at least one block")
     nominal = end / samplerate
     offset = arrival - nominal
-    stretch = np.floor(nominal / window_s).astype(np.int64)
-    keep_x, keep_y = [], []
-    for k in np.unique(stretch):
-        mine = np.flatnonzero(stretch == k)
-        i = mine[np.argmin(offset[mine])]
-        keep_x.append(nominal[i])
-        keep_y.append(offset[i])
-    x, y = np.asarray(keep_x), np.asarray(keep_y)
-    if x.size < 3 or np.ptp(x) < 2 * window_s:
+    if np.ptp(nominal) < min_span_s:
         return float(offset.min()), 1.0
-    slope, intercept = np.polyfit(x, y, 1)
-    intercept += float(np.min(y - (intercept + slope * x)))  # under every minimum
-    return float(intercept), float(1.0 + slope)
+    x = nominal - nominal.mean()
+    y = offset - offset.min()
+    bounds = [(None, None), (-1e-3, 1e-3)]  # drift of at most 1000 ppm
+    found = optimize.linprog([-x.size, -x.sum()], A_ub=np.column_stack([np.ones_like(x), x]),
+                             b_ub=y, bounds=bounds, method="highs")  # fmt: skip
+    if not found.success:
+        return float(offset.min()), 1.0
+    level, slope = found.x
+    start = offset.min() + level - slope * nominal.mean()
+    return float(start), float(1.0 + slope)
