@@ -13,8 +13,8 @@ times:
 - positions holding dots only (``DOT_MODE``): frames equal in every motor, frames off by at most
   1 (of 100) in some motor, and frames off by more;
 - positions holding moving paths only (``PATH_MODE``), per method: the mean absolute error in
-  motor value (0..100) over the motors of the frames either side lights, and the share of those
-  frames within +-5 in every motor.
+  motor value (0..100) over all motors of the frames either side lights and over the motors
+  either side lights, and the share of those frames within +-5 in every motor.
 
 Files with the same bytes count once. Positions holding both, and paths that are single held
 points only (their compiled frames are empty in every such file), are counted and left out.
@@ -71,7 +71,7 @@ def main(argv=None) -> int:
         parser.error(f"unknown methods: {', '.join(unknown)}")
     files, counts = collect(args.folder)
     dots = {"positions": 0, "frames": 0, "exact": 0, "off by 1": 0, "more": 0, "files": set()}
-    paths: dict = {m: {"err": [], "within": [], "frames": 0} for m in methods}
+    paths: dict = {m: {"err": [], "lit": [], "within": [], "frames": 0} for m in methods}
     path_positions, path_files, mixed = 0, set(), 0
     for path, file in files:
         for c in compare_compiled(file, methods):
@@ -90,6 +90,8 @@ def main(argv=None) -> int:
             on = c.active()
             row = paths[c.method]
             row["err"].append(np.abs(c.ours[on] - c.theirs[on]))
+            lit = (c.ours[on] > 0) | (c.theirs[on] > 0)
+            row["lit"].append(np.abs(c.ours[on] - c.theirs[on])[lit])
             row["within"].append(c.within[on] <= 5)
             row["frames"] += int(on.sum())
             if c.method == methods[0]:
@@ -108,17 +110,20 @@ def main(argv=None) -> int:
           f"{dots['exact']} | {dots['off by 1']} | {dots['more']} {bar}")  # fmt: skip
     print()
     print(f"{bar} PATH_MODE ({len(path_files)} files, {path_positions} positions) | frames | "
-          f"mean abs. error (0..100) | frames within +-5 {bar}")  # fmt: skip
+          f"mean abs. error, all motors | mean abs. error, lit motors | frames within +-5 "
+          f"{bar}")  # fmt: skip
     if args.markdown:
-        print("|---|---|---|---|")
+        print("|---|---|---|---|---|")
     for method in methods:
         row = paths[method]
         if not row["err"]:
-            print(f"{bar} {method} | 0 | - | - {bar}")
+            print(f"{bar} {method} | 0 | - | - | - {bar}")
             continue
         err = float(np.concatenate([e.ravel() for e in row["err"]]).mean())
+        lit = float(np.concatenate(row["lit"]).mean())
         share = float(np.concatenate(row["within"]).mean())
-        print(f"{bar} {method} | {row['frames']} | {err:.2f} | {100 * share:.1f} % {bar}")
+        print(f"{bar} {method} | {row['frames']} | {err:.2f} | {lit:.1f} | {100 * share:.1f} % "
+              f"{bar}")  # fmt: skip
     return 0
 
 

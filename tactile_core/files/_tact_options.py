@@ -124,7 +124,7 @@ def rotated(paths, dots, rotation: RotationOption) -> tuple[list, list]:
         y = dot.y - rotation.offset_y
         if not 0.0 <= y <= 1.0:
             continue  # moved off the vest
-        position, x = _panel(_ring(dot.position, dot.x) + shift)
+        position, x = _panel(_ring(dot.position, dot.x) + shift) if shift else (dot.position, dot.x)
         out_dots.append(dataclasses.replace(dot, position=position, x=x, y=y))
     out_paths = []
     for path in paths:
@@ -140,8 +140,9 @@ def _ring(position: str, x: float) -> float:
 
 
 def _panel(r: float) -> tuple[str, float]:
-    """The panel and its x of ring coordinate ``r`` (a side of the body, ``r`` = 1 or 0, is the
-    back's edge and the front's: the back's is taken)."""
+    """The panel and its x of ring coordinate ``r``; on a side of the body (``r`` whole) the
+    panel that starts there: the front's x = 0 at the right side, the back's x = 0 at the
+    left."""
     r = r % 2.0
     return ("VestFront", r) if r < 1.0 else ("VestBack", r - 1.0)
 
@@ -178,7 +179,8 @@ def _rotate_path(path: TactPath, shift: float, offset: float) -> list:
         if b[0] <= a[0]:
             continue
         mid_r, mid_y = (a[1] + b[1]) / 2, (a[2] + b[2]) / 2
-        here = math.floor(mid_r) if 0.0 <= mid_y <= 1.0 else None  # the panel's ring start
+        panel = math.floor(mid_r) if shift else 0 if path.position == "VestFront" else 1
+        here = panel if 0.0 <= mid_y <= 1.0 else None  # the panel's start on the ring
         if here != where or not current:
             if len(current) > 1 and where is not None:
                 pieces.append((where, current))

@@ -60,10 +60,14 @@ class Comparison:
         """Frames where either side lights a motor."""
         return (self.ours > 0).any(axis=1) | (self.theirs > 0).any(axis=1)
 
-    def mean_abs_error(self) -> float:
-        """Mean |ours - theirs| over the motors of the active frames (motor value 0..100)."""
+    def mean_abs_error(self, lit: bool = False) -> float:
+        """Mean |ours - theirs| (motor value 0..100) over the motors of the active frames, or
+        with ``lit=True`` over the motors either side lights."""
         on = self.active()
-        return float(np.abs(self.ours[on] - self.theirs[on]).mean()) if on.any() else 0.0
+        diff = np.abs(self.ours[on] - self.theirs[on])
+        if lit:
+            diff = diff[(self.ours[on] > 0) | (self.theirs[on] > 0)]
+        return float(diff.mean()) if diff.size else 0.0
 
 
 def compiled_values(file, position: str) -> tuple[np.ndarray, np.ndarray] | None:

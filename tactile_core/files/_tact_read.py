@@ -32,7 +32,7 @@ import math
 from .._shared import validate as _validate
 from .._shared.jsonfile import parse_json, read_bytes
 from ..rendering.shapes import FADES, MAX_POINTS, PATTERNS
-from ._tact_compiled import compiled_dots, read_compiled
+from ._tact_compiled import DEVICE_MOTORS, compiled_dots, device_places, read_compiled
 from ._tact_records import TactDot, TactError, TactFile, TactPath
 
 MAX_TACT_BYTES = 4 << 20
@@ -180,7 +180,11 @@ class _Reader:
     def project(self, data) -> TactFile:
         project = self.object(data["project"], "project") if "project" in data else data
         layout = self.object(self.get(project, "layout", ""), "layout")
-        layouts = self.layouts(self.object(self.get(layout, "layouts", "layout"), "layout.layouts"))
+        if "layouts" in layout or "type" not in layout:
+            layouts = self.layouts(self.object(self.get(layout, "layouts", "layout"),
+                                               "layout.layouts"))  # fmt: skip
+        else:  # a layout named by its type alone: the device's own places
+            layouts = {p: device_places(p, n) for p, n in DEVICE_MOTORS.items()}
         paths, dots, end_ms, positions = [], [], 0.0, []
         tracks = self.array(self.get(project, "tracks", ""), "tracks", MAX_EFFECTS)
         for i, track in enumerate(tracks):
@@ -296,6 +300,9 @@ class _Reader:
                 if time > length:
                     self.fail(f"{at}.time", f"is {time:g} ms, after its effect's end "
                               f"(offsetTime {length:g} ms)")  # fmt: skip
+                if times and time == times[-1] and (x, y) == xy[-1]:
+                    levels[-1] = level  # the same point again (bHaptics' files repeat some)
+                    continue
                 if times and time <= times[-1]:
                     self.fail(f"{at}.time", f"is {time:g} ms, not after the point before it "
                               f"({times[-1]:g} ms): times must increase")  # fmt: skip
