@@ -143,8 +143,9 @@ def test_export_tact_compiled_on_the_command_line(tmp_path, capsys):
     assert main(["export-tact", "--shape", "line:0,2,3,2", "--method", "CT", "--out",
                  str(tmp_path / "x.tact")]) == 2  # fmt: skip
     assert "--method applies with --compiled" in capsys.readouterr().err
+    y = str(tmp_path / "y.tact")
     assert main(["export-tact", "--shape", "line:0,2,3,2", "--profile", "vest-4x5",
-                 "--compiled", "--method", "AS", "--out", str(tmp_path / "y.tact")]) == 2  # fmt: skip
+                 "--compiled", "--method", "AS", "--out", y]) == 2  # fmt: skip
     assert "--method:" in capsys.readouterr().err  # AS is a grid's method; vest-4x5 is not one
 
 
@@ -176,8 +177,11 @@ BAD = [
     ([*F, "mode"], "WAVE", "feedback.0[0].mode must be one of PATH_MODE, DOT_MODE, got 'WAVE'"),
     ([*F, "position"], "\x1b[2J", "feedback.0[0].position has a position named"),
     ([*F, "texture"], -1, "feedback.0[0].texture must be within [0, 65536], got -1"),
-    (["feedback", "20", 0, "values"], [0] * 7, "feedback.20[0].values holds 7 values where the "
-     "frames before give VestFront 20"),  # fmt: skip
+    (
+        ["feedback", "20", 0, "values"],
+        [0] * 7,
+        "feedback.20[0].values holds 7 values where the frames before give VestFront 20",
+    ),
 ]
 
 
@@ -192,7 +196,7 @@ def test_bad_compiled_files_are_refused_by_field(where, value, message):
 def test_a_position_twice_in_a_frame_is_refused():
     data = frames_of(vest_values())
     data["feedback"]["0"].append(dict(data["feedback"]["0"][0]))
-    with pytest.raises(TactError, match="feedback.0\\[1\\].position repeats VestFront"):
+    with pytest.raises(TactError, match=r"feedback.0\[1\].position repeats VestFront"):
         parse_tact(data)
 
 

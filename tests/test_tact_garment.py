@@ -136,12 +136,14 @@ def test_connected_dots_fade_into_each_other_as_bhaptics_plays_them():
     assert frames.reshape(len(frames), -1)[1, [top_left, next_one]].tolist() == [0.25, 0.37]
 
 
+ACROSS = [ts.point(0, 0.5, 1.0, 0), ts.point(1, 0.5, 0.6, 1000)]
+
+
 def dot_and_path():
     """Motor 3 (top right) at 0.8 from 100 to 300 ms; a path across the middle row 0-1 s."""
     return ts.document(
         ts.effect({"VestFront": ts.dot_mode([(3, 0.8)], 0, 200)}, 100, 200),
-        ts.effect({"VestFront": ts.path_mode([ts.point(0, 0.5, 1.0, 0),
-                                              ts.point(1, 0.5, 0.6, 1000)])}, 0, 1000),  # fmt: skip
+        ts.effect({"VestFront": ts.path_mode(ACROSS)}, 0, 1000),
     )
 
 
@@ -164,10 +166,9 @@ def test_rotation_turns_the_vest_round_the_body():
     # wearer's left side (the front's x = 1, the back's x = 0) half way through
     (front, back), (dot,) = TactPattern(file, rotation=(90, 0)).content
     assert (dot.position, dot.x, dot.y) == ("VestBack", 0.5, 0.0)
-    assert (front.position, front.points, front.times_s) == ("VestFront",
-                                                             ((0.5, 0.5), (1.0, 0.5)), (0.0, 0.5))  # fmt: skip
-    assert (back.position, back.points, back.times_s) == ("VestBack",
-                                                          ((0.0, 0.5), (0.5, 0.5)), (0.5, 1.0))  # fmt: skip
+    assert front.position == "VestFront" and back.position == "VestBack"
+    assert front.points == ((0.5, 0.5), (1.0, 0.5)) and front.times_s == (0.0, 0.5)
+    assert back.points == ((0.0, 0.5), (0.5, 0.5)) and back.times_s == (0.5, 1.0)
     assert front.intensities == pytest.approx((1.0, 0.8)) and back.intensities[-1] == 0.6
     # half a turn: front and back swap; the front's x = 1 (the wearer's left side) goes to the
     # right side, the front's x = 0 (the back's x = 1)

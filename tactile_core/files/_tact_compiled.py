@@ -42,8 +42,10 @@ _FAMILIES = {"VestFront": "Vest", "VestBack": "Vest", "Left": "Arm", "Right": "A
              "Racket": "Racket"}  # fmt: skip
 
 
-DEVICE_MOTORS = {"VestFront": 20, "VestBack": 20, "Left": 20, "Right": 20, "ForearmL": 6,
-                 "ForearmR": 6, "Head": 6, "HandL": 3, "HandR": 3, "FootL": 3, "FootR": 3}  # fmt: skip
+DEVICE_MOTORS = {
+    **{"VestFront": 20, "VestBack": 20, "Left": 20, "Right": 20, "ForearmL": 6, "ForearmR": 6},
+    **{"Head": 6, "HandL": 3, "HandR": 3, "FootL": 3, "FootR": 3},
+}
 """Motors of each device position, as its Designer files list them (the head's most often): the
 layout of a file whose ``layout`` gives its ``type`` but no ``layouts``."""
 
