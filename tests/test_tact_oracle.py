@@ -129,3 +129,15 @@ def test_the_tool_prints_the_table(tmp_path, capsys):
     assert "3 distinct files read (1 more with the same bytes, 0 refused), 2 carry both" in out
     assert "| dots only | 1 | 1 | 11 | 11 | 0 | 0 |" in out
     assert "| CT | 3 | 0.17 | 3.3 | 66.7 % |" in out  # 10 over the 3 lit motors
+
+
+def test_a_file_exported_with_both_forms_is_its_own_oracle(tmp_path):
+    """Export writes bHaptics' frames as bHaptics cuts them: played back on the array's own
+    motors, the project gives the very frames the file carries."""
+    from tactile_core.files.tact import read_tact, write_tact
+    from tactile_core.rendering.shapes import TimedPath
+
+    path = TimedPath([(0.5, 0.5), (3.5, 4.5), (0.5, 4.5)], [0.0, 0.3, 0.5], [1.0, 0.4, 0.8])
+    out = write_tact(tmp_path / "both.tact", path, tc.Grid(4, 5), compiled="AS")
+    (comparison,) = compare_compiled(read_tact(out), ["AS"])
+    assert comparison.frames == 25 and comparison.exact == 25

@@ -195,8 +195,8 @@ def compile_frames(path: TimedPath, target, method: str, *, interval_ms: int = I
     -------
     ndarray of int64, shape (n, size)
         Frame ``k`` at ``k * interval_ms`` (``n`` frames before the path's end), values 0..100
-        (the raw intensity x 100, rounded), columns in the Designer's motor order
-        (:func:`motor_order`).
+        (the raw intensity x 100 cut to a whole number, as bHaptics' values are), columns in
+        the Designer's motor order (:func:`motor_order`).
     """
     if not isinstance(path, TimedPath):
         raise ValueError(f"path must be a TimedPath, got {_validate.shown(path)}")
@@ -206,7 +206,7 @@ def compile_frames(path: TimedPath, target, method: str, *, interval_ms: int = I
     n = frame_count(path.duration_s, interval_ms)
     t = np.clip(np.arange(n) * interval_ms / 1e3 / path.duration_s, 0.0, 1.0)
     raw = render(path, method.on_clock(path.duration_s), t, grid=target).reshape(n, target.size)
-    return np.clip(np.floor(raw[:, motor_order(target)] * 100.0 + 0.5), 0, 100).astype(np.int64)
+    return np.clip(np.floor(raw[:, motor_order(target)] * 100.0 + 1e-9), 0, 100).astype(np.int64)
 
 
 def motor_places(target) -> list[tuple[float, float]]:
