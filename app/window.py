@@ -364,7 +364,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.tune.set_method_hidden(blind)
         self.tabs.setTabEnabled(1, not blind)
         self.controls.set_method_hidden(blind)
-        self.device_panel.status_label.setVisible(not blind)
+        self.device_panel.set_status_visible(not blind)
 
     def _on_experiments_running_changed(self, running: bool) -> None:
         """A run hides everything that shows the stimulus (participants see the screen). A
@@ -385,7 +385,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.device_panel.set_run_locked(running)
         # The controls show the stimulus (a line's ends give its direction away): hide them.
         self.controls_dock.setVisible(not running)
-        self.device_panel.status_label.setVisible(not running)
+        self.device_panel.set_status_visible(not running)
 
     def _on_device_connection_changed(self, description: str) -> None:
         self.statusBar().showMessage(f"streaming to {description}", 5000)

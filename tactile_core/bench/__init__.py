@@ -24,6 +24,7 @@ from ._audio import audio_table
 from ._batch import batch_table, dense_area_sampling, naive_area_sampling, ratio_table
 from ._common import FILTERS, GAMMA, MU, RATES_HZ, SCENES, Table, best_time
 from ._device import EmulatorProcess, device_tables
+from ._felt_readout import FeltReadout, felt_readout
 from ._layouts import layouts_table
 from ._link import link_table
 from ._live import live_table
@@ -67,6 +68,7 @@ __all__ = [
     "EmulatorProcess",
     "Family",
     "FeltEffect",
+    "FeltReadout",
     "Link",
     "Runs",
     "Setting",
@@ -81,6 +83,7 @@ __all__ = [
     "dense_area_sampling",
     "device_tables",
     "felt_effect",
+    "felt_readout",
     "felt_runs",
     "fit_table",
     "layouts_table",

@@ -103,7 +103,7 @@ class LiveCost:
 
     def __call__(self, setting: Setting) -> np.ndarray:
         """Microseconds per frame, averaged over the methods, one value per run ``(runs,)``."""
-        key = (setting.filter, setting.levels, setting.dither, setting.compensate,
+        key = (setting.sampling.label, setting.levels, setting.dither, setting.compensate,
                setting.rate_hz)  # fmt: skip
         if key not in self._cache:
             self._cache[key] = self._measure(setting)

@@ -69,7 +69,7 @@ class Setting:
     rate_hz : float
         Frames per second.
     filter : {"point", "box"}
-        Temporal filter (box: :data:`BOX_SUBSAMPLES` sub-samples).
+        Temporal filter.
     levels : int
         Device levels, 2..256.
     dither : bool
@@ -80,6 +80,8 @@ class Setting:
         The host's jitter for frames for now (ignored with a lead).
     compensate : bool
         Motor-aware drive for the motors felt.
+    subsamples : int
+        Sub-samples of the box filter.
     """
 
     rate_hz: float = 300.0
@@ -89,6 +91,7 @@ class Setting:
     lead_ms: float = 0.0
     host: str = "idle"
     compensate: bool = False
+    subsamples: int = BOX_SUBSAMPLES
 
     def __post_init__(self):
         object.__setattr__(self, "rate_hz", _validate.rate("rate_hz", self.rate_hz, 1.0, 10_000.0))
@@ -98,11 +101,13 @@ class Setting:
         _validate.choice("host", self.host, tuple(JITTER_S))
         for name in ("dither", "compensate"):
             object.__setattr__(self, name, _validate.boolean(name, getattr(self, name)))
+        object.__setattr__(self, "subsamples",
+                           _validate.integer("subsamples", self.subsamples, 1, 1024))  # fmt: skip
 
     @property
     def sampling(self) -> Sampling:
         """The :class:`~tactile_core.rendering.trace.Sampling` of the setting."""
-        return Sampling(self.rate_hz, self.filter, BOX_SUBSAMPLES)
+        return Sampling(self.rate_hz, self.filter, self.subsamples)
 
     @property
     def label(self) -> str:
