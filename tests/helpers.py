@@ -93,3 +93,13 @@ def dealt(methods, seed):
     mapping = list(methods)
     random.Random(seed).shuffle(mapping)
     return mapping
+
+
+def stream_threads():
+    """Names of the running threads of streams and servers (``tactile-*``). A trace's table is
+    built by a daemon thread of its own (``tactile-precompute``) that nothing waits for; one a
+    previous test left is not a leak."""
+    import threading
+
+    return [t.name for t in threading.enumerate()
+            if t.name.startswith("tactile-") and not t.name.endswith("-precompute")]  # fmt: skip
