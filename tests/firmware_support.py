@@ -113,3 +113,40 @@ def simulation(firmware, tmp_path):
         running.proc.kill()
         running.proc.wait()
         running.proc.stdout.close()
+
+
+def wait_logged(sim, pattern: str, timeout_s: float = 30.0) -> None:
+    """Wait until a line of the harness's pin log matches ``pattern`` (a regular expression).
+    The harness writes its log through stdio's buffer: a line shows once later lines fill it."""
+    import re
+    import time
+
+    deadline = time.monotonic() + timeout_s
+    line = re.compile(pattern, re.MULTILINE)
+    while not (sim.log_path.exists() and line.search(sim.log_path.read_text())):
+        assert sim.proc.poll() is None, "the simulation ended"
+        assert time.monotonic() < deadline, f"no line {pattern!r} in the pin log"
+        time.sleep(0.01)  # polling the log (a bound of timeout_s above)
+
+
+def firmware_status(path: str, seq: int = 9, timeout_s: float = 10.0):
+    """The firmware's answer to a status query (its counters), asked on ``path``. A query
+    does not feed the watchdog: only a valid frame does."""
+    import time
+
+    from tactile_core.device.link import SerialLink
+    from tactile_core.device.wire import MessageReader, Status, encode_query
+
+    link = SerialLink(path)
+    try:
+        reader = MessageReader(accept=(Status,))
+        link.write(encode_query(seq))
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            got = reader.feed(link.read())
+            if got:
+                return got[-1]
+            time.sleep(0.005)  # polling the link (a bound of timeout_s above)
+    finally:
+        link.close()
+    raise AssertionError(f"no status answer within {timeout_s:g} s")
