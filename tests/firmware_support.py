@@ -128,25 +128,3 @@ def wait_logged(sim, pattern: str, timeout_s: float = 30.0) -> None:
         assert time.monotonic() < deadline, f"no line {pattern!r} in the pin log"
         time.sleep(0.01)  # polling the log (a bound of timeout_s above)
 
-
-def firmware_status(path: str, seq: int = 9, timeout_s: float = 10.0):
-    """The firmware's answer to a status query (its counters), asked on ``path``. A query
-    does not feed the watchdog: only a valid frame does."""
-    import time
-
-    from tactile_core.device.link import SerialLink
-    from tactile_core.device.wire import MessageReader, Status, encode_query
-
-    link = SerialLink(path)
-    try:
-        reader = MessageReader(accept=(Status,))
-        link.write(encode_query(seq))
-        deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
-            got = reader.feed(link.read())
-            if got:
-                return got[-1]
-            time.sleep(0.005)  # polling the link (a bound of timeout_s above)
-    finally:
-        link.close()
-    raise AssertionError(f"no status answer within {timeout_s:g} s")

@@ -15,7 +15,8 @@ from tactile_core.device.profile import default_profile
 from tactile_core.device.wire import encode_frame
 
 from .emulator_support import wait_streaming
-from .firmware_support import firmware_status, pinlog, wait_logged
+from .firmware_support import pinlog, wait_logged
+from .helpers import array_status
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
 MS = 16_000  # cycles
@@ -78,7 +79,7 @@ def test_firmware_never_applies_a_corrupted_frame_and_counts_it(sim):
     finally:
         link.close()
     # The firmware reads its line in order: it answers the query after the frames before it.
-    status = firmware_status(sim.path)
+    status = array_status(sim.path)
     assert status.frames_applied == 4  # the four good frames
     assert status.dropped >= corrupted  # a flipped bit may also split a message in two
     log = sim.finish()
@@ -100,7 +101,7 @@ def test_firmware_watchdog_turns_everything_off_after_250_ms(sim):
     os.kill(proc.pid, signal.SIGKILL)
     proc.communicate(timeout=10)
     deadline = time.monotonic() + 30
-    while firmware_status(sim.path).watchdog_trips == 0:  # the firmware's own count of its act
+    while array_status(sim.path).watchdog_trips == 0:  # the firmware's own count of its act
         assert time.monotonic() < deadline, "the watchdog did not act"
     log = sim.finish()
     frames = pinlog.received_frames(log)
