@@ -127,4 +127,3 @@ def wait_logged(sim, pattern: str, timeout_s: float = 30.0) -> None:
         assert sim.proc.poll() is None, "the simulation ended"
         assert time.monotonic() < deadline, f"no line {pattern!r} in the pin log"
         time.sleep(0.01)  # polling the log (a bound of timeout_s above)
-
