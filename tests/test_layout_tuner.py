@@ -1,7 +1,6 @@
-"""The tuner's controls on layouts that are not grids (issue 22 item 2): the profile chosen by
-name, the methods that cannot render there greyed out saying why, a scene that has one playing
-BA with a status line (never an exception), presets that say so, and Compare and Blind A/B on
-the belt with BA, RO and GS."""
+"""The tuner's controls on layouts that are not grids: the profile chosen by name, the methods that
+cannot render there greyed out saying why, a scene that has one playing BA with a status line (never
+an exception), presets that say so, and Compare and Blind A/B on the belt with BA, RO and GS."""
 
 import numpy as np
 import pytest

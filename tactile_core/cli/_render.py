@@ -13,6 +13,7 @@ from .._shared.outfile import check_output
 from ..files.frames import write_frames
 from ..files.tact import MAX_TABLE_FRAMES
 from ..rendering.correction import correct
+from ..rendering.methods import get_method
 from ..rendering.motor_drive import motor_drive
 from ..rendering.rasterize import check_renders, render
 from ..stream import StreamOptions, check_lead_ms
@@ -116,7 +117,8 @@ def cmd_render(args) -> int:
         time_s = np.arange(n) / args.rate
         u = np.minimum(time_s / args.duration, 1.0)
         t = 1.0 - u if args.direction == "reverse" else u
-        frames = correct(render(shape, method, t, grid=grid), mu, gamma)
+        timed = get_method(method).on_clock(args.duration)  # TB: onsets by the trace's duration
+        frames = correct(render(shape, timed, t, grid=grid), mu, gamma)
         what, left_out = shape.spec, ""
     warn_if_dark("render", shape, grid, frames)
     what = f"{what} ({method}, mu={mu:g}, gamma={gamma:g})"
@@ -242,7 +244,8 @@ def cmd_stream(args) -> int:
         args.seconds = max(pattern.duration_s, 0.1)  # the file, then the array off
     if shape is not None:  # one trace at the stream's frame times (at most DARK_CHECK_FRAMES)
         n = min(int(np.floor(args.duration * args.rate + 1e-9)) + 1, DARK_CHECK_FRAMES)
-        trace = render(shape, method, np.linspace(0.0, 1.0, n), grid=profile.layout)
+        timed = get_method(method).on_clock(args.duration)
+        trace = render(shape, timed, np.linspace(0.0, 1.0, n), grid=profile.layout)
         warn_if_dark("stream", shape, profile.layout, trace)
     scene = Scene(
         shape,

@@ -44,6 +44,7 @@ from ..rendering.rasterize import (
 )
 from ..rendering.shapes import FADES, TimedPath
 from ..rendering.trace import MAX_SAMPLES, Sampling, entry_table
+from ._tact_coords import fade1, layout_box, unit_to_layout
 from ._tact_read import TactError, TactFile
 
 NOTHING_TO_PLAY = "no paths or dots to play (no enabled track holds any)"
@@ -53,40 +54,6 @@ file's name before it)."""
 MAX_TABLE_FRAMES = 200_000
 """Most frames :meth:`PatternFrames.precompute` tabulates (11 minutes at 300 Hz); longer
 patterns are computed frame by frame as they play."""
-
-
-def layout_box(target) -> tuple[float, float, float, float]:
-    """``(x0, x1, y0, y1)``: the extent of the actuator centres of a Grid or Layout, in layout
-    units (a grid's ``(0.5, cols - 0.5, 0.5, rows - 0.5)``)."""
-    xy = check_target(target).xy
-    return (float(xy[:, 0].min()), float(xy[:, 0].max()), float(xy[:, 1].min()),
-            float(xy[:, 1].max()))  # fmt: skip
-
-
-def unit_to_layout(x: float, y: float, box) -> tuple[float, float]:
-    """bHaptics' ``(x, y)`` (0..1, y downward) to layout units in ``box`` (:func:`layout_box`)."""
-    x0, x1, y0, y1 = box
-    return (x0 + x * (x1 - x0), y1 - y * (y1 - y0))
-
-
-def layout_to_unit(x: float, y: float, box) -> tuple[float, float]:
-    """Layout units back to bHaptics' 0..1 (y downward), clipped to [0, 1]; an axis of zero
-    extent gives 0.5."""
-    x0, x1, y0, y1 = box
-    u = (x - x0) / (x1 - x0) if x1 > x0 else 0.5
-    v = (y1 - y) / (y1 - y0) if y1 > y0 else 0.5
-    return (min(max(u, 0.0), 1.0), min(max(v, 0.0), 1.0))
-
-
-def fade1(fade: str, u: float) -> float:
-    """A playback type's factor at ``u`` in [0, 1] of its span (linear ramps)."""
-    if fade == "FADE_IN":
-        return u
-    if fade == "FADE_OUT":
-        return 1.0 - u
-    if fade == "FADE_IN_OUT":
-        return 1.0 - abs(2.0 * u - 1.0)
-    return 1.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -338,14 +305,19 @@ class PatternFrames:
         self._dot_starts = [d[0] for d in self._dots]
         self._dot_longest = max((e - s for s, e, *_ in self._dots), default=0.0)
         self._dot_columns = _dot_columns(self._dots)
-        if not self.grid.is_grid:
-            entries1 = layout_sampler(self.method, self.grid).entries1
-            self._entries = lambda shape, t: layout_entries(shape, entries1, t)
-        else:
-            sample1, cols, rows = self.method.sample1, self.grid.cols, self.grid.rows
-            self._entries = lambda shape, t: point_entries(shape, sample1, t, cols, rows)
+        # per path: a method timed by its trace (TB) plays each over the path's own duration
+        self._path_entries = {id(p): self._entries_for(self.method.on_clock(e - s))
+                              for s, e, p in self._paths}  # fmt: skip
         self._offsets = sampling.offsets_s().tolist()
         self._table: list | None = None
+
+    def _entries_for(self, method):
+        """``entries(shape, t)``: the raw ``((index, value), ...)`` of ``method`` on the target."""
+        if not self.grid.is_grid:
+            sampler = layout_sampler(method, self.grid)
+            return lambda shape, t: layout_entries(shape, sampler, t)
+        sample1, cols, rows = method.sample1, self.grid.cols, self.grid.rows
+        return lambda shape, t: point_entries(shape, sample1, t, cols, rows)
 
     @property
     def precomputed(self) -> bool:
@@ -421,7 +393,8 @@ class PatternFrames:
         last = bisect.bisect_right(self._starts, when)
         for s, e, shape in self._paths[first:last]:
             if s <= when < e:
-                for i, v in self._entries(shape, min(max((when - s) / (e - s), 0.0), 1.0)):
+                entries = self._path_entries[id(shape)]
+                for i, v in entries(shape, min(max((when - s) / (e - s), 0.0), 1.0)):
                     if v > lit.get(i, 0.0):
                         lit[i] = v
         # only the dots that can be on: started by now, and not before the longest could end
@@ -487,7 +460,8 @@ class PatternFrames:
                 on = (when >= s0) & (when < e0)
                 if on.any():
                     t = np.clip((when[on] - s0) / (e0 - s0), 0.0, 1.0)
-                    lit = render(shape, self.method, t, grid=self.grid).reshape(-1, size)
+                    method = self.method.on_clock(e0 - s0)  # (TB: the path's own duration)
+                    lit = render(shape, method, t, grid=self.grid).reshape(-1, size)
                     raw[on] = np.maximum(raw[on], lit)
             self._render_dots(when, raw)
         if corrected:

@@ -30,7 +30,7 @@ from .._shared.outfile import check_output
 from ..rendering.rasterize import check_target
 from ..rendering.shapes import MAX_POINTS, Line, Polyline, Shape, Square, TimedPath
 from ..rendering.trace import Trace
-from ._tact_frames import layout_box, layout_to_unit
+from ._tact_coords import layout_box, layout_to_unit
 from ._tact_read import MAX_NAME_CHARS
 
 POSITIONS = {"VestFront": "Tactot", "VestBack": "Tactot", "Head": "Tactal",

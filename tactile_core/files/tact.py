@@ -21,15 +21,8 @@ drawing (:func:`~tactile_core.rendering.shapes.path_from_samples`), as a file wi
 
 from __future__ import annotations
 
-from ._tact_frames import (
-    MAX_TABLE_FRAMES,
-    NOTHING_TO_PLAY,
-    PatternFrames,
-    TactPattern,
-    layout_box,
-    layout_to_unit,  # fmt: skip
-    unit_to_layout,
-)
+from ._tact_coords import layout_box, layout_to_unit, unit_to_layout
+from ._tact_frames import MAX_TABLE_FRAMES, NOTHING_TO_PLAY, PatternFrames, TactPattern
 from ._tact_read import (
     MAX_EFFECTS,
     MAX_LAYOUT,

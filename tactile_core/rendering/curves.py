@@ -9,6 +9,7 @@ import numpy as np
 from .._shared import validate as _validate
 from .correction import check_correction, correct
 from .geometry import Grid
+from .methods import get_method
 from .motor_drive import motor_drive
 from .rasterize import check_target, render
 from .trace import DIRECTIONS
@@ -72,7 +73,8 @@ def activation_curves(
     Parameters
     ----------
     shape : Shape
-    method : {"CT", "MM", "AS", "IM"}
+    method : str or Method
+        Any registered method; one timed by the trace (TB) is timed by ``duration_s``.
     duration_s : float, keyword-only
         Trace duration in seconds (the paper's figures use 1 s; its experiments 2 s).
     direction : {"forward", "reverse"}
@@ -101,6 +103,7 @@ def activation_curves(
     grid = check_target(grid)
     u = np.linspace(0.0, 1.0, samples)
     t = 1.0 - u if direction == "reverse" else u
+    method = get_method(method).on_clock(duration_s)  # TB times its onsets by the trace
     frames = render(shape, method, t, grid=grid)
     return curves_from_frames(frames, u * duration_s, mu=mu, gamma=gamma, grid=grid, motor=motor,
                               compensate=compensate)  # fmt: skip

@@ -218,7 +218,7 @@ def trace_drive(shape, method, mu: float = 0.33, gamma: float = 0.7, *,
     Drive
     """
     grid = grid or Grid()
-    m = get_method(method)
+    m = get_method(method).on_clock(duration_s)  # TB times its onsets by the trace
     if own_correction:
         mu, gamma = m.own_correction(mu, gamma)
     if rate_hz is None:

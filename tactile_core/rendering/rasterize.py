@@ -268,10 +268,8 @@ def render(shape, method, t, *, grid: Grid = _DEFAULT_GRID) -> np.ndarray:
 
 def _render_layout(shape, m, t: np.ndarray, layout: Layout) -> np.ndarray:
     """:func:`render` on a layout that is not a grid: ``t.shape + (size,)``."""
-    sampler = layout_sampler(m, layout)
     flat_t = t.reshape(-1)
-    x, y = shape.xy(flat_t)
-    frames = _enveloped(shape, flat_t, sampler.frames(x, y, shape.snap_tol))
+    frames = _enveloped(shape, flat_t, layout_sampler(m, layout).frames_of(shape, flat_t))
     return frames.reshape((*t.shape, layout.size))
 
 
@@ -431,7 +429,7 @@ def render_point(shape, method, t: float, grid: Grid = _DEFAULT_GRID) -> tuple:
     if not 0.0 <= t <= 1.0:
         raise ValueError(f"t must be finite and within [0, 1], got {_validate.shown(t)}")
     if not grid.is_grid:
-        return layout_entries(shape, layout_sampler(m, grid).entries1, float(t))
+        return layout_entries(shape, layout_sampler(m, grid), float(t))
     return point_entries(shape, m.sample1, float(t), grid.cols, grid.rows)
 
 
@@ -449,9 +447,9 @@ def point_entries(shape, sample1, t: float, ncols: int, nrows: int) -> tuple:
     return lit
 
 
-def layout_entries(shape, entries1, t: float) -> tuple:
-    """:func:`point_entries` on a layout that is not a grid, for a sampler's ``entries1``:
-    ``((actuator, raw intensity), ...)`` of the lit actuators, the envelope applied."""
-    x, y = shape.point(t)
+def layout_entries(shape, sampler, t: float) -> tuple:
+    """:func:`point_entries` on a layout that is not a grid, for a
+    :class:`~.methods.LayoutSampler`: ``((actuator, raw intensity), ...)`` of the lit
+    actuators, the envelope applied."""
     k = shape.intensity1(t) if shape.has_envelope else 1.0
-    return tuple((i, v * k) for i, v in entries1(x, y, shape.snap_tol) if v * k > 0.0)
+    return tuple((i, v * k) for i, v in sampler.entries_of(shape, t) if v * k > 0.0)

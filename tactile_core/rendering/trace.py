@@ -141,7 +141,7 @@ def render_frames(
     frames : ndarray of float64, shape (n_frames, rows, cols)
         Filtered intensities in [0, 1].
     """
-    m = get_method(method)
+    m = get_method(method).on_clock(trace.duration_s)  # TB times its onsets by the trace
     grid = check_target(grid)
     mu, gamma = check_correction(mu, gamma)
     if not isinstance(sampling, Sampling):
@@ -228,7 +228,7 @@ class LiveFrames:
         if not isinstance(sampling, Sampling):
             raise ValueError(f"sampling must be a Sampling, got {_validate.shown(sampling)}")
         self.trace = trace
-        self.method = get_method(method)
+        self.method = get_method(method).on_clock(trace.duration_s)  # TB's clock: the trace
         self.sampling = sampling
         self.mu, self.gamma = check_correction(mu, gamma)
         self.gain = _validate.in_range("gain", gain, 0.0, 1.0)
@@ -323,21 +323,21 @@ class LiveFrames:
 
     def _compute_layout(self, start: float) -> tuple:
         """:meth:`compute` on a layout that is not a grid."""
-        trace, shape, entries1 = self.trace, self.trace.shape, self._layout.entries1
+        trace, shape, sampler = self.trace, self.trace.shape, self._layout
         if len(self._offsets) == 1:  # point sampling: no sums across sub-samples
             t = trace.parameter1(start + self._offsets[0])
             if t is None:
                 return ()
             mu, gamma, gain = self.mu, self.gamma, self.gain
             return tuple(
-                (i, correct1(v, mu, gamma, gain)) for i, v in layout_entries(shape, entries1, t)
+                (i, correct1(v, mu, gamma, gain)) for i, v in layout_entries(shape, sampler, t)
             )
         acc: dict[int, float] = {}
         for offset in self._offsets:
             t = trace.parameter1(start + offset)
             if t is None:
                 continue
-            for i, v in layout_entries(shape, entries1, t):
+            for i, v in layout_entries(shape, sampler, t):
                 acc[i] = acc.get(i, 0.0) + correct1(v, self.mu, self.gamma, self.gain)
         scale = self._scale
         return tuple((i, v * scale) for i, v in acc.items())

@@ -12,6 +12,7 @@ import ctypes
 import math
 import sys
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -193,3 +194,71 @@ class _ChannelLevels:
         flat = np.zeros(self.profile.channels, dtype=np.uint8)
         flat[self._cell_of_channel] = np.frombuffer(bytes(levels), dtype=np.uint8)
         return flat.reshape(self.profile.layout.frame_shape)
+
+
+def restarts(old: Scene | None, new: Scene | None) -> bool:
+    """Whether going from scene ``old`` to ``new`` starts the trace again (a new shape, frame
+    source or epoch; to or from nothing), rather than going on from the same trace time with
+    other μ, γ or rate."""
+    return (
+        old is None
+        or new is None
+        or new.shape != old.shape
+        or not same_source(new.source, old.source)
+        or new.epoch != old.epoch
+    )
+
+
+@dataclass
+class Cursor:
+    """Where the output thread is: the plan it plays, its trace time, the next deadline, and
+    what carries from one frame to the next (dithering's error, the tactors lit).
+
+    Attributes
+    ----------
+    plan : _Plan or None
+        The plan of the scene being played (None before the first).
+    dither : Dither or None
+        Temporal dithering's error feedback, for a scene that asks for it.
+    lit : set of int
+        Channels lit in the last frame computed.
+    trace_time : float
+        Seconds into the trace clock; advances only while playing.
+    deadline : float
+        When the next frame is due, on the stream's clock (s).
+    last_sent : float or None
+        When the last frame went out (None after a gap: a new plan, a stall, a link error).
+    """
+
+    plan: _Plan | None = None
+    dither: Dither | None = None
+    lit: set = field(default_factory=set)
+    trace_time: float = 0.0
+    deadline: float = 0.0
+    last_sent: float | None = None
+
+    def frame_index(self) -> int:
+        """The frame of the trace due now: the nearest at the frame rate, or, on a keep-alive
+        tick between two frames, the one before (it is repeated)."""
+        plan = self.plan
+        if plan.tick == plan.period:
+            return round(self.trace_time * plan.rate)
+        return math.floor(self.trace_time * plan.rate + 1e-9)
+
+    def advance(self, now_s: float) -> tuple[int, float]:
+        """After a frame went out: the next deadline and trace time. When the clock is more
+        than a tick past the deadline (a stall), the missed deadlines are skipped and the trace
+        time moves on by them. Returns ``(missed ticks, seconds behind)``."""
+        plan = self.plan
+        if plan.active:
+            self.trace_time += plan.tick
+        self.deadline += plan.tick
+        behind = now_s - self.deadline
+        if behind <= plan.tick:
+            return 0, behind
+        missed = math.floor(behind / plan.tick)
+        self.deadline += missed * plan.tick
+        if plan.active:
+            self.trace_time += missed * plan.tick
+        self.last_sent = None
+        return missed, behind

@@ -29,7 +29,6 @@ and what it says to the array besides frames (hello, counters, the clock) in ``_
 from __future__ import annotations
 
 import atexit
-import math
 import sys
 import threading
 import traceback
@@ -45,12 +44,7 @@ from ..device.wire import Info, Status, encode_frame, encode_timed, level_bits
 from ..rendering.correction import Dither
 from ..rendering.scene import Scene, check_scene
 from ._onsets import Onset, OnsetWatch
-from ._plan import (
-    _ChannelLevels,
-    _Plan,
-    _reduce_timer_slack,
-    same_source,
-)
+from ._plan import Cursor, _ChannelLevels, _Plan, _reduce_timer_slack, restarts
 from ._stats import PAUSE_S, StatsBook, StreamStats
 from ._talk import ArrayTalk
 from .options import StreamOptions
@@ -333,10 +327,7 @@ class Streamer:
             self._priority_note = raise_priority()
             self._set(realtime=not self._priority_note)
         self._started_at = self.clock.now()
-        plan = None
-        dither = None
-        lit: set = set()
-        trace_time = 0.0  # seconds into the trace clock (advances only while playing)
+        cur = Cursor()
         try:
             try:
                 if not self._identify():
@@ -348,70 +339,30 @@ class Streamer:
                     return
             finally:
                 self.identified.set()
-            deadline = self.clock.now()
-            last_sent = None
+            cur.deadline = self.clock.now()
             while not self._stopping.is_set():
-                scene = self._scene
-                if plan is None or scene is not plan.scene:
-                    top = self._talk.max_rate_hz
-                    try:
-                        new = _Plan(scene, self.profile, self.idle_rate_hz, top, self.clock.now())
-                    except ValueError as exc:  # cannot render this scene: go idle, say why
-                        new = _Plan(None, self.profile, self.idle_rate_hz, top, self.clock.now())
-                        self._set(status=f"scene rejected: {exc}")
-                    restart = (
-                        plan is None
-                        or plan.scene is None
-                        or scene is None
-                        or scene.shape != plan.scene.shape
-                        or not same_source(scene.source, plan.scene.source)
-                        or scene.epoch != plan.scene.epoch
-                    )
-                    if restart:
-                        trace_time = 0.0
-                    immediate = plan is not None and (
-                        new.active != plan.active or new.tick != plan.tick
-                    )
-                    self._onsets.planned(new, restart or plan is None or not plan.active)
-                    plan = new
-                    dither = (
-                        Dither(self.profile.channels, self.profile.levels)
-                        if (plan.active and plan.scene.dither)
-                        else None
-                    )
-                    lit = set()
-                    state, status = plan.describe(self.profile, self.link, self._priority_note)
-                    self._set(
-                        state=state,
-                        status=status,
-                        requested_rate_hz=plan.requested,
-                        rate_hz=plan.rate,
-                        capped=plan.capped,
-                    )
-                    last_sent = None
-                    if immediate:
-                        deadline = self.clock.now()
+                if cur.plan is None or self._scene is not cur.plan.scene:
+                    self._switch(cur, self._scene)
+                plan = cur.plan
                 stable = self.clock.now() - plan.since > 0.2
                 if plan.live is not None and not plan.precompute_started and stable:
                     plan.precompute_started = True  # the scene settled: tabulate its cycle
                     plan.live.precompute(background=True)
 
-                if self._wait_until(deadline):
+                if self._wait_until(cur.deadline):
                     continue  # a new scene arrived while waiting: pick it up first
-                if plan.tick == plan.period:
-                    k = round(trace_time * plan.rate)
-                else:  # keep-alive ticks between frames repeat the frame
-                    k = math.floor(trace_time * plan.rate + 1e-9)
+                k = cur.frame_index()
                 if k != plan.last_k:
-                    levels, lit = self._levels(plan, k, dither, lit)
+                    levels, cur.lit = self._levels(plan, k, cur.dither, cur.lit)
                     plan.last_k, plan.last_levels = k, levels
                 levels = plan.last_levels
                 seq, self._seq = self._seq, self._seq + 1
                 try:
                     at = None
-                    self._talk.before_frame(deadline)
+                    self._talk.before_frame(cur.deadline)
                     if plan.active and self._talk.scheduled:  # pausing and all-off are for now
-                        at = (self._talk.at_us(deadline + self.lead_s), deadline + self.lead_s)
+                        at_s = cur.deadline + self.lead_s
+                        at = (self._talk.at_us(at_s), at_s)
                     sent = self._write(seq, levels, at)
                     self._onsets.written(sent if at is None else at[1], seq, at is not None, k)
                     self.last_frame = (plan.scene, k / plan.rate if plan.active else None)
@@ -421,26 +372,16 @@ class Streamer:
                     self._set(state="disconnected", status=str(exc))
                     if not self._recover():
                         return
-                    deadline = self.clock.now()
-                    last_sent = None
+                    cur.deadline, cur.last_sent = self.clock.now(), None
                     continue
-                lateness = sent - deadline
-                if lateness > 1e-3:
+                if sent - cur.deadline > 1e-3:
                     self._count("late")
-                if last_sent is not None:
-                    self._book.record_interval(sent - last_sent - plan.tick)
-                last_sent = sent
-                if plan.active:
-                    trace_time += plan.tick
-                deadline += plan.tick
-                behind = self.clock.now() - deadline
-                if behind > plan.tick:  # stalled: skip missed deadlines, keep trace time
-                    missed = math.floor(behind / plan.tick)
-                    deadline += missed * plan.tick
-                    if plan.active:
-                        trace_time += missed * plan.tick
+                if cur.last_sent is not None:
+                    self._book.record_interval(sent - cur.last_sent - plan.tick)
+                cur.last_sent = sent
+                missed, behind = cur.advance(self.clock.now())
+                if missed:  # stalled: the missed deadlines were skipped, the trace time kept
                     self._count("skipped", missed)
-                    last_sent = None
                     if behind + plan.tick > PAUSE_S:  # held up (wherever in the frame): say so
                         self._set(status=self._book.paused(behind + plan.tick))
         except Exception as exc:  # a bug must still end with the array off, and say so
@@ -449,6 +390,32 @@ class Streamer:
             self._set(state="failed", status=self._failure)
         finally:
             self._all_off_final()
+
+    def _switch(self, cur: Cursor, scene: Scene | None) -> None:
+        """Take up ``scene``: a new plan (idle, saying why, for a scene that cannot render),
+        the trace restarted or going on, dithering and the tactors lit afresh, the status; a
+        change of activity or tick is due at once."""
+        top = self._talk.max_rate_hz
+        old = cur.plan
+        try:
+            new = _Plan(scene, self.profile, self.idle_rate_hz, top, self.clock.now())
+        except ValueError as exc:  # cannot render this scene: go idle, say why
+            new = _Plan(None, self.profile, self.idle_rate_hz, top, self.clock.now())
+            self._set(status=f"scene rejected: {exc}")
+        restart = old is None or restarts(old.scene, scene)
+        if restart:
+            cur.trace_time = 0.0
+        self._onsets.planned(new, restart or not old.active)
+        cur.plan = new
+        cur.dither = (Dither(self.profile.channels, self.profile.levels)
+                      if new.active and new.scene.dither else None)  # fmt: skip
+        cur.lit = set()
+        state, status = new.describe(self.profile, self.link, self._priority_note)
+        self._set(state=state, status=status, requested_rate_hz=new.requested, rate_hz=new.rate,
+                  capped=new.capped)  # fmt: skip
+        cur.last_sent = None
+        if old is not None and (new.active != old.active or new.tick != old.tick):
+            cur.deadline = self.clock.now()
 
     def _recover(self) -> bool:
         """After a link error: reconnect (True) or give up (False)."""

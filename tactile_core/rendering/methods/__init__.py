@@ -13,6 +13,7 @@ name      method                      from                 tactors lit at one in
 ``RO``    roll-off, ``r``, ``curve``  Syntacts 2021        up to 4 at ``r = 1``
 ``GS``    Gaussian, ``sigma``         this project         up to 6 at ``sigma = 0.5``
 ``VRCH``  every tactor within ``r``   VRCH-Server          up to 4 at ``r = 1`` (bi-level)
+``TB``    timed onsets along a stroke Tactile Brush 2011   up to 4 virtual points on at once
 ========  ==========================  ===================  ================================
 
 **The method protocol.** A method is a module (or any object) with these attributes:
@@ -32,7 +33,14 @@ name      method                      from                 tactors lit at one in
 - ``CORRECTION`` (optional): the correction the method is designed to be driven with, by
   default: ``"set"`` (the threshold/gamma correction set by the user, the paper's for AS and
   IM; the default when absent), ``"threshold"`` (the set threshold, gamma 1) or ``"none"``
-  (driven as computed: EN and PK, whose energy normalisation is their own correction).
+  (driven as computed: EN and PK, whose energy normalisation is their own correction);
+- ``DURATION_S`` (optional): for a method whose intensities depend on the *time* along the
+  trace, not only on the point (TB), how many seconds ``t`` from 0 to 1 lasts when nothing
+  says otherwise; its samplers then take a keyword ``duration_s``. The trace clock binds its
+  own duration (:meth:`Method.on_clock`: :func:`~..trace.render_frames`,
+  :class:`~..trace.LiveFrames`, so scenes and streams, and the activation curves); a bare
+  ``render`` or ``render_point`` uses ``DURATION_S``. The duration is not part of the spec:
+  it belongs to the trace, not to the method.
 
 ``tol`` is the snap tolerance of the cell lookup (:data:`~..geometry.SNAP_ULPS`).
 
@@ -53,17 +61,15 @@ finite within [0, 1]; one that breaks that, or raises anything while rendering o
 
 from __future__ import annotations
 
-import functools
 import math
 import re
 import threading
-from dataclasses import dataclass, field
-from types import ModuleType
 
 from ..._shared import validate as _validate
 from . import (
     area,
     barycentric,
+    brush,
     closest,
     energy,
     gaussian,
@@ -78,10 +84,13 @@ from ._cells import Block as Block
 from ._cells import Indexed as Indexed
 from ._cells import outer as outer
 from ._layout import LAYOUT_METHODS as LAYOUT_METHODS
+from ._layout import TRACED_LAYOUT_METHODS as TRACED_LAYOUT_METHODS
 from ._layout import layout_sampler as layout_sampler
+from ._method import CORRECTIONS as CORRECTIONS
+from ._method import Method as Method
+from ._method import _make
 from ._plugin import CONTAINED as _CONTAINED
-from ._plugin import checked as _checked
-from ._plugin import max_tactors as _max_tactors
+from ._plugin import checked as _checked  # noqa: F401  (how the registry wraps a plug-in)
 
 ENTRY_POINT_GROUP = "tactile_tuner.methods"
 """Entry-point group under which third-party methods register."""
@@ -89,197 +98,7 @@ ENTRY_POINT_GROUP = "tactile_tuner.methods"
 _NAME = re.compile(r"[A-Z][A-Z0-9_]{0,15}\Z")
 _WORD = re.compile(r"[a-z][a-z0-9_]{0,31}\Z")
 _NOT_WORDS = ("inf", "infinity", "nan")  # float() reads them: refused as not finite
-_MISSING = object()
-_BUILT_IN_ONLY = ("sample_cells", "sample1_exact")
 _ATTRS = ("NAME", "TITLE", "BILEVEL", "NEEDS_SHAPE", "MAX_TACTORS", "sample", "sample1")
-
-
-@dataclass(frozen=True)
-class Method:
-    """A rendering method as registered, with its parameter values bound.
-
-    Attributes
-    ----------
-    name, title : str
-    bilevel, needs_shape : bool
-    max_tactors : int
-        The most tactors one frame lights, at these parameters.
-    module : module or object
-        The implementation (see the protocol above).
-    params : tuple of (str, float or str)
-        Parameter values that differ from the defaults, in the order of ``PARAMS``, then of
-        ``CHOICES``.
-    source : str
-        ``"paper"``, ``"peer"`` or ``"plugin <distribution>"``.
-    correction : {"set", "threshold", "none"}
-        The correction the method is designed to be driven with (see the protocol above and
-        :meth:`own_correction`).
-    """
-
-    name: str
-    title: str
-    bilevel: bool
-    needs_shape: bool
-    max_tactors: int
-    module: ModuleType
-    params: tuple = ()
-    source: str = "paper"
-    correction: str = "set"
-    _samplers: dict = field(default_factory=dict, repr=False, compare=False, hash=False)
-
-    @property
-    def spec(self) -> str:
-        """The name with its non-default parameters: ``"RO"``, ``"RO:r=1.5"``."""
-        if not self.params:
-            return self.name
-        return self.name + ":" + ",".join(f"{k}={_number(v)}" for k, v in self.params)
-
-    @property
-    def param_specs(self) -> dict:
-        """``{name: (default, low, high, description)}`` of the number parameters (empty for
-        most methods)."""
-        return dict(getattr(self.module, "PARAMS", None) or {})
-
-    @property
-    def choice_specs(self) -> dict:
-        """``{name: (options, description)}`` of the word parameters (``RO``'s ``curve``); the
-        first option is the default."""
-        return dict(getattr(self.module, "CHOICES", None) or {})
-
-    @property
-    def values(self) -> dict:
-        """Every parameter's value, defaults included."""
-        out = {k: spec[0] for k, spec in self.param_specs.items()}
-        out.update({k: spec[0][0] for k, spec in self.choice_specs.items()})
-        out.update(self.params)
-        return out
-
-    def own_correction(self, mu: float, gamma: float) -> tuple[float, float]:
-        """The correction this method is driven with when the user has set ``mu``/``gamma``.
-
-        ``"set"`` methods (the paper's four, GS, plug-ins unless they say otherwise) take
-        ``(mu, gamma)``; ``"threshold"`` ones (VRCH, whose server maps a value ``v > 0`` to
-        ``offset + (1 - offset) v``) ``(mu, 1)``; ``"none"`` ones ``(0, 1)``, the identity: EN
-        and PK normalise energy themselves, so a gamma on top compresses them a second time,
-        and Syntacts' roll-off (RO) is played as computed.
-
-        Returns
-        -------
-        (float, float)
-            ``(mu, gamma)`` for :func:`~tactile_core.rendering.correction.correct`.
-        """
-        if self.correction == "none":
-            return 0.0, 1.0
-        if self.correction == "threshold":
-            return float(mu), 1.0
-        return float(mu), float(gamma)
-
-    @property
-    def correction_label(self) -> str:
-        """A few words for a title: ``"set correction"``, ``"threshold only"``,
-        ``"no correction"``."""
-        return {"none": "no correction", "threshold": "threshold only"}.get(
-            self.correction, "set correction"
-        )
-
-    @property
-    def plugin(self) -> bool:
-        """True for a method loaded from an entry point."""
-        return self.source.startswith("plugin")
-
-    @property
-    def sample(self):
-        """Vectorised sampler with the parameters bound, see the protocol above."""
-        return self._sampler("sample")
-
-    @property
-    def sample1(self):
-        """Scalar sampler for the live path, parameters bound."""
-        return self._sampler("sample1")
-
-    @property
-    def sample_cells(self):
-        """A built-in method's batch sampler in the renderer's form (:mod:`._cells`),
-        parameters bound; None for plug-ins and methods without one."""
-        return self._sampler("sample_cells")
-
-    @property
-    def sample1_exact(self):
-        """A built-in method's scalar sampler that returns None where a decision lies within
-        rounding of its edge (there the array arithmetic may decide otherwise); None for
-        plug-ins. Methods whose scalar arithmetic decides as the arrays' do use ``sample1``."""
-        return self._sampler("sample1_exact")
-
-    def _sampler(self, which: str):
-        hit = self._samplers.get(which, _MISSING)
-        if hit is _MISSING:
-            fn = getattr(self.module, which, None)
-            if which == "sample1_exact" and fn is None:
-                fn = self.module.sample1
-            if which in _BUILT_IN_ONLY and self.plugin:
-                fn = None  # plug-ins go through the protocol's checked samplers only
-            elif fn is not None and self.params:
-                fn = functools.partial(fn, **dict(self.params))
-            if fn is not None and self.plugin:
-                fn = _checked(self.spec, fn, which == "sample1")  # output checked, failures
-                # contained (see ``_plugin``)
-            hit = self._samplers[which] = fn
-        return hit
-
-    def with_params(self, **params) -> Method:
-        """This method with other parameter values (validated; ``ValueError`` names them)."""
-        values = self.values
-        specs, choices = self.param_specs, self.choice_specs
-        for key, value in params.items():
-            if key in choices:
-                options = choices[key][0]
-                word = value.lower() if isinstance(value, str) else value
-                values[key] = _validate.choice(f"method {self.name}: {key}", word, options)
-                continue
-            if key not in specs:
-                known = ", ".join([*specs, *choices]) or "none"
-                raise ValueError(
-                    f"method {self.name} has no parameter {_validate.shown(key)} "
-                    f"(its parameters: {known})"
-                )
-            _, lo, hi, _ = specs[key]
-            values[key] = _validate.in_range(f"method {self.name}: {key}", value, lo, hi)
-        bound = tuple((k, float(values[k])) for k in specs if values[k] != specs[k][0])
-        bound += tuple((k, values[k]) for k in choices if values[k] != choices[k][0][0])
-        return _make(self.module, self.source, bound)
-
-
-def _number(value) -> str:
-    """Shortest text that reads back as ``value`` (``1`` for 1.0; a word as it is)."""
-    if isinstance(value, str):
-        return value
-    return f"{value:g}" if float(f"{value:g}") == value else repr(float(value))
-
-
-def _make(module, source: str, params: tuple = ()) -> Method:
-    defaults = {k: spec[0] for k, spec in (getattr(module, "PARAMS", None) or {}).items()}
-    numbers = {k: v for k, v in {**defaults, **dict(params)}.items() if not isinstance(v, str)}
-    plugin = " (a plug-in)" if source.startswith("plugin") else ""
-    label = f"{getattr(module, 'NAME', '?')}{plugin}"
-    correction = getattr(module, "CORRECTION", "set")
-    if correction not in CORRECTIONS:
-        raise ValueError(f"method {label}: CORRECTION must be one of {', '.join(CORRECTIONS)}, "
-                         f"got {_validate.shown(correction)}")  # fmt: skip
-    return Method(
-        name=module.NAME,
-        title=module.TITLE,
-        bilevel=bool(module.BILEVEL),
-        needs_shape=bool(module.NEEDS_SHAPE),
-        max_tactors=_max_tactors(module, numbers, label),
-        module=module,
-        params=params,
-        source=source,
-        correction=correction,
-    )
-
-
-CORRECTIONS = ("set", "threshold", "none")
-"""The corrections a method may be designed for (its ``CORRECTION``)."""
 
 
 PAPER_METHODS = ("CT", "MM", "AS", "IM")
@@ -296,8 +115,10 @@ METHODS: dict[str, Method] = {
     **{m.NAME: _make(m, "paper") for m in (closest, midpoint, area, interpolated)},
     **{m.NAME: _make(m, "peer") for m in (energy, park, rolloff, gaussian, vrch)},
     barycentric.NAME: _make(barycentric, "layout"),
+    brush.NAME: _make(brush, "peer"),
 }
-"""Registry of the methods by name: the paper's four, then the peers, then loaded plug-ins."""
+"""Registry of the methods by name: the paper's four, the peers, BA, TB, then loaded
+plug-ins."""
 
 METHOD_NAMES = PAPER_METHODS
 """The paper's four method names (what the experiments and the paper's tables use)."""
@@ -393,6 +214,11 @@ def _check_protocol(module) -> None:
         ok = ok and len(spec) == 4 and all(_validate.is_number(v) for v in spec[:3])
         if not ok or not spec[1] <= spec[0] <= spec[2]:
             raise ValueError(f"PARAMS[{key!r}] must be (default, low, high, description)")
+    clock = getattr(module, "DURATION_S", None)
+    if clock is not None:
+        _validate.duration("DURATION_S", clock)
+        if "duration_s" in params:
+            raise ValueError("PARAMS must not name duration_s: the trace clock binds it")
     _make(module, "plugin")  # MAX_TACTORS at the defaults: a whole number from 1 to 1024
 
 
