@@ -80,9 +80,10 @@ class Advice:
     Attributes
     ----------
     chosen : Candidate or None
-        The cheapest candidate within the tolerance of the best (None: none is).
-    best : dict
-        ``{method: (ripple, lag_mm, onset_ms)}``: each figure's best over the candidates.
+        The cheapest candidate within the tolerance of the best setting (None: no candidates).
+    best : Candidate or None
+        The best setting measured: the one nearest to every method's best of every figure
+        (see :func:`recommend`).
     tolerance : Tolerance
     candidates : tuple of Candidate
         What was measured.
@@ -91,47 +92,60 @@ class Advice:
     """
 
     chosen: Candidate | None
-    best: dict
+    best: Candidate | None
     tolerance: Tolerance
     candidates: tuple = ()
     basis: str = ""
 
     def excess(self, c: Candidate) -> tuple:
-        """``c``'s largest excess over the best among the methods, per figure (ripple, lag mm,
-        onset ms); a figure no candidate has (NaN best) does not count."""
-        worst = [0.0, 0.0, 0.0]
-        for method, best in self.best.items():
-            got = c.figures.get(method, (np.nan,) * 3)
-            for i in range(3):
-                if np.isnan(best[i]):
-                    continue
-                gap = got[i] - best[i] if np.isfinite(got[i]) else np.inf
-                worst[i] = max(worst[i], gap)
-        return tuple(worst)
+        """``c``'s figures less the best setting's, the largest among the methods, per figure
+        (ripple, lag mm, onset ms); negative where ``c`` is better on every method."""
+        return excess(c, self.best.figures) if self.best is not None else (np.nan,) * 3
 
 
-def within(excess: tuple, tol: Tolerance) -> bool:
-    """True when a candidate's :meth:`Advice.excess` is within ``tol`` on every figure."""
-    return (excess[0] <= tol.ripple and excess[1] <= tol.lag_mm
-            and excess[2] <= tol.onset_ms)  # fmt: skip
+def excess(c: Candidate, reference: dict) -> tuple:
+    """``c``'s figures less ``reference`` (``{method: (ripple, lag_mm, onset_ms)}``), the
+    largest among the methods, per figure; a figure the reference lacks (NaN) does not count,
+    one ``c`` lacks (NaN, inf) is an infinite excess."""
+    worst = [-np.inf] * 3
+    for method, ref in reference.items():
+        got = c.figures.get(method, (np.nan,) * 3)
+        for i in range(3):
+            if not np.isfinite(ref[i]):
+                continue
+            worst[i] = max(worst[i], got[i] - ref[i] if np.isfinite(got[i]) else np.inf)
+    return tuple(0.0 if w == -np.inf else float(w) for w in worst)
 
 
-def recommend(candidates, tolerance: Tolerance = Tolerance()) -> Advice:
-    """The cheapest candidate whose felt figures are within ``tolerance`` of the best, for
-    every method.
+def within(gap: tuple, tol: Tolerance) -> bool:
+    """True when an :func:`excess` is within ``tol`` on every figure."""
+    return gap[0] <= tol.ripple and gap[1] <= tol.lag_mm and gap[2] <= tol.onset_ms
+
+
+def recommend(candidates, tolerance: Tolerance = Tolerance(), best_among=None) -> Advice:
+    """The cheapest candidate whose felt figures are within ``tolerance`` of the best setting
+    measured, for every method.
+
+    The *best setting* is the candidate nearest to the best of everything: for each method and
+    figure the minimum over the candidates; each candidate's largest excess over those minima,
+    in units of the tolerance (ripple / 0.02, lag / 0.5 mm, onset / 5 ms), over the methods and
+    figures; the best has the least (the per-figure minima may come from different settings:
+    a box filter at 20 Hz gives CT its earliest onsets and its worst ripple).
 
     Parameters
     ----------
     candidates : iterable of Candidate
         Measured settings (a non-finite figure never passes).
     tolerance : Tolerance
+    best_among : iterable of Candidate, optional
+        Where the best setting is looked for (default: among all the candidates).
 
     Returns
     -------
     Advice
-        ``best`` holds each method's minimum of each figure over the candidates; ``chosen`` is
-        the one with the lowest :attr:`Candidate.price` among those whose every method is
-        within the tolerance of that method's best on every figure.
+        ``chosen`` is the one with the lowest :attr:`Candidate.price` among those whose every
+        method is within the tolerance of the best setting's on every figure (the best setting
+        itself is, so there is one whenever there are candidates).
 
     Examples
     --------
@@ -141,15 +155,23 @@ def recommend(candidates, tolerance: Tolerance = Tolerance()) -> Advice:
     50.0
     """
     candidates = tuple(candidates)
-    methods = sorted({m for c in candidates for m in c.figures})
-    best = {}
+    if not candidates:
+        return Advice(None, None, tolerance)
+    pool_ = candidates if best_among is None else tuple(best_among)
+    methods = sorted({m for c in pool_ for m in c.figures})
+    minima = {}
     for m in methods:
-        values = np.array([c.figures.get(m, (np.nan,) * 3) for c in candidates], dtype=float)
+        values = np.array([c.figures.get(m, (np.nan,) * 3) for c in pool_], dtype=float)
         values[~np.isfinite(values)] = np.nan
-        best[m] = tuple(float(np.min(v[~np.isnan(v)])) if (~np.isnan(v)).any() else np.nan
-                        for v in values.T)  # fmt: skip
-    advice = Advice(None, best, tolerance, candidates)
-    passing = [c for c in candidates if within(advice.excess(c), tolerance)]
+        minima[m] = tuple(float(np.min(v[~np.isnan(v)])) if (~np.isnan(v)).any() else np.nan
+                          for v in values.T)  # fmt: skip
+    scale = (tolerance.ripple, tolerance.lag_mm, tolerance.onset_ms)
+
+    def distance(c):
+        return max(g / t for g, t in zip(excess(c, minima), scale))
+
+    best = min(pool_, key=lambda c: (distance(c), c.price))
+    passing = [c for c in candidates if within(excess(c, best.figures), tolerance)]
     chosen = min(passing, key=lambda c: c.price) if passing else None
     return Advice(chosen, best, tolerance, candidates)
 
@@ -168,10 +190,11 @@ def advise(target, *, quick: bool = False, phases: int = 8, seed: int = 0, refs=
 
     The candidates are the rates of :data:`CANDIDATE_RATES_HZ` the link carries, each with the
     point and box filters, rounding and dithering, plain and motor-aware drive, at the device's
-    levels, frames for now (the lead is advised apart), pooled over the paper's four methods on
+    levels, frames for now (the lead is advised apart), each of the paper's four methods over
     the Experiment 1 line and circle and the Experiment 3 square. The fastest rate's candidates
-    are measured first, then the rates from the slowest up until one has a candidate within the
-    tolerance (no slower rate had one, so it is the cheapest of the whole set).
+    are measured first and the best setting is the best of them (:func:`recommend`); then the
+    rates from the slowest up until one has a candidate within the tolerance of it (no slower
+    rate had one, so it is the cheapest of the whole set).
 
     Parameters
     ----------
@@ -209,12 +232,13 @@ def advise(target, *, quick: bool = False, phases: int = 8, seed: int = 0, refs=
     if not rates:
         return replace(recommend([], tolerance), basis=basis)
     measure(rates[-1])
+    fastest = tuple(measured)
     for rate in rates[:-1]:
         measure(rate)
-        advice = recommend(measured, tolerance)
+        advice = recommend(measured, tolerance, best_among=fastest)
         if advice.chosen is not None and advice.chosen.setting.rate_hz == rate:
             return replace(advice, basis=basis)
-    return replace(recommend(measured, tolerance), basis=basis)
+    return replace(recommend(measured, tolerance, best_among=fastest), basis=basis)
 
 
 def setting_words(s: Setting) -> str:
@@ -230,29 +254,33 @@ def advice_table(advices: dict, notes_extra: str = "") -> Table:
     for (family, target), advice in advices.items():
         c = advice.chosen
         if c is None:
-            why = "no rate the link carries" if not advice.candidates else "none within"
-            rows.append([family, target.name, target.motor_label, why, "", "", "", "", ""])
+            rows.append([family, target.name, target.motor_label, "no rate the link carries",
+                         "", "", "", "", "", ""])  # fmt: skip
             continue
         ripple, lag, onset = c.median()
-        excess = advice.excess(c)
+        gap = advice.excess(c)
         rows.append([
             family, target.name, target.motor_label, setting_words(c.setting),
-            f"{ripple:.3f} / {lag:.2f} / {onset:.1f}",
-            f"+{excess[0]:.3f} / +{excess[1]:.2f} / +{excess[2]:.1f}", f"{c.cost_us:.2f}",
+            f"{ripple:.3f} / {lag:.2f} / {onset:.1f}", setting_words(advice.best.setting),
+            f"{gap[0]:+.3f} / {gap[1]:+.2f} / {gap[2]:+.1f}", f"{c.cost_us:.2f}",
             target.link_label(c.setting), f"{len(advice.candidates)}",
         ])  # fmt: skip
     first = next(iter(advices.values()), None)
     tol = first.tolerance if first else Tolerance()
     headers = ["actuators", "profile", "motor tau up/down", "recommended setting",
-               "felt ripple / lag mm / onset ms (median over methods)",
-               "largest excess over the best (any method)", "cost us/frame", "link bytes/s",
-               "settings measured"]  # fmt: skip
+               "felt ripple / lag mm / onset ms (median over methods)", "best setting measured",
+               "its excess over the best (largest over methods)", "cost us/frame",
+               "link bytes/s", "settings measured"]  # fmt: skip
     notes = (
         f"The cheapest setting (fewest frames a second, then levels, CPU, bytes) whose felt "
         f"ripple is within {tol.ripple:g}, centroid lag within {tol.lag_mm:g} mm and onset "
-        f"error within {tol.onset_ms:g} ms of the best measured, for every method: each "
-        "method's figures (the mean over the shapes and phases) against that method's best "
-        f"over the candidates; {first.basis if first else ''}, through the profile's motor "
+        f"error within {tol.onset_ms:g} ms of the best setting measured, for every method: "
+        "each method's figures (the mean over the shapes and phases) against the best "
+        "setting's for that method. The best setting: among the candidates at the fastest rate "
+        "the link carries, the one nearest to every method's best of every figure, counted in "
+        "tolerances (the largest excess over those bests, divided by the tolerance, is least). "
+        f"{first.basis if first else ''}, through the "
+        "profile's motor "
         "constants (column 3), the reference participant. Candidates: the rates the link "
         f"carries among {', '.join(map(str, CANDIDATE_RATES_HZ))} Hz x point / box S=4 x "
         "rounded / dithered x plain / motor-aware drive, at the device's levels, frames for "
