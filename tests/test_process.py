@@ -97,3 +97,17 @@ def test_local_stream_has_the_same_interface():
     finally:
         stats = stream.stop()
     assert stats.state == "stopped" and not np.asarray(stream.last_levels).any()
+
+
+def test_starting_the_stream_process_prints_no_runpy_warning():
+    # The child ran as ``python -m tactile_core.stream.process``, a module the package had
+    # already imported: runpy warned on stderr at every stream start ("found in sys.modules").
+    code = (
+        "from tactile_core.stream import open_stream\n"
+        "stream = open_stream(None)\n"
+        "assert stream.running\n"
+        "stream.stop()\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert "Warning" not in out.stderr, out.stderr
