@@ -45,6 +45,7 @@ from ..rendering.motor import MotorResponse
 from ..rendering.motor_drive import motor_drive
 from ..rendering.percept import PITCH_MM, REFERENCE, Drive, percept_of
 from ..rendering.trace import Sampling, Trace, render_frames
+from ..stream import check_lead_ms
 from ._common import GAMMA, MU
 from ._motor_drive import _first_activation
 
@@ -97,7 +98,7 @@ class Setting:
         object.__setattr__(self, "rate_hz", _validate.rate("rate_hz", self.rate_hz, 1.0, 10_000.0))
         _validate.choice("filter", self.filter, ("point", "box"))
         object.__setattr__(self, "levels", _validate.integer("levels", self.levels, 2, 256))
-        object.__setattr__(self, "lead_ms", _validate.in_range("lead_ms", self.lead_ms, 0.0, 500.0))
+        object.__setattr__(self, "lead_ms", check_lead_ms(self.lead_ms))
         _validate.choice("host", self.host, tuple(JITTER_S))
         for name in ("dither", "compensate"):
             object.__setattr__(self, name, _validate.boolean(name, getattr(self, name)))
