@@ -67,7 +67,10 @@ def test_profile_help_says_a_name_or_a_json_file(capsys, command):
     """Before: emulate, serve, stream and tune-correction said "device profile JSON", though
     the bundled names work."""
     text = help_text(capsys, command)
-    names = "belt-8,grid-3x3,palm-5x6,sleeve-2x6,sleeves-pair,vest-4x5,vest-front-back"
+    names = (
+        "belt-8,grid-3x3,lra-5x6,palm-5x6,sleeve-2x6,sleeves-pair,vest-4x5,vest-front-back,"
+        "voicecoil-8,wireless-4x4"
+    )
     assert f"aname({names})oraJSONfile" in text
 
 
