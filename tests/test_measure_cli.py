@@ -120,3 +120,25 @@ def test_an_audio_input_that_is_not_there_is_listed(capsys):
                        "--yes")  # fmt: skip
     assert code == 1
     assert "audio input 'no-such-interface-xyz' not found; the inputs are" in err
+
+
+def test_the_trade_and_the_felt_read_out_say_measured_for_a_measured_profile(capsys, tmp_path):
+    from tactile_core.bench import Target, felt_readout
+    from tactile_core.rendering.scene import Scene
+
+    palm = load_profile("palm-5x6")
+    assert Target.of(palm).motor_source == "estimate"
+    out_path = tmp_path / "palm-measured.json"
+    assert main(["measure", "--simulate", "--tactors", "0", "--out", str(out_path)]) == 0
+    measured = load_profile(out_path)
+    source = Target.of(measured).motor_source
+    assert source.startswith("measured 20") and len(source) == len("measured 2026-05-01")
+    scene = Scene(tc_line(), method="AS", duration_s=1.0)
+    assert felt_readout(scene, measured).motor_source == source
+    assert felt_readout(scene, palm).motor_source == "estimate"
+
+
+def tc_line():
+    import tactile_core as tc
+
+    return tc.Line((0.5, 1.84), (4.5, 4.16))
