@@ -185,6 +185,11 @@ class AudioInput:
                 self._arrivals.popleft()
             self._lock.notify_all()
 
+    @property
+    def recorded(self) -> int:
+        """Samples recorded since the stream started (those let go included)."""
+        return self._total
+
     def clear(self) -> None:
         """Let go of everything recorded so far (the sample clock keeps its history)."""
         with self._lock:
