@@ -69,7 +69,7 @@ def test_input_url_reads_its_keys_and_refuses_unknown_ones():
         parse_input_url("audio:?channels=2")
     with pytest.raises(ValueError, match="channel must be within 1-64, got 0"):
         parse_input_url("audio:?channel=0")
-    with pytest.raises(ValueError, match="--input must be an audio: URL"):
+    with pytest.raises(ValueError, match="a sensor's input must be an audio: URL"):
         parse_input_url("/dev/ttyUSB0")
 
 

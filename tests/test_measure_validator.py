@@ -118,3 +118,14 @@ def test_serve_validate_logs_the_shapes_it_plays(tmp_path):
     (row,) = read_log(log)
     assert row["kind"] == "osc-shape"
     assert float(row["delay_ms"]) == pytest.approx(EXPECTED_MS, abs=1.5)
+
+
+def test_serve_refuses_a_sensor_it_cannot_open_before_serving(capsys, tmp_path):
+    from tactile_core.cli import main
+
+    code = main(["serve", "--device", "sim", "--osc-port", "0", "--validate", "/dev/ttyUSB0",
+                 "--validate-log", str(tmp_path), "--seconds", "1"])  # fmt: skip
+    out, err = capsys.readouterr()
+    assert code == 1
+    assert "tactile serve: --validate: a sensor's input must be an audio: URL" in err
+    assert "osc://" not in out and not list(tmp_path.iterdir())

@@ -57,8 +57,8 @@ def parse_input_url(url: str) -> InputURL:
     InputURL(device='USB', channel=2, samplerate=None, latency_ms=0.0)
     """
     if not is_audio_url(url):
-        raise ValueError(f"--input must be an audio: URL (audio:NAME?channel=N) or 'sim', "
-                         f"got {_validate.shown(url)}")  # fmt: skip
+        raise ValueError(f"a sensor's input must be an audio: URL (audio:NAME?channel=N) or "
+                         f"'sim', got {_validate.shown(url)}")  # fmt: skip
     rest = url[len("audio:") :]
     name, _, query = rest.partition("?")
     fields: dict = {"device": urllib.parse.unquote(name).strip()}
