@@ -48,7 +48,8 @@ def test_detect_onset_finds_a_first_order_rise_by_hand():
 
 
 def test_script_validator_logs_each_onset_beside_its_commanded_time(tmp_path):
-    with tc.open_array("sim", validate="sim", validate_log=tmp_path) as array:
+    # frames 20 ms ahead: each presentation's time is when the array plays it, exactly
+    with tc.open_array("sim", validate="sim", validate_log=tmp_path, lead_ms=20) as array:
         shown = []
         for _ in range(5):
             shown.append(array.play(ON_R0C0, method="CT", duration_s=0.3))
@@ -72,8 +73,8 @@ def test_script_validator_logs_each_onset_beside_its_commanded_time(tmp_path):
 
 def test_validator_markers_on_lsl_are_stamped_with_the_detected_time(tmp_path):
     offset = pylsl.local_clock() - time.perf_counter()
-    with tc.open_array("sim", validate="sim", validate_log=tmp_path / "v.csv",
-                       lsl=True) as array:  # fmt: skip
+    with tc.open_array("sim", validate="sim", validate_log=tmp_path / "v.csv", lsl=True,
+                       lead_ms=20) as array:  # fmt: skip
         sid = array.validator.outlet.source_id
         found = pylsl.resolve_bypred(f"source_id='{sid}'", 1, 20.0)
         assert found and found[0].name() == "tactile-validation"

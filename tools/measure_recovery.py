@@ -92,7 +92,7 @@ def validator_run() -> None:
     import tempfile
 
     folder = tempfile.mkdtemp()
-    with tc.open_array("sim", validate="sim", validate_log=folder) as array:
+    with tc.open_array("sim", validate="sim", validate_log=folder, lead_ms=20) as array:
         for k in range(6):
             array.play("circle:0.5,0.5,0.1", method="CT", duration_s=0.2 + 0.05 * k)
             time.sleep(0.25)

@@ -325,7 +325,9 @@ class SimulatedArray:
         a grid), zero after the watchdog."""
         now = self._now() if now is None else now
         with self._lock:
-            self.model.advance(now)
+            played = self.model.advance(now)
+            if self.listeners and played:
+                self._tell(played, now)
             self.model.watchdog(now)
             channel_levels = np.frombuffer(self.model.levels, dtype=np.uint8)
         flat = np.zeros(self.profile.channels, dtype=np.uint8)

@@ -88,8 +88,14 @@ class LiveSimulatedSensor:
         self._chunks.append(self._sim.render(commands, self._end, n))
         self._end += n / self.samplerate
 
+    def _catch_up(self) -> None:
+        """Have the array play the timed frames due by now (it tells us of them): the render
+        up to the present must not miss one that is waiting for the next write."""
+        self.array.levels()
+
     def clear(self) -> None:
         """Let go of what is recorded so far."""
+        self._catch_up()
         with self._lock:
             self._render()
             self._chunks.clear()
@@ -111,6 +117,7 @@ class LiveSimulatedSensor:
     def recording(self, since_s: float | None = None) -> Recording:
         """Everything since :meth:`start` (or :meth:`clear`; or host time ``since_s``), up to
         the present."""
+        self._catch_up()
         with self._lock:
             self._render()
             if len(self._chunks) > 64:  # a long validator session: keep it bounded
