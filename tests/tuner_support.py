@@ -27,7 +27,7 @@ def frames_shown(qtbot, window, n=3):
     """Wait until the tune tab's display timer has shown ``n`` more frames: what it shows then
     is what it shows from now on (an absence checked over display ticks, not over a time)."""
     for _ in range(n):
-        with qtbot.waitSignal(window.tune.live.frame_shown, timeout=WAIT_MS):
+        with qtbot.waitSignal(window.tune.display.frame_shown, timeout=WAIT_MS):
             pass
 
 
