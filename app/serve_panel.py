@@ -206,8 +206,9 @@ def install_serve(window) -> ServeController:
 
     def on_changed() -> None:
         serving = serve.serving != "off"
-        if serving:
+        if serving:  # the sender owns the array: no drawing, no tactor held
             gestures.set_draw_mode(False)
+            gestures.end_pulse(restore=False)
         window.controls.method.set_free_only(free_only if serving else "")
 
     serve.changed.connect(on_changed)

@@ -100,7 +100,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self.addWidget(self.split)
         self.addWidget(self.hidden_label)
 
-        self.gestures = HeatmapGestures(state, self.heatmap, self.curves, self)
+        self.gestures = HeatmapGestures(state, self.heatmap, self.curves, device, self)
         self.display = FrameDisplay(self, self)
         self.display.error_raised.connect(self.error_raised)
         # Scene changes arrive up to ~100 times a second while a slider is dragged: the array
@@ -205,7 +205,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         """Another device layout: draw mode and a pulse end (their scenes were for the old
         one), the heatmap draws the new layout, the plots are redrawn."""
         self.gestures.set_draw_mode(False)
-        self.gestures.end_pulse(restore=True)
+        self.gestures.end_pulse()
         self.heatmap.set_layout(layout)
         self._caption()
         self.curves.clear_curves()
@@ -229,9 +229,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
                                    profile.drive_for if scene.felt_domain else None)  # fmt: skip
         heatmap = self.heatmap
         pattern = scene.source if scene.shape is None else None
-        if heatmap.drawing or self.gestures.pulsing:
-            # A free point or a pulsed tactor has no trace worth plotting: no curves, no frames
-            self._no_trace("a drawn point has no trace" if heatmap.drawing else "")
+        if heatmap.drawing:  # a free point has no trace worth plotting: no curves, no frames
+            self._no_trace("a drawn point has no trace")
             return
         if scene.shape is None and not hasattr(pattern, "curves"):
             self._no_trace("free points have no trace")  # (driven by another program)
