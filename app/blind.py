@@ -256,7 +256,7 @@ class BlindPanel(QtWidgets.QWidget):
         session = self.session
         if list(session.methods) != self.chooser.methods:
             self.chooser.methods = list(session.methods)
-            self.chooser.edit.setText(" ".join(session.methods))
+            self.chooser.show_methods()
         if len(self.key_buttons) != len(session.methods):
             self._build_rows()
         on, dealt = session.active, bool(session.mapping)

@@ -103,7 +103,7 @@ class CompareView(QtWidgets.QWidget):
             raise ValueError(f"compare needs 2 to 6 distinct methods, got {methods}")
         self.methods = methods
         self.chooser.methods = list(methods)
-        self.chooser.edit.setText(" ".join(methods))
+        self.chooser.show_methods()
         self._shown_scene = None
         if self.isVisible():
             self._build()

@@ -61,7 +61,11 @@ class MethodSetWidget(QtWidgets.QWidget):
     """A set of methods to compare, typed as specs (``AS EN RO:r=1.5``) or picked from a menu
     of every registered method; a set outside ``low..high`` methods, with an unknown name or
     with a method that :attr:`check` refuses (one that cannot render on the device's layout) is
-    refused with the reason shown, and the last good set stays."""
+    refused with the reason shown, and the last good set stays.
+
+    The reason stays under the field until another set is applied: the field gives up the focus
+    after Enter (the window takes the keys back) and says its editing finished once more, with
+    the set in use back in it; that is no new set, and changes nothing."""
 
     methods_changed = QtCore.Signal(list)
 
@@ -85,6 +89,8 @@ class MethodSetWidget(QtWidgets.QWidget):
             f"{low} to {high} methods, separated by spaces; parameters as RO:r=1.5 or "
             "GS:sigma=0.7. Enter applies."
         )
+        self._typed = False  # typed into since the field last showed the set in use
+        self.edit.textEdited.connect(lambda _: setattr(self, "_typed", True))
         self.edit.editingFinished.connect(self._on_edited)
         row.addWidget(self.edit, 1)
         # A push button sizes itself for its text and its menu's arrow (a tool button with an
@@ -122,6 +128,8 @@ class MethodSetWidget(QtWidgets.QWidget):
         self.apply([*kept, name] if on else kept)
 
     def _on_edited(self) -> None:
+        if not self._typed:  # the field left (Enter, Tab, a click) showing the set in use
+            return
         self.apply(self.edit.text().split())
 
     def refuse(self, message: str, keep=None, *, warn: bool = True) -> None:
@@ -135,6 +143,11 @@ class MethodSetWidget(QtWidgets.QWidget):
         self.problem.setStyleSheet(f"color: {'#ff8a80' if dark else '#c62828'}" if warn else "")
         self.problem.setText(message)
         self.problem.setVisible(bool(message))
+        self.show_methods()
+
+    def show_methods(self) -> None:
+        """The set in use in the field (the owner changed it, or a set was refused)."""
+        self._typed = False
         self.edit.setText(" ".join(self.methods))
 
     def apply(self, specs) -> bool:
@@ -153,6 +166,7 @@ class MethodSetWidget(QtWidgets.QWidget):
             return False
         self.problem.setText("")
         self.problem.setVisible(False)
+        self._typed = False
         self.edit.setText(" ".join(methods))
         if methods != self.methods:
             self.methods = methods
