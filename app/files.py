@@ -42,6 +42,9 @@ class FileActions(QtCore.QObject):
     preset_changed = QtCore.Signal()
     """The scene's preset changed: a preset or a ``.tact`` file replaced the scene, or the
     scene was saved as a preset (its name is now :attr:`preset_name`)."""
+    drawing_changed = QtCore.Signal(bool)
+    """Whether there is a drawing to keep as the shape (:meth:`keep_drawing`): in draw mode,
+    once a drag has drawn a path."""
 
     def __init__(self, state, device, parent):
         super().__init__(parent)
@@ -68,8 +71,10 @@ class FileActions(QtCore.QObject):
         self._pattern_file = (None, None)
         """The pattern imported last and where it came from (its file and position)."""
         self._stroke: list = []
-        """The last drawing in draw mode: ``(seconds, x, y)`` per point drawn."""
+        """The last drawing in draw mode: ``(seconds, x, y)`` per point drawn (none outside
+        draw mode)."""
         self._stroke_done = True
+        self._drawing = False  # in draw mode
 
     def _refused(self) -> bool:
         reason = self.blocked()
@@ -170,8 +175,8 @@ class FileActions(QtCore.QObject):
                 export.write_curves_csv(path, curves)
             elif path.suffix.lower() in (".png", ".svg"):
                 what = scene.shape.spec if scene.shape is not None else self.preset_name
-                title = f"{scene.method} on {what}, mu = {scene.mu:g}, "
-                title += f"gamma = {scene.gamma:g}"
+                title = f"{scene.method} on {what}, mu = {value3(scene.mu)}, "
+                title += f"gamma = {value3(scene.gamma)}"
                 export.plot_curves(path, curves, title=title, colors=cell_colors(curves.cells))
             else:
                 self.error_raised.emit(
@@ -310,12 +315,36 @@ class FileActions(QtCore.QObject):
         if path:
             self.export_tact_file(path)
 
+    def follow_drawing(self, gestures) -> None:
+        """Record what is drawn in ``gestures``' draw mode (a
+        :class:`~app.tune.gestures.HeatmapGestures`), for :meth:`keep_drawing`."""
+        gestures.heatmap.point_drawn.connect(self.record_drawn_point)
+        gestures.heatmap.draw_released.connect(self.end_drawn_stroke)
+        gestures.draw_mode_changed.connect(self.set_draw_mode)
+
+    @property
+    def can_keep_drawing(self) -> bool:
+        """In draw mode with a path drawn (two points or more): :meth:`keep_drawing` keeps it."""
+        return self._drawing and len(self._stroke) >= 2
+
+    def set_draw_mode(self, on: bool) -> None:
+        """Draw mode began or ended: either way, no drawing yet (one from an earlier draw mode
+        would replace whatever scene plays since: a preset, a ``.tact`` file)."""
+        self._drawing = bool(on)
+        self._stroke, self._stroke_done = [], True
+        self.drawing_changed.emit(self.can_keep_drawing)
+
     def record_drawn_point(self, x: float, y: float) -> None:
         """Draw mode moved the point to ``(x, y)``: add it to the drawing (a new drawing starts
         after the pointer was released)."""
+        if not self._drawing:
+            return
+        before = self.can_keep_drawing
         if self._stroke_done:
             self._stroke, self._stroke_done = [], False
         self._stroke.append((time.perf_counter(), float(x), float(y)))
+        if self.can_keep_drawing != before:
+            self.drawing_changed.emit(self.can_keep_drawing)
 
     def end_drawn_stroke(self) -> None:
         """The pointer was released: the drawing is complete."""
@@ -323,7 +352,11 @@ class FileActions(QtCore.QObject):
 
     def keep_drawing(self) -> bool:
         """Leave draw mode with the last drawing as the scene's shape: a time-keyed path that
-        replays it at the pace it was drawn (save it as a preset, export it as ``.tact``)."""
+        replays it at the pace it was drawn (save it as a preset, export it as ``.tact``).
+        Only in draw mode, with a path drawn (:attr:`can_keep_drawing`)."""
+        if not self._drawing:
+            self.error_raised.emit("draw a path first: turn on draw mode and drag on the heatmap")
+            return False
         try:
             shape = path_from_samples([s for s, _, _ in self._stroke],
                                       [(x, y) for _, x, y in self._stroke])  # fmt: skip

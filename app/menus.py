@@ -45,7 +45,12 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     menu.addSeparator()
     menu.addAction("Import .tact...", files.ask_import_tact)
     menu.addAction("Export .tact...", files.ask_export_tact)
-    menu.addAction("Keep the drawing as the shape", files.keep_drawing)
+    keep = menu.addAction("Keep the drawing as the shape", files.keep_drawing)
+    keep.setStatusTip(
+        "In draw mode, after a drag: leave draw mode with the path drawn as the shape"
+    )
+    keep.setEnabled(files.can_keep_drawing)  # only in draw mode, with a drawing
+    files.drawing_changed.connect(keep.setEnabled)
     menu.addSeparator()
     # Ctrl+Q on every platform (the standard key is empty on some, e.g. Windows, offscreen).
     menu.addAction("Quit", window.close, QtGui.QKeySequence("Ctrl+Q"))
