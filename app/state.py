@@ -93,6 +93,10 @@ class TunerState(QtCore.QObject):
         """A callable ``guard(name) -> why`` ("" when allowed) consulted by :meth:`update`
         besides the layout (another program driving free points refuses MM and IM); a refusal
         goes to the status line."""
+        self.play_guard = None
+        """A callable ``guard() -> why`` ("" when allowed) consulted by :meth:`update` before
+        the scene plays (Blind A/B before the rater's first key: nothing plays that is not a
+        key); a refusal goes to the status line."""
         self.run_owner = None
         """The experiment run that alone sets the scene meanwhile (:meth:`lock`), or None."""
         if layout is not None:
@@ -122,13 +126,18 @@ class TunerState(QtCore.QObject):
 
     def update(self, *, owner=None, **changes) -> bool:
         """Apply field changes; False (and :attr:`error_raised`) if they are invalid. Playing
-        (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go.
+        (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go;
+        :attr:`play_guard` may refuse it.
 
         A change that starts a new presentation (a new epoch or shape, playing after a pause)
         without naming its ``marker`` is the tuner's own: the kind a part gave the scene before
         (``ab``, ``trial``) is dropped. During an experiment run only its ``owner`` changes
         the scene (:meth:`lock`)."""
         if self._refused_by_run(owner):
+            return False
+        why = self.play_guard() if changes.get("playing") and self.play_guard else ""
+        if why:
+            self._post(why)
             return False
         if changes.get("playing") and "hold_s" not in changes:
             changes["hold_s"] = None
