@@ -134,8 +134,12 @@ class CompareView(QtWidgets.QWidget):
             heat.plot.setLabel("bottom", "")
             heat.plot.setLabel("left", "")
             heat.setMinimumSize(100, 160)
-            curve = CurvesView(title=f"{method.name}, {method.correction_label}"
-                               if len(methods) <= 4 else "")  # fmt: skip
+            curve = CurvesView()
+            # the longest that fits (with 5 or 6 methods the title had been left out)
+            said = f"{method.name}, {method.correction_label}"
+            curve.set_titles(said, (said, "9pt"),
+                             (f"{method.name}<br>{method.correction_label}", "9pt"),
+                             (method.name, "9pt"))  # fmt: skip
             curve.setToolTip(f"{spec} is driven with {method.correction_label}")
             curve.setMinimumSize(100, 120)
             curve.setLabel("left", "")

@@ -65,7 +65,7 @@ class MethodSetWidget(QtWidgets.QWidget):
 
     The reason stays under the field until another set is applied: the field gives up the focus
     after Enter (the window takes the keys back) and says its editing finished once more, with
-    the set in use back in it; that is no new set, and changes nothing."""
+    the set in use back in it; that is no new set, and changes nothing (nor does Enter on it)."""
 
     methods_changed = QtCore.Signal(list)
 
@@ -89,8 +89,6 @@ class MethodSetWidget(QtWidgets.QWidget):
             f"{low} to {high} methods, separated by spaces; parameters as RO:r=1.5 or "
             "GS:sigma=0.7. Enter applies."
         )
-        self._typed = False  # typed into since the field last showed the set in use
-        self.edit.textEdited.connect(lambda _: setattr(self, "_typed", True))
         self.edit.editingFinished.connect(self._on_edited)
         row.addWidget(self.edit, 1)
         # A push button sizes itself for its text and its menu's arrow (a tool button with an
@@ -128,8 +126,8 @@ class MethodSetWidget(QtWidgets.QWidget):
         self.apply([*kept, name] if on else kept)
 
     def _on_edited(self) -> None:
-        if not self._typed:  # the field left (Enter, Tab, a click) showing the set in use
-            return
+        if self.edit.text().split() == self.methods:
+            return  # the set in use: nothing new (the field was left after a refusal put it back)
         self.apply(self.edit.text().split())
 
     def refuse(self, message: str, keep=None, *, warn: bool = True) -> None:
@@ -147,7 +145,6 @@ class MethodSetWidget(QtWidgets.QWidget):
 
     def show_methods(self) -> None:
         """The set in use in the field (the owner changed it, or a set was refused)."""
-        self._typed = False
         self.edit.setText(" ".join(self.methods))
 
     def apply(self, specs) -> bool:
@@ -166,7 +163,6 @@ class MethodSetWidget(QtWidgets.QWidget):
             return False
         self.problem.setText("")
         self.problem.setVisible(False)
-        self._typed = False
         self.edit.setText(" ".join(methods))
         if methods != self.methods:
             self.methods = methods

@@ -79,6 +79,54 @@ def test_the_curve_title_and_hint_fit_their_panel(window, qtbot, size):
     assert "drag the dashed cursor" in hint.toolTip()
 
 
+def _title_shown_whole(view) -> bool:
+    """Whether a plot view's title lies inside it, and its plot too (pyqtgraph widens a plot
+    to its title's width, pushing the plot and the title's ends out of the view)."""
+    item = view.plotItem.titleLabel.item
+    shown = view.mapFromScene(item.mapRectToScene(item.boundingRect())).boundingRect()
+    plot = view.plotItem.geometry()
+    inside = shown.left() >= 0 and shown.right() <= view.viewport().width()
+    return inside and plot.right() <= view.viewport().width() + 1
+
+
+@pytest.mark.parametrize("size", [(1280, 720), (1400, 900), (1600, 1000)])
+def test_the_felt_views_curve_title_is_shown_whole_with_its_values(window, qtbot, size):
+    # At 1400 px it read "IM felt (motor lag and response), motor-aware drive, mu 0.33, gamma"
+    window.state.update(method="IM", mu=0.33, gamma=0.7, compensate_motors=True)
+    window.state.set_view_mode("felt")
+    window.resize(*size)
+    settle()
+    window.tune.fit_heatmap()
+    settle()
+    window.tune.refresh()
+    settle()
+    curves = window.tune.curves
+    text = curves.plotItem.titleLabel.text
+    assert (
+        "IM felt" in text and "motor-aware" in text and text.endswith("mu 0.33, gamma 0.70</div>")
+    )
+    assert _title_shown_whole(curves)
+
+
+@pytest.mark.parametrize("n", [4, 5, 6])
+@pytest.mark.parametrize("size", [(1280, 720), (1600, 1000)])
+def test_compare_titles_say_each_columns_correction_inside_it(window, qtbot, size, n):
+    # With 5 or 6 methods the titles were left out (a title had widened its plot past the
+    # column); shown, they did so again once the column had its width.
+    methods = ["CT", "MM", "AS", "IM", "EN", "VRCH"][:n]
+    window.resize(*size)
+    window.tabs.setCurrentWidget(window.compare)
+    assert window.compare.chooser.apply(methods)
+    settle()
+    for spec, view in window.compare.curves.items():
+        qtbot.waitUntil(lambda v=view: _title_shown_whole(v), timeout=WAIT_MS)
+        text = view.plotItem.titleLabel.text
+        assert text.startswith(spec) or f">{spec}<br>" in text, text  # the method, at least
+        if n <= 5:  # and how it is corrected, on one line or two
+            said = {"EN": "no correction", "VRCH": "threshold only"}.get(spec, "set correction")
+            assert said in text, text
+
+
 @pytest.mark.parametrize("width", [1280, 1400, 1600])
 def test_a_refused_method_set_is_shown_inside_the_window(window, qtbot, width):
     window.resize(width, 720)

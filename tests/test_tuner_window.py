@@ -141,7 +141,7 @@ def test_mu_and_gamma_read_the_same_in_the_boxes_and_the_titles(window, mu, gamm
     assert (correction.mu_spin.text(), correction.gamma_spin.text()) == shown
     said = f"mu {shown[0]}, gamma {shown[1]}"
     assert window.windowTitle().endswith(f"AS, {said}")
-    assert window.tune.curves.plotItem.titleLabel.text.endswith(said)
+    assert said in window.tune.curves.plotItem.titleLabel.text  # (on one line or two)
 
 
 def test_the_direction_box_names_a_turn_only_for_circles_and_squares(window):

@@ -10,7 +10,7 @@ from tactile_core.rendering.curves import activation_curves
 from tactile_core.rendering.percept import REFERENCE, predict, predict_range
 
 from ..texts import value3
-from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors, set_title
+from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors
 from ..widgets import WrappedLabel
 from .display import FrameDisplay
 from .gestures import HeatmapGestures
@@ -288,8 +288,14 @@ class TuneWidget(QtWidgets.QStackedWidget):
         if not self.method_hidden:
             what = "felt (motor lag and response)" if felt_view else "activation"
             what = f"{what}, motor-aware drive" if aware is not None else what
-            title = f"{scene.method} {what}, mu {value3(scene.mu)}, gamma {value3(scene.gamma)}"
-            set_title(self.curves.plotItem, title)
+            short = "felt" if felt_view else "activation"
+            short = f"{short}, motor-aware" if aware is not None else short
+            values = f"mu {value3(scene.mu)}, gamma {value3(scene.gamma)}"
+            # One line where it fits; else two (at 1400 px the felt view's lost its gamma)
+            self.curves.set_titles(f"{scene.method} {what}, {values}",
+                                   f"{scene.method} {what}<br>{values}",
+                                   (f"{scene.method} {what}<br>{values}", "9pt"),
+                                   (f"{scene.method} {short}<br>{values}", "9pt"))  # fmt: skip
 
     def _no_trace(self, why: str) -> None:
         """No curves, no tactor frames, no outline; ``why`` in the curves' title."""
@@ -299,7 +305,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self.heatmap.set_outline(None)
         self.heatmap.set_path(None)
         if why and not self.method_hidden:
-            set_title(self.curves.plotItem, f"{self.state.scene.method}: {why}")
+            self.curves.set_titles(f"{self.state.scene.method}: {why}",
+                                   (f"{self.state.scene.method}: {why}", "9pt"))  # fmt: skip
 
     def _show_predicted(self, scene) -> None:
         """The predicted view, from what is sent (the scene's rate, the device's levels, its
@@ -333,4 +340,4 @@ class TuneWidget(QtWidgets.QStackedWidget):
                 f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f})<br>ripple "
                 f"{band.span(stage)} over {len(band.participants)} participants"
             )
-            set_title(self.curves.plotItem, title, size="9pt")
+            self.curves.set_titles((title, "9pt"))
