@@ -3,6 +3,7 @@ never scroll sideways, titles and problems stay inside their panels, a saved siz
 the screen is fitted, docs come back from the View menu, choices come back with the next
 start, and --screenshot writes the size asked or refuses a path before starting."""
 
+import itertools
 import os
 import subprocess
 import sys
@@ -142,6 +143,29 @@ def test_a_refused_method_set_is_shown_inside_the_window(window, qtbot, width):
         lines = max(1, problem.height() // problem.fontMetrics().lineSpacing())
         assert problem.fontMetrics().horizontalAdvance(problem.text()) <= problem.width() * lines
         assert chooser.pick.width() >= chooser.pick.sizeHint().width()  # "pick" not clipped
+
+
+def test_serving_keeps_the_window_at_1280_with_the_lsl_state_on_a_line_of_its_own(window, qtbot):
+    # Serving at 1280 x 720 made the window 1320 px wide, and "LSL markers: off" sat squeezed
+    # at the end of the counters' line.
+    window.serve.port = 0  # any free port
+    assert window.serve.set_serving(True)
+    qtbot.waitUntil(lambda: window.serve.serving == "on", timeout=WAIT_MS)
+    box = window.serve_panel
+    qtbot.waitUntil(lambda: box.counters.text().startswith("malformed"), timeout=WAIT_MS)
+    window.resize(1280, 720)
+    settle()
+    assert window.width() <= 1280 and window.minimumSizeHint().width() <= 1280
+    lines = (box.toggle, box.traffic, box.counters, box.lsl_label)
+    for above, below in itertools.pairwise(lines):  # one under the other, none beside another
+        assert above.geometry().bottom() < below.geometry().top()
+    assert box.lsl_label.text() == "LSL markers: off"
+    for label in (box.traffic, box.counters, box.lsl_label):
+        assert _right_edge(label, window) <= window.width()
+        needed = label.fontMetrics().horizontalAdvance(label.text())
+        lines = max(1, label.height() // label.fontMetrics().lineSpacing())
+        assert needed <= label.width() * lines  # shown whole (wrapped, if need be)
+    assert window.serve.set_serving(False)
 
 
 def test_felt_amplitude_keeps_the_plots_inside_a_1280_window(window, qtbot):
