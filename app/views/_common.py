@@ -64,6 +64,9 @@ def set_title(plot: pg.PlotItem, text: str, **args) -> None:
 
         label.updateMin = update_min  # pyqtgraph calls self.updateMin(): this one
         label._kept_narrow = True
+        option = label.item.document().defaultTextOption()  # lines centred under one another
+        option.setAlignment(QtCore.Qt.AlignmentFlag.AlignHCenter)
+        label.item.document().setDefaultTextOption(option)
     label.item.setTextWidth(-1)  # as wide as its widest line...
     plot.setTitle(text, **args)
     if "<br>" in text:  # ...and that width fixed, so that its lines can be centred

@@ -92,8 +92,6 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
             metrics = QtGui.QFontMetricsF(font)
             if max(metrics.horizontalAdvance(line) for line in text.split("<br>")) <= room:
                 break
-        if "<br>" in text:  # lines centred under one another
-            text = f"<div align='center'>{text}</div>"
         if (text, size) != (label.text, label.opts.get("size")):
             set_title(self.plotItem, text, size=size)
 
