@@ -215,6 +215,6 @@ def install_serve(window) -> ServeController:
 
     serve.changed.connect(on_changed)
     window.serve_panel = ServePanel(serve)
-    window.device_panel.layout().addWidget(window.serve_panel, 0, 5, 3, 1)
+    window.device_panel.layout().addWidget(window.serve_panel, 0, 5, 4, 1)  # its four rows
     add_serve_actions(window, serve)
     return serve

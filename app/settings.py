@@ -9,6 +9,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from PySide6 import QtGui
+
 from tactile_core.files.presets import (
     Preset,
     PresetError,
@@ -71,8 +73,8 @@ def reopen_pattern(window) -> None:
         said = f"the last session's .tact pattern was not saved: {kept}"
     elif not path.is_file():
         said = f"the last session's .tact file {path} is gone: {kept}"
-    elif window.files.import_tact_file(path, position):
-        said = f"the last session's pattern again: {position} of {path}"
+    elif window.files.import_tact_file(path, position, last.get("scale"), last.get("rotation")):
+        said = f"the last session's pattern again: {position or 'every position'} of {path}"
     else:
         said = f"the last session's .tact file {path} no longer opens: {kept}"
     window.statusBar().showMessage(said, 20_000)
@@ -151,3 +153,28 @@ def save_window(window) -> None:
     settings.setValue("lsl_markers", live.lsl_markers)
     settings.setValue("lsl_levels", live.lsl_levels)
     settings.sync()
+
+
+def fit_window(window, keep_size: bool = False) -> None:
+    """Keep the window on its screen and no larger than it (a saved size from a larger
+    screen, or the default, is shrunk to fit); ``keep_size``: a size asked for (``--size``)
+    is kept, only the position is fitted.
+
+    Parameters
+    ----------
+    window : QMainWindow
+    keep_size : bool
+    """
+    screen = window.screen() or QtGui.QGuiApplication.primaryScreen()
+    if screen is None:
+        return
+    area = screen.availableGeometry()
+    frame = window.frameGeometry()
+    w = min(window.width(), area.width() - (frame.width() - window.width()))
+    h = min(window.height(), area.height() - (frame.height() - window.height()))
+    if (w, h) != (window.width(), window.height()) and not keep_size:
+        window.resize(w, h)
+    geometry = window.frameGeometry()
+    x = min(max(geometry.x(), area.left()), area.right() - geometry.width() + 1)
+    y = min(max(geometry.y(), area.top()), area.bottom() - geometry.height() + 1)
+    window.move(x, y)

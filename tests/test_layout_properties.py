@@ -2,7 +2,6 @@
 weights summing to 1 inside the hull, the live path equal to the batch path, wraps periodic."""
 
 import numpy as np
-import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import Delaunay
@@ -118,13 +117,10 @@ def test_ba_across_a_sliver_of_a_triangle_is_a_ramp_not_a_jump():
     assert_ba_continuous_along_a_line(Layout([(0.0, 0.0), (1.0, 1.0), (2.0, 2.000005006790161)]))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BA skips the flat sliver (cross product <= 1e-12) an actuator a rounding error inside "
-    "the hull's edge makes, and outside the hull projects onto Qhull's edge, which leaves that "
-    "actuator out: where a line crosses the edge the weights step by 0.15",
-)
 def test_ba_has_no_step_where_an_actuator_sits_a_rounding_error_inside_the_hull_edge():
+    # BA skipped the flat sliver (cross product <= 1e-12) such an actuator makes, and outside
+    # the hull projected onto Qhull's edge, which leaves that actuator out: where a line
+    # crossed the edge the weights stepped by 0.15. The boundary is now the kept cells' own.
     # exactly on the edge (x = 0) there is no step, nor 1e-9 inside (a ramp across the sliver)
     layout = Layout([(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (2.220446049250313e-16, 0.125)])
     assert_ba_continuous_along_a_line(layout)
