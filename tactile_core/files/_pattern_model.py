@@ -264,13 +264,15 @@ class Pattern:
         return cls.from_dict(read_pattern_json(path), str(path), target)
 
     @classmethod
-    def from_tact(cls, path, position: str | None = None) -> Pattern:
-        """A bHaptics ``.tact`` file's effects for one device position (the first with content
-        by default) as a pattern of :class:`TactEffect` effects, each at its time on its
-        track; ``TactError`` names the file and the field."""
+    def from_tact(cls, path, position: str | None = None, *, groups: dict | None = None
+                  ) -> Pattern:  # fmt: skip
+        """A bHaptics ``.tact`` file's effects as a pattern of :class:`TactEffect` effects,
+        each at its time on its track: one device position's (the first with content by
+        default), or with ``groups`` (``{"VestFront": "front", "VestBack": "back"}``) several,
+        each effect on its position's group; ``TactError`` names the file and the field."""
         from ._pattern_tact import tact_effects
 
-        effects, name = tact_effects(path, position)
+        effects, name = tact_effects(path, position, groups)
         return cls(effects, name=name)
 
     def to_tact(self, target, **options) -> dict:

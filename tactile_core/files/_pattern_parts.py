@@ -43,12 +43,17 @@ def group_members(effect, index: int, target) -> tuple | None:
     ``effects[index].group`` when the layout has no such group."""
     if effect.group is None:
         return None
+    return layout_group(target, effect.group, f"effects[{index}].group")
+
+
+def layout_group(target, name: str, field: str) -> tuple:
+    """The actuators of group ``name`` of ``target``; ``ValueError`` naming ``field`` when the
+    layout has no such group."""
     groups = dict(target.groups)
-    if effect.group not in groups:
+    if name not in groups:
         held = ", ".join(groups) if groups else "it has none"
-        raise ValueError(f"effects[{index}].group must name a group of the layout ({held}), got "
-                         f"{effect.group!r}")  # fmt: skip
-    return groups[effect.group]
+        raise ValueError(f"{field} must name a group of the layout ({held}), got {name!r}")
+    return groups[name]
 
 
 def _entries_of(method, target):

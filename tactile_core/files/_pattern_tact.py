@@ -32,15 +32,15 @@ from ..rendering.rasterize import check_target
 from ..rendering.scene import Scene
 from ..rendering.shapes import FADES, MAX_POINTS, TimedPath
 from ._pattern_effects import MAX_TEXT_CHARS, MAX_TRACKS, Dot, Effect, TactEffect
-from ._pattern_parts import compile_parts, group_members
+from ._pattern_parts import compile_parts, layout_group
 from ._tact_coords import layout_to_unit
 from ._tact_read import MAX_EFFECTS, MAX_NAME_CHARS, MAX_TACT_BYTES, TactError, parse_tact
 from ._tact_write import DECIMALS, POSITIONS, SAMPLE_MS, _now_ms, _r, path_of_scene
 
 
-def tact_effects(path, position: str | None = None) -> tuple[tuple, str]:
-    """A ``.tact`` file's effects for one device position as pattern effects, and the
-    project's name (see the module).
+def tact_effects(path, position: str | None = None, groups: dict | None = None):
+    """A ``.tact`` file's effects as pattern effects, and the project's name (see the
+    module): ``(effects, name)``.
 
     Parameters
     ----------
@@ -48,6 +48,10 @@ def tact_effects(path, position: str | None = None) -> tuple[tuple, str]:
         The file (read and checked as :func:`~tactile_core.files.tact.read_tact` does).
     position : str, optional
         The device position; by default the first that holds paths or dots.
+    groups : dict of str to str, optional
+        Instead of one position, several, each to play on a layout group:
+        ``{"VestFront": "front", "VestBack": "back"}`` (positions without content are left
+        out; each effect gets its position's group).
 
     Raises
     ------
@@ -58,30 +62,34 @@ def tact_effects(path, position: str | None = None) -> tuple[tuple, str]:
     file = parse_tact(data, str(path))
     if not file.positions:
         raise TactError(f"{path}: no paths or dots to play (no enabled track holds any)")
-    position = file.positions[0] if position is None else position
-    if position not in file.positions:
-        raise TactError(f"{path}: position {_validate.shown(position)} holds no paths or dots "
-                        f"(positions with content: {', '.join(file.positions)})")  # fmt: skip
+    if groups is None:
+        position = file.positions[0] if position is None else position
+        if position not in file.positions:
+            held = ", ".join(file.positions)
+            raise TactError(f"{path}: position {_validate.shown(position)} holds no paths or "
+                            f"dots (positions with content: {held})")  # fmt: skip
+        groups = {position: None}
     project = data.get("project", data)
     held: dict[tuple, tuple[list, list]] = {}
     for kind, items in enumerate((file.paths, file.dots)):
         for item in items:
-            if item.position == position:
-                held.setdefault(_effect_of(item.field), ([], []))[kind].append(item)
-    motors = file.layouts.get(position, {})
+            if item.position in groups:
+                key = (*_effect_of(item.field), item.position)
+                held.setdefault(key, ([], []))[kind].append(item)
     effects = []
-    for (track, index), (paths, dots) in sorted(held.items()):
+    for (track, index, where), (paths, dots) in sorted(held.items()):
         raw = project["tracks"][track]["effects"][index]
         start_s, length_s = _ms(raw["startTime"]) / 1e3, _ms(raw["offsetTime"]) / 1e3
+        motors = file.layouts.get(where, {})
         shapes = tuple(TimedPath(p.points, [max(t - start_s, 0.0) for t in p.times_s],
                                  p.intensities, p.pattern, p.fade) for p in paths)  # fmt: skip
         places = tuple(Dot(motors[d.index], d.intensity, max(d.start_s - start_s, 0.0),
                            d.end_s - d.start_s, d.fade) for d in dots)  # fmt: skip
-        content = TactEffect(shapes, places, max(length_s, _end(shapes, places)), position)
+        content = TactEffect(shapes, places, max(length_s, _end(shapes, places)), where)
         name = raw.get("name") if isinstance(raw.get("name"), str) else ""
         try:
             effects.append(Effect(content, start_s=start_s, track=min(track, MAX_TRACKS - 1),
-                                  name=_printable(name)))  # fmt: skip
+                                  name=_printable(name), group=groups[where]))  # fmt: skip
         except ValueError as exc:
             raise TactError(f"{path}: tracks[{track}].effects[{index}]: {exc}") from None
     return tuple(effects), _printable(file.name)
@@ -148,8 +156,7 @@ def pattern_tact_document(pattern, target, *, name: str = "tactile-tuner",
                          f"{_validate.shown(name)}")  # fmt: skip
     places = {}  # position: (box, motor index of each actuator)
     for group, where in positions.items():
-        probe = Effect(Dot(0), group=group)
-        places[where] = _places(target, group_members(probe, 0, target))
+        places[where] = _places(target, layout_group(target, group, f"positions[{group!r}]"))
     if position not in places:
         places[position] = _places(target, None)
     tracks: dict[int, list] = {}
