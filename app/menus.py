@@ -43,6 +43,7 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     )
     menu.addAction("Export correction table (CSV, C header)...", files.ask_export_lut)
     menu.addSeparator()
+    menu.addAction("Open pattern...", files.ask_open_pattern)
     menu.addAction("Import .tact...", files.ask_import_tact)
     menu.addAction("Export .tact...", files.ask_export_tact)
     menu.addAction("Keep the drawing as the shape", files.keep_drawing)
