@@ -26,6 +26,9 @@ read field by field (:class:`PatternError` names the field); it exports to ``.ta
 
 from __future__ import annotations
 
+from pathlib import Path
+
+from .._shared.assets import assets_dir
 from ._pattern_effects import (
     COMBINE,
     MAX_DOTS,
@@ -61,8 +64,16 @@ __all__ = [
     "Effect",
     "Pattern",
     "PatternError",
+    "example_patterns",
     "PatternFrames",
     "TactEffect",
     "pattern_tact_document",
     "write_pattern_tact",
 ]
+
+
+def example_patterns() -> dict[str, Path]:
+    """The bundled example patterns (``assets/patterns``: the letter, the vest sweep and the
+    taps of ``docs/patterns.md``), by file stem, in file-name order."""
+    folder = assets_dir() / "patterns"
+    return {p.stem: p for p in sorted(folder.glob("*.json"))}
