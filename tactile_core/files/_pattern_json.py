@@ -59,9 +59,9 @@ def read_pattern_json(path):
         if "nested too deeply" not in str(exc):
             raise
         field = deep_field(data.decode("utf-8", "replace"), MAX_PATTERN_DEPTH)
-        raise PatternError(f"{path}: {field} is nested too deeply (more than "
-                           f"{MAX_JSON_DEPTH} levels of arrays and objects; a pattern file "
-                           f"nests at most {MAX_PATTERN_DEPTH})") from None  # fmt: skip
+        raise PatternError(f"{path}: {field} is nested too deeply: a pattern file nests at "
+                           f"most {MAX_PATTERN_DEPTH} levels of arrays and objects (this one more "
+                           f"than {MAX_JSON_DEPTH})") from None  # fmt: skip
 
 
 def deep_field(text: str, limit: int) -> str:

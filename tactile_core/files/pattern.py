@@ -64,9 +64,9 @@ __all__ = [
     "Effect",
     "Pattern",
     "PatternError",
-    "example_patterns",
     "PatternFrames",
     "TactEffect",
+    "example_patterns",
     "pattern_tact_document",
     "write_pattern_tact",
 ]
