@@ -56,7 +56,7 @@ def test_a_shape_that_is_not_a_spec_is_told_every_form(text):
 def test_help_lists_every_shape_spec_the_parser_accepts(capsys, command):
     """Before: line, circle, square and tact only (polyline, polygon and timed were taken)."""
     text = help_text(capsys, command)
-    for kind in (*SHAPE_KINDS, "tact"):
+    for kind in (*SHAPE_KINDS, "tact", "pattern"):
         assert f"{kind}:" in text
     for option in ("speed", "fade-in", "fade-out", "fade-in-out"):  # the timed path's
         assert option in text
@@ -67,7 +67,7 @@ def test_profile_help_says_a_name_or_a_json_file(capsys, command):
     """Before: emulate, serve, stream and tune-correction said "device profile JSON", though
     the bundled names work."""
     text = help_text(capsys, command)
-    assert "aname(belt-8,grid-3x3,palm-5x6,sleeve-2x6,vest-4x5)oraJSONfile" in text
+    assert "aname(belt-8,grid-3x3,palm-5x6,sleeve-2x6,vest-2x4x5,vest-4x5)oraJSONfile" in text
 
 
 def test_a_shape_spec_error_in_the_program_names_the_forms(tmp_path, capsys):
