@@ -221,13 +221,22 @@ class TunerState(QtCore.QObject):
 
     def fit_scene(self) -> None:
         """Make the scene one the layout can play: BA for a method that cannot render on it, the
-        layout's default shape for a shape that lies off it (a scene made for another array),
-        each said in a status message."""
+        layout's default shape for a shape that lies off it (a scene made for another array) or
+        a pattern that does not play there (a group it names, an actuator), each said in a
+        status message."""
         scene, layout = self._scene, self._layout
         if scene.shape is not None and not placement.fits(scene.shape, layout):
             shape = placement.default_shape(layout)
             self._post(f"the shape lies off this layout ({layout.describe()}): {shape} instead")
             scene = scene.replace(shape=shape, hold_s=None)
+        check = getattr(scene.source, "check", None)  # a pattern: its groups, actuators, methods
+        if scene.shape is None and callable(check):
+            try:
+                check(layout)
+            except ValueError as exc:
+                shape = placement.default_shape(layout)
+                self._post(f"the pattern does not play on this layout ({exc}): {shape} instead")
+                scene = scene.replace(shape=shape, source=None, hold_s=None)
         self.set_scene(scene)
 
     def _post(self, text: str) -> None:

@@ -85,3 +85,22 @@ def test_the_next_start_opens_the_pattern_again(qtbot, tmp_path):
     finally:
         second.confirm = lambda title, text: True
         second.close()
+
+
+def test_a_pattern_that_does_not_fit_a_new_profile_gives_way_to_its_default_shape(window, qtbot):
+    # the sweep names the vest's groups: on the palm array it cannot play
+    window.files.use_profile("vest-2x4x5")
+    qtbot.waitUntil(lambda: window.device.profile.name == "vest-2x4x5", timeout=10000)
+    assert window.files.open_pattern_file(example_patterns()["vest-sweep"])
+    assert isinstance(window.state.scene.source, Pattern)
+    window.files.use_profile("palm-5x6")
+    qtbot.waitUntil(lambda: window.device.profile.name == "palm-5x6", timeout=10000)
+    scene = window.state.scene
+    assert scene.source is None and scene.shape is not None
+    assert (
+        "the pattern does not play on this layout (effects[0].group must name a group of "
+        "the layout (it has none), got 'front')" in window.state.last_message
+    )
+    frames = window.device.stats.frames
+    qtbot.waitUntil(lambda: window.device.stats.frames > frames + 10, timeout=10000)
+    assert window.device.stats.state == "streaming"
