@@ -14,6 +14,7 @@ from tactile_core.device.profile import profile_names
 from tactile_core.stream import MAX_LEAD_MS
 
 from .device import DeviceController
+from .felt_cost import FeltCost
 from .texts import tip
 from .widgets import ElidedLabel
 
@@ -66,6 +67,10 @@ class DevicePanel(QtWidgets.QWidget):
         """What in the device box means the link in use (None: the simulated array)."""
         self.status_label = ElidedLabel("starting")  # one line; the whole of it as the tooltip
         self.status_label.setObjectName("status")
+        self.felt_label = ElidedLabel("felt: computing")  # the setting's cost in felt terms
+        self.felt_label.setObjectName("felt_cost")
+        self.felt_cost = FeltCost(device, self)
+        self.felt_cost.changed.connect(self._on_felt_cost_changed)
         layout.addWidget(QtWidgets.QLabel("device"), 0, 0)
         layout.addWidget(self.port_combo, 0, 1)
         layout.addWidget(self.refresh_button, 0, 2)
@@ -81,6 +86,7 @@ class DevicePanel(QtWidgets.QWidget):
         layout.addWidget(self.lead_spin, 1, 3)
         layout.addWidget(self.link_label, 1, 4)
         layout.addWidget(self.status_label, 2, 0, 1, 5)
+        layout.addWidget(self.felt_label, 3, 0, 1, 5)
         layout.setColumnStretch(1, 1)
         self.port_combo.setToolTip(tip(
             "A serial port or any pyserial URL (/dev/ttyUSB0, COM3, socket://host:port, "
@@ -153,6 +159,17 @@ class DevicePanel(QtWidgets.QWidget):
         if name is not None and name != self.device.profile.name:
             self.profile_chosen.emit(name)
         self._fill_profiles()  # what is in use (a refused change leaves the profile as it was)
+
+    def _on_felt_cost_changed(self, text: str, tooltip: str) -> None:
+        self.felt_label.setText(text)
+        self.felt_label.setToolTip(tooltip)
+
+    def set_status_visible(self, visible: bool) -> None:
+        """The status line and the felt read-out, hidden while they would give a stimulus away
+        (a blind test, an experiment run); hidden, the read-out is not computed."""
+        self.status_label.setVisible(visible)
+        self.felt_label.setVisible(visible)
+        self.felt_cost.set_enabled(visible)
 
     def _on_lead_changed(self, value: float) -> None:
         if not self.device.set_lead(value):

@@ -139,8 +139,9 @@ def main(argv=None) -> int:
         device_url=args.device,
         profile=profile,
         preset=preset,
-        restore=not (args.no_restore or args.screenshot),
+        restore=not args.no_restore,  # a screenshot shows the session (and never saves it)
         realtime=args.realtime,
+        remember=not args.screenshot,
     )
 
     def excepthook(kind, value, tb):  # an error in a slot: report it, keep running

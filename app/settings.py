@@ -9,6 +9,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from PySide6 import QtGui
+
 from tactile_core.files.presets import (
     Preset,
     PresetError,
@@ -155,3 +157,28 @@ def save_window(window) -> None:
     settings.setValue("lsl_markers", live.lsl_markers)
     settings.setValue("lsl_levels", live.lsl_levels)
     settings.sync()
+
+
+def fit_window(window, keep_size: bool = False) -> None:
+    """Keep the window on its screen and no larger than it (a saved size from a larger
+    screen, or the default, is shrunk to fit); ``keep_size``: a size asked for (``--size``)
+    is kept, only the position is fitted.
+
+    Parameters
+    ----------
+    window : QMainWindow
+    keep_size : bool
+    """
+    screen = window.screen() or QtGui.QGuiApplication.primaryScreen()
+    if screen is None:
+        return
+    area = screen.availableGeometry()
+    frame = window.frameGeometry()
+    w = min(window.width(), area.width() - (frame.width() - window.width()))
+    h = min(window.height(), area.height() - (frame.height() - window.height()))
+    if (w, h) != (window.width(), window.height()) and not keep_size:
+        window.resize(w, h)
+    geometry = window.frameGeometry()
+    x = min(max(geometry.x(), area.left()), area.right() - geometry.width() + 1)
+    y = min(max(geometry.y(), area.top()), area.bottom() - geometry.height() + 1)
+    window.move(x, y)

@@ -18,6 +18,7 @@ from tactile_core.rendering import placement
 from tactile_core.rendering.methods import get_method
 
 from . import dialogs
+from . import settings as remembered
 from .blind import BlindPanel
 from .compare import CompareView
 from .controls import ControlsPanel
@@ -28,7 +29,6 @@ from .files import FileActions
 from .keys import KeyFilter, is_text_input
 from .menus import build_menus
 from .serve_panel import install_serve
-from .settings import reopen_pattern, restore_window, restored_preset, save_window, start_preset
 from .state import TunerState
 from .texts import (
     BLIND_FILES,
@@ -66,6 +66,9 @@ class MainWindow(QtWidgets.QMainWindow):
         Stream from a child process (default; see :class:`app.device.DeviceController`).
     realtime : bool
         Ask for real-time priority for the stream's output thread.
+    remember : bool
+        Save the scene and window layout for the next start when the window closes (False for
+        ``--screenshot``, which shows the session and must not change it).
 
     Attributes
     ----------
@@ -88,16 +91,25 @@ class MainWindow(QtWidgets.QMainWindow):
     """
 
     def __init__(
-        self, device_url=None, profile=None, preset=None, restore=True, process=True, realtime=True
+        self,
+        device_url=None,
+        profile=None,
+        preset=None,
+        restore=True,
+        process=True,
+        realtime=True,
+        remember=True,
     ):
         super().__init__()
+        self.remember = bool(remember)
         self.setWindowTitle("tactile-tuner")
         self.settings = QtCore.QSettings()
         self.last_error = ""
         self.confirm = lambda title, text: dialogs.confirm(self, title, text)
         """Asks yes or no before a run or unsaved ratings are given up (tests answer it)."""
         self._ask_before_closing = True
-        start = preset or (restored_preset(self.settings) if restore else None) or start_preset()
+        saved = remembered.restored_preset(self.settings) if restore else None
+        start = preset or saved or remembered.start_preset()
         profile = profile or default_profile()
         self.state = TunerState(start.scene, layout=profile.layout)
         if start.device_profile != profile.name:
@@ -190,9 +202,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.tune.display.start()
 
         if restore:
-            self._restore_layout()
+            remembered.restore_window(self)
             if preset is None:
-                reopen_pattern(self)
+                remembered.reopen_pattern(self)
         if device_url:
             self.device.connect_device(device_url)
 
@@ -364,7 +376,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.tune.set_method_hidden(blind)
         self.tabs.setTabEnabled(1, not blind)
         self.controls.set_method_hidden(blind)
-        self.device_panel.status_label.setVisible(not blind)
+        self.device_panel.set_status_visible(not blind)
 
     def _on_experiments_running_changed(self, running: bool) -> None:
         """A run hides everything that shows the stimulus (participants see the screen). A
@@ -385,7 +397,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.device_panel.set_run_locked(running)
         # The controls show the stimulus (a line's ends give its direction away): hide them.
         self.controls_dock.setVisible(not running)
-        self.device_panel.status_label.setVisible(not running)
+        self.device_panel.set_status_visible(not running)
 
     def _on_device_connection_changed(self, description: str) -> None:
         self.statusBar().showMessage(f"streaming to {description}", 5000)
@@ -434,22 +446,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.tune.fit_heatmap()
 
     def fit_to_screen(self, keep_size: bool = False) -> None:
-        """Keep the window on its screen and no larger than it (a saved size from a larger
-        screen, or the default, is shrunk to fit); ``keep_size``: a size asked for (``--size``)
-        is kept, only the position is fitted."""
-        screen = self.screen() or QtGui.QGuiApplication.primaryScreen()
-        if screen is None:
-            return
-        area = screen.availableGeometry()
-        frame = self.frameGeometry()
-        w = min(self.width(), area.width() - (frame.width() - self.width()))
-        h = min(self.height(), area.height() - (frame.height() - self.height()))
-        if (w, h) != (self.width(), self.height()) and not keep_size:
-            self.resize(w, h)
-        geometry = self.frameGeometry()
-        x = min(max(geometry.x(), area.left()), area.right() - geometry.width() + 1)
-        y = min(max(geometry.y(), area.top()), area.bottom() - geometry.height() + 1)
-        self.move(x, y)
+        """Keep the window on its screen and no larger than it (:func:`.settings.fit_window`);
+        ``keep_size``: a size asked for (``--size``) is kept, only the position is fitted."""
+        remembered.fit_window(self, keep_size)
 
     def resizeEvent(self, event) -> None:  # Qt override
         super().resizeEvent(event)
@@ -457,12 +456,11 @@ class MainWindow(QtWidgets.QMainWindow):
 
     # --- settings --------------------------------------------------------------------------------
 
-    def _restore_layout(self) -> None:
-        restore_window(self)
-
     def save_settings(self) -> None:
-        """Remember the scene and the window layout for the next start (:mod:`.settings`)."""
-        save_window(self)
+        """Remember the scene and the window layout for the next start (:mod:`.settings`);
+        nothing for a window made with ``remember=False`` (a screenshot)."""
+        if self.remember:
+            remembered.save_window(self)
 
     def close_now(self) -> None:
         """Close without asking (a signal: Ctrl-C in the terminal, SIGTERM, SIGHUP)."""

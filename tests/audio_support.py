@@ -80,6 +80,8 @@ class CaptureSink:
             "}\n"
         )
         self.sessions: list[bytes] = []
+        self.played_frames = 0
+        """Sample frames read of the PCM's current opening so far: the stream's audio time."""
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._read, name="sink", daemon=True)
         self._thread.start()
@@ -98,6 +100,7 @@ class CaptureSink:
             except OSError:
                 pass
             chunks, total, start = [], 0, None
+            self.played_frames = 0
             while True:
                 if start is not None:
                     due = start + total / self.frame_bytes / self.samplerate
@@ -110,6 +113,7 @@ class CaptureSink:
                 start = time.perf_counter() if start is None else start
                 chunks.append(data)
                 total += len(data)
+                self.played_frames = total // self.frame_bytes
             os.close(fd)
             if chunks:
                 self.sessions.append(b"".join(chunks))

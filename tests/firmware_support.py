@@ -113,3 +113,17 @@ def simulation(firmware, tmp_path):
         running.proc.kill()
         running.proc.wait()
         running.proc.stdout.close()
+
+
+def wait_logged(sim, pattern: str, timeout_s: float = 30.0) -> None:
+    """Wait until a line of the harness's pin log matches ``pattern`` (a regular expression).
+    The harness writes its log through stdio's buffer: a line shows once later lines fill it."""
+    import re
+    import time
+
+    deadline = time.monotonic() + timeout_s
+    line = re.compile(pattern, re.MULTILINE)
+    while not (sim.log_path.exists() and line.search(sim.log_path.read_text())):
+        assert sim.proc.poll() is None, "the simulation ended"
+        assert time.monotonic() < deadline, f"no line {pattern!r} in the pin log"
+        time.sleep(0.01)  # polling the log (a bound of timeout_s above)

@@ -93,3 +93,38 @@ def dealt(methods, seed):
     mapping = list(methods)
     random.Random(seed).shuffle(mapping)
     return mapping
+
+
+def stream_threads():
+    """Names of the running threads of streams and servers (``tactile-*``). A trace's table is
+    built by a daemon thread of its own (``tactile-precompute``) that nothing waits for; one a
+    previous test left is not a leak."""
+    import threading
+
+    return [t.name for t in threading.enumerate()
+            if t.name.startswith("tactile-") and not t.name.endswith("-precompute")]  # fmt: skip
+
+
+def array_status(path: str, seq: int = 9, timeout_s: float = 10.0):
+    """An array's answer to a status query (its counters: frames applied, dropped, watchdog
+    trips), asked on ``path`` (the firmware in simavr, ``tactile emulate``). It answers in the
+    order it reads its line: after everything written before. A query does not feed the
+    watchdog (only a valid frame does)."""
+    import time
+
+    from tactile_core.device.link import SerialLink
+    from tactile_core.device.wire import MessageReader, Status, encode_query
+
+    link = SerialLink(path)
+    try:
+        reader = MessageReader(accept=(Status,))
+        link.write(encode_query(seq))
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            got = reader.feed(link.read())
+            if got:
+                return got[-1]
+            time.sleep(0.005)  # polling the link (a bound of timeout_s above)
+    finally:
+        link.close()
+    raise AssertionError(f"no status answer within {timeout_s:g} s")

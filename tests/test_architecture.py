@@ -1,5 +1,5 @@
-"""The house's rules, checked on the source: one-way layers, no import circles, no Qt in the core,
-and files a person can hold in their head.
+"""The house's rules, checked on the source: one-way layers, no import circles, no Qt in the core
+(in the import graph and in a fresh interpreter), and files a person can hold in their head.
 
 The graph is read from the source with :mod:`ast` (every ``import`` anywhere in a module, also
 inside functions, except under ``if TYPE_CHECKING:``), so an import deferred into a function to
@@ -9,6 +9,8 @@ dodge a circle is still a circle here. ``docs/architecture.md`` draws the same l
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -173,6 +175,21 @@ def test_the_core_never_imports_qt_or_the_tuner():
                 if dep.split(".")[0] in (*QT, "tactile_tuner"):
                     wrong.append(f"{name} imports {dep}")
     assert wrong == []
+
+
+def test_the_core_loaded_in_a_fresh_interpreter_pulls_in_neither_qt_nor_the_tuner():
+    # What the import graph above cannot see: a module that imports Qt through a plug-in, an
+    # entry point or importlib. Every core module imported, from outside the source tree.
+    code = (
+        "import sys, importlib, pkgutil, tactile_core;"
+        "[importlib.import_module(m.name) for m in"
+        " pkgutil.walk_packages(tactile_core.__path__, 'tactile_core.')];"
+        f"bad = [m for m in sys.modules if m.split('.')[0] in {(*QT, 'tactile_tuner', 'app')!r}];"
+        "print(bad); sys.exit(1 if bad else 0)"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd="/",
+                            timeout=120)  # fmt: skip
+    assert result.returncode == 0, result.stdout + result.stderr
 
 
 @pytest.mark.parametrize("name", sorted(SOURCES))

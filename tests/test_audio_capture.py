@@ -6,12 +6,12 @@ each channel's carrier, each frame's level and onset, and silence after Ctrl-C a
 import json
 import math
 import signal
-import time
 
 import numpy as np
 import pytest
 
 from .audio_support import CaptureSink, read_back, require_audio, run_cli
+from .serve_support import wait_for
 
 SAMPLERATE = 48000
 CARRIERS = [150.0, 200.0, 250.0, 300.0, 350.0, 400.0, 450.0, 500.0]
@@ -49,7 +49,9 @@ def stream_and_capture(tmp_path, how: str, extra: list[str], seconds: float = 1.
             if line.startswith("[streaming]"):
                 break
         assert seen and seen[-1].startswith("[streaming]"), "".join(seen)
-        time.sleep(seconds)  # a whole trace and its pause at least
+        # a whole trace and its pause at least, in the audio the sink has read (its clock)
+        wait_for(lambda: sink.played_frames >= seconds * SAMPLERATE, timeout_s=60 + 10 * seconds,
+                 what=f"{seconds:g} s of audio at the sink")  # fmt: skip
         proc.send_signal(getattr(signal, how))
         out, err = proc.communicate(timeout=30)
     finally:

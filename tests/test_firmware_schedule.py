@@ -116,14 +116,19 @@ def test_a_late_frame_plays_at_once_and_one_dropped_by_a_plain_frame_never_plays
         identify(link, default_profile(), timeout_s=10.0)
         now_us = clock_exchange(link, reader, 1).tx_us
         link.write(encode_timed(2, now_us - 5_000, full, bits=5))  # 5 ms in the past: late
-        time.sleep(0.05)
+        # The firmware reads its line in order: it has the late frame when it answers the next
+        # clock request, and shows it within 32,000 cycles (2 ms, as asserted below): wait 10 ms
+        # on its own clock.
+        seq, now_us = 3, clock_exchange(link, reader, 3).tx_us
+        shown_us = now_us + 10_000
+        while now_us < shown_us:
+            seq += 1
+            now_us = clock_exchange(link, reader, seq).tx_us
         future = [0] * 30
         future[20] = 22
-        now_us = clock_exchange(link, reader, 3).tx_us
-        link.write(encode_timed(4, now_us + 10_000_000, future, bits=5))  # 10 s ahead ...
-        link.write(encode_frame(5, [0] * 30))  # ... dropped by a frame for now
-        time.sleep(0.2)
-        reply = clock_exchange(link, reader, 6)
+        link.write(encode_timed(seq + 1, now_us + 10_000_000, future, bits=5))  # 10 s ahead ...
+        link.write(encode_frame(seq + 2, [0] * 30))  # ... dropped by a frame for now
+        reply = clock_exchange(link, reader, seq + 3)  # answered after both
     finally:
         link.close()
     assert (reply.late, reply.full, reply.queued) == (1, 0, 0)

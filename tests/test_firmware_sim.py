@@ -12,10 +12,11 @@ import numpy as np
 
 from tactile_core.device.link import SerialLink, identify
 from tactile_core.device.profile import default_profile
-from tactile_core.device.wire import MessageReader, Status, encode_frame, encode_query
+from tactile_core.device.wire import encode_frame
 
 from .emulator_support import wait_streaming
-from .firmware_support import pinlog
+from .firmware_support import pinlog, wait_logged
+from .helpers import array_status
 
 CLI = [sys.executable, "-m", "tactile_core.cli"]
 MS = 16_000  # cycles
@@ -73,21 +74,12 @@ def test_firmware_never_applies_a_corrupted_frame_and_counts_it(sim):
                 data[i] ^= 1 << int(rng.integers(0, 8))
             link.write(bytes(data))
             corrupted += 1
-            time.sleep(0.004)
             if seq % 20 == 0:
                 link.write(encode_frame(seq, good))  # keep the watchdog fed
-        time.sleep(0.05)
-        reader = MessageReader(accept=(Status,))
-        link.write(encode_query(9))
-        status = None
-        deadline = time.monotonic() + 10.0
-        while status is None and time.monotonic() < deadline:
-            got = reader.feed(link.read())
-            status = got[-1] if got else None
-            time.sleep(0.005)
     finally:
         link.close()
-    assert status is not None
+    # The firmware reads its line in order: it answers the query after the frames before it.
+    status = array_status(sim.path)
     assert status.frames_applied == 4  # the four good frames
     assert status.dropped >= corrupted  # a flipped bit may also split a message in two
     log = sim.finish()
@@ -101,14 +93,16 @@ def test_firmware_watchdog_turns_everything_off_after_250_ms(sim):
     # A stream killed without a word (SIGKILL): no all-off frame; the array's watchdog acts.
     proc = subprocess.Popen(
         [*CLI, "stream", "--device", sim.path, "--shape", "line:2.5,3.5,2.5,3.5", "--method",
-         "CT", "--rate", "100", "--seconds", "30", "--lead-ms", "0"],
+         "CT", "--pause", "0", "--rate", "100", "--seconds", "30", "--lead-ms", "0"],
         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
     )  # fmt: skip
     wait_streaming(proc)
-    time.sleep(0.5)  # lit frames reach the firmware
+    wait_logged(sim, r"^P \d+ \d+ [1-9]\d*$")  # a pin went on: lit frames reach the firmware
     os.kill(proc.pid, signal.SIGKILL)
     proc.communicate(timeout=10)
-    time.sleep(1.0)  # the watchdog's 250 ms in simulated time, which keeps to real time
+    deadline = time.monotonic() + 30
+    while array_status(sim.path).watchdog_trips == 0:  # the firmware's own count of its act
+        assert time.monotonic() < deadline, "the watchdog did not act"
     log = sim.finish()
     frames = pinlog.received_frames(log)
     assert frames and frames[-1][1].any()  # the last frame it got was lit

@@ -1,8 +1,8 @@
 """Frames kept in bounded, compact memory, and outputs that fail on a full disk say which file.
 
-Issue 16, item 14: ``--record`` grew ~144 MB/h while its docstring said ~32 MB/h, the emulator
-kept every frame (+120 MB/h), and the disk-full messages of ``stream`` and ``emulate`` did not
-name the file.
+``--record`` once grew ~144 MB/h while its docstring said ~32 MB/h, the emulator kept every
+frame (+120 MB/h), and the disk-full messages of ``stream`` and ``emulate`` did not name the
+file; the emulator's logs are read while its thread writes them.
 """
 
 import errno
@@ -127,6 +127,32 @@ def test_the_emulator_keeps_only_its_latest_frames():
     assert report["seq_gaps"] == 0
     assert abs(report["rate_hz"] - 300.0) < 1e-6
     assert "kept" in emulator.summary().splitlines()[0]
+
+
+def test_an_emulators_report_may_be_read_while_its_thread_logs_events():
+    # report() iterated the events deque that the emulator's thread appends to (an answer to
+    # every status query); a report read meanwhile raised "deque mutated during iteration".
+    emulator = Emulator()
+    emulator.open()
+    try:
+        for k in range(emulator.events.maxlen):  # full: each append also drops the oldest
+            emulator.events.append((float(k), "answered 20 bytes"))
+        stop = threading.Event()
+
+        def log_events():
+            while not stop.is_set():
+                emulator.events.append((0.0, "answered 20 bytes"))
+
+        thread = threading.Thread(target=log_events, daemon=True)
+        thread.start()
+        try:
+            for _ in range(50):
+                assert len(emulator.report()["events"]) == emulator.events.maxlen
+        finally:
+            stop.set()
+            thread.join(5)
+    finally:
+        emulator.close()
 
 
 @pytest.fixture

@@ -18,6 +18,8 @@ from tactile_core.device.wire import KEEPALIVE_S
 from tactile_core.rendering.scene import Scene
 from tactile_core.stream.streamer import Streamer
 
+from .serve_support import wait_for
+
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
 
 CIRCLE = tc.Circle((2.5, 3.0), 2.0)
@@ -129,10 +131,9 @@ def test_query_answers_agree_with_the_emulators_own_counts(monkeypatch):
     streamer = Streamer(link, default_profile(), scene=Scene(CIRCLE, rate_hz=200.0))
     try:
         streamer.start()
-        time.sleep(0.6)
+        wait_for(lambda: emulator.model.frames_applied >= 20, what="20 frames at the emulator")
         link.write(b"\x13\x37garbage\x00")  # one malformed message for the dropped count
-        time.sleep(0.2)
-        status = streamer.query_status(5.0)
+        status = streamer.query_status(5.0)  # asked after the garbage, so answered after it
         stats = streamer.stop()
     finally:
         link.close()

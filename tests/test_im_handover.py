@@ -82,7 +82,7 @@ def test_off_centre_square_corner(distance, expected):
     assert got == pytest.approx(expected, abs=1e-12)
 
 
-def test_issue_cases_have_no_step():
+def test_im_hands_over_without_a_step_on_the_shapes_that_had_one():
     # Measured before the fix: steps of 1.0, 0.50 and 0.086 between samples 1/20000 apart.
     t = np.linspace(0.0, 1.0, 20001)
     for shape in (EXP3_CIRCLE, SQUARE, tc.Circle((2.5, 3.0), 2.0)):

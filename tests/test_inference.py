@@ -216,15 +216,26 @@ def test_one_sample_at_the_reference_with_no_spread_is_nan_like_scipy():
 
 
 def test_cohens_d_interval_leaves_out_resamples_without_spread():
-    """Five participants, two alike: 35/3125 (1.1%) of the resamples draw one value five times,
-    whose SD is 0 (before: a divide-by-zero RuntimeWarning). Those resamples have no d and are left
-    out of the percentile interval, computed here from the documented draws."""
+    """Five values, two alike: 35/3125 (1.1%) of the resamples draw one value five times,
+    whose SD is 0 (before: a divide-by-zero RuntimeWarning). Those resamples have no d and are
+    left out of the percentile interval, computed here from the documented draws."""
+    from tactile_core.experiments.inference import _cohens_d, bootstrap_interval
+
     v = np.array([0.62, 0.79, 0.79, 0.90, 1.16])
-    r = one_sample(v, 1.0)
+    got = bootstrap_interval(lambda rows: _cohens_d(rows, 1.0), v)
     rows = v[np.random.default_rng(0).integers(0, v.size, size=(9999, v.size))]
     defined = rows[np.ptp(rows, axis=1) > 0]
     assert 50 < len(rows) - len(defined) < 200  # 113 of 9,999 here
     d = (defined.mean(axis=1) - 1.0) / defined.std(axis=1, ddof=1)
-    assert r["d_ci"] == pytest.approx(tuple(np.quantile(d, [0.025, 0.975])), rel=1e-12)
+    assert got == pytest.approx(tuple(np.quantile(d, [0.025, 0.975])), rel=1e-12)
+
+
+def test_cohens_d_gets_no_interval_from_too_few_participants():
+    # Four participants: resamples with nearly one value have a tiny SD and an enormous d, so
+    # the percentile interval's end was meaningless (new-user pass: d -0.46 [-2245.64, +0.71]).
+    v = np.array([0.62, 0.79, 0.80, 1.16])
+    r = one_sample(v, 1.0)
     assert r["d"] == pytest.approx((v.mean() - 1.0) / np.std(v, ddof=1))
-    assert r["note"] == ""
+    assert all(math.isnan(x) for x in r["d_ci"]) and "n = 4" in r["note"]
+    many = one_sample(np.linspace(0.5, 1.1, 12), 1.0)
+    assert np.isfinite(many["d_ci"]).all() and many["note"] == ""

@@ -70,33 +70,57 @@ def test_wrapped_layouts_repeat_every_turn(layout, method):
     np.testing.assert_allclose(a, b, atol=1e-9)
 
 
-def has_sliver(layout, ratio=1e-3) -> bool:
-    """Whether a Delaunay cell of ``layout`` is a sliver: its least height under ``ratio`` of
-    its longest side. Across a sliver BA's weights change by up to 1 over its width (1e-5 of a
-    pitch for three actuators 1e-5 off a line): continuous, but steeper than 1,001 samples of
-    the line's steepest interval resolve, so the zoom test above would call it a jump."""
+def assert_ba_continuous_along_a_line(layout):
+    """No jump: the interval holding the largest step between 2,001 samples, sampled 1,001
+    times more finely, has no step of even half that size (a jump would stay whole). A steep
+    ramp across a sliver of a triangle can be narrower than one finer sample: zoom on into the
+    finer interval holding the largest step, up to twice more (a ramp shrinks a thousandfold
+    each time, a jump never)."""
+    line = tc.Line((-1.5, 0.3), (7.5, 3.7))
+    t = np.linspace(0, 1, 2001)
+    steps = np.abs(np.diff(tc.render(line, "BA", t, grid=layout), axis=0)).max(axis=1)
+    k = int(np.argmax(steps))
+    start, end = t[k], t[k + 1]
+    for _ in range(3):
+        zoom = np.linspace(start, end, 1001)
+        fine = np.abs(np.diff(tc.render(line, "BA", zoom, grid=layout), axis=0)).max(axis=1)
+        j = int(np.argmax(fine))
+        if fine[j] <= 0.5 * steps[k] + 1e-12:
+            break
+        start, end = zoom[j], zoom[j + 1]
+    assert fine[j] <= 0.5 * steps[k] + 1e-12
+
+
+def thinnest_triangle(layout):
+    """The smallest altitude of the layout's Delaunay triangles (inf without triangles)."""
     xy = layout.xy
     if len(xy) < 3 or np.linalg.matrix_rank(xy - xy.mean(0), tol=1e-9) < 2:
-        return False
-    for tri in Delaunay(xy).simplices:
-        a, b, c = xy[tri]
-        area2 = abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
-        longest = max(np.hypot(*(b - a)), np.hypot(*(c - b)), np.hypot(*(a - c)))
-        if area2 / longest < ratio * longest:  # least height = 2 * area / longest side
-            return True
-    return False
+        return np.inf
+    a, b, c = (xy[Delaunay(xy).simplices[:, i]] for i in range(3))
+    area2 = np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+    longest = np.max([np.hypot(*(b - a).T), np.hypot(*(c - b).T), np.hypot(*(a - c).T)], axis=0)
+    return float((area2 / longest).min())
 
 
 @SETTINGS
 @given(layouts(wrap=False))
 def test_ba_is_continuous_along_a_line(layout):
-    # no jump: the interval holding the largest step between 2,001 samples, sampled 1,001 times
-    # more finely, has no step of even half that size (a jump would stay whole)
-    assume(not has_sliver(layout))
-    line = tc.Line((-1.5, 0.3), (7.5, 3.7))
-    t = np.linspace(0, 1, 2001)
-    steps = np.abs(np.diff(tc.render(line, "BA", t, grid=layout), axis=0)).max(axis=1)
-    k = int(np.argmax(steps))
-    zoom = np.linspace(t[k], t[k + 1], 1001)
-    fine = np.abs(np.diff(tc.render(line, "BA", zoom, grid=layout), axis=0)).max()
-    assert fine <= 0.5 * steps[k] + 1e-12
+    # Triangles thinner than 1e-6 layout units are left to the cases below, made by hand:
+    # which of them hypothesis draws depends on the modules loaded before (it takes constants
+    # from them), so the suite's order decided whether it met one.
+    assume(thinnest_triangle(layout) > 1e-6)
+    assert_ba_continuous_along_a_line(layout)
+
+
+def test_ba_across_a_sliver_of_a_triangle_is_a_ramp_not_a_jump():
+    # three actuators 5e-6 off a line: a single zoom of 1,001 samples saw a step of 0.49 there
+    assert_ba_continuous_along_a_line(Layout([(0.0, 0.0), (1.0, 1.0), (2.0, 2.000005006790161)]))
+
+
+def test_ba_has_no_step_where_an_actuator_sits_a_rounding_error_inside_the_hull_edge():
+    # BA skipped the flat sliver (cross product <= 1e-12) such an actuator makes, and outside
+    # the hull projected onto Qhull's edge, which leaves that actuator out: where a line
+    # crossed the edge the weights stepped by 0.15. The boundary is now the kept cells' own.
+    # exactly on the edge (x = 0) there is no step, nor 1e-9 inside (a ramp across the sliver)
+    layout = Layout([(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (2.220446049250313e-16, 0.125)])
+    assert_ba_continuous_along_a_line(layout)

@@ -1,9 +1,9 @@
-"""The tuner's views on layouts that are not grids (issue 22 item 2): the heatmap draws the
-belt, the sleeve and the vest as discs where their actuators are, a wrap as one turn with its
-seam, the curves name the actuators, and a path drawn across the seam streams on.
+"""The tuner's views on layouts that are not grids: the heatmap draws the belt, the sleeve and the
+vest as discs where their actuators are, a wrap as one turn with its seam, the curves name the
+actuators, and a path drawn across the seam streams on.
 
-Driven through the state object, checked on what the views show and on what the simulated
-array is sent."""
+Driven through the state object, checked on what the views show and on what the simulated array is
+sent."""
 
 import numpy as np
 import pyqtgraph as pg

@@ -14,6 +14,7 @@ import pylsl
 import pytest
 
 import tactile_core as tc
+from tactile_core.device.host_clock import VirtualClock
 from tactile_core.device.link import SimulatedArray
 from tactile_core.device.profile import default_profile
 from tactile_core.rendering.scene import Scene
@@ -140,28 +141,42 @@ def test_lsl_levels_stream_carries_every_frame_at_its_time():
 
 
 def test_lsl_repeating_trace_gets_a_marker_per_cycle():
+    """Each cycle of a repeating trace is marked at its own first frame, and a change that keeps
+    the trace running (mu) goes on counting cycles. On a virtual clock: on the host clock a
+    stream thread held back longer than the first tactor's ~23 ms skips the cycle's first
+    frames, and its first frame written is rightly a later one, dark on that tactor."""
     profile = default_profile()
+    clock = VirtualClock()
     taps = Taps()
     sid = f"test-{uuid.uuid4().hex}"
-    streamer = Streamer(SimulatedArray(profile), profile, taps=[taps])
+    streamer = Streamer(SimulatedArray(profile, clock=clock), profile, taps=[taps], clock=clock,
+                        identify=False, spin_s=0.0)  # fmt: skip
     outlets = LslOutlets(profile, source_id=sid).attach(streamer)
+    scene = Scene(tc.Line((0.5, 0.5), (4.5, 0.5)), "CT", duration_s=0.2, pause_s=0.05)
+    changed = scene.replace(mu=0.5)
     onsets = []
-    streamer.on_onset.append(onsets.append)
+
+    def on_onset(onset):  # in the output thread: the change lands inside cycle 3, every run
+        onsets.append(onset)
+        if len(onsets) == 4:
+            streamer.set_scene(changed)
+
+    streamer.on_onset.append(on_onset)
+    streamer.set_scene(scene)
     streamer.start()
     try:
-        scene = Scene(tc.Line((0.5, 0.5), (4.5, 0.5)), "CT", duration_s=0.2, pause_s=0.05)
-        # 75 frames a cycle at 300 Hz; the first tactor is lit for the first ~7 (a cycle's first
-        # frame may be skipped on a loaded host: its onset is then the next, still on it)
-        streamer.set_scene(scene)
-        wait_for(lambda: len(onsets) >= 4, what="four cycles")
-        streamer.set_scene(scene.replace(mu=0.5))  # the same presentation goes on
         wait_for(lambda: len(onsets) >= 6, what="six cycles")
     finally:
         streamer.stop()
         outlets.close()
-    assert [o.cycle for o in onsets[:6]] == [0, 1, 2, 3, 4, 5]
+    onsets = onsets[:6]
+    assert [o.cycle for o in onsets] == [0, 1, 2, 3, 4, 5]
+    assert [o.scene for o in onsets] == [scene] * 4 + [changed] * 2
+    period_s = 0.2 + 0.05  # 75 frames a cycle at 300 Hz
+    for onset in onsets:
+        assert onset.time_s - onsets[0].time_s == pytest.approx(onset.cycle * period_s, abs=1e-9)
     frames = {t: levels for t, _, levels in taps.frames}
-    for onset in onsets[:6]:  # each cycle begins lit on the line's first tactor
+    for onset in onsets:  # each cycle begins lit on the line's first tactor
         assert frames[onset.time_s][0] == 22
     assert outlets.markers_sent >= 6
 

@@ -33,3 +33,13 @@ def test_every_source_package_is_listed_in_pyproject():
     for name in mapped - {"tactile_core._assets"}:
         folder = ROOT / "assets" / name.split(".")[-1]
         assert folder.is_dir() and any(folder.glob("*.json")), name
+
+
+def test_the_gui_installs_as_tactile_tuner_and_the_core_reaches_its_bench_by_entry_point():
+    from importlib.metadata import entry_points
+
+    hooks = {ep.name: ep.value for ep in entry_points(group="tactile.bench")}
+    assert hooks.get("gui") == "tactile_tuner.bench:run"
+    import tactile_tuner.main
+
+    assert tactile_tuner.main.__file__.endswith("app/main.py")

@@ -1,4 +1,4 @@
-"""Method specs added for issue 20: Syntacts' linear roll-off (RO:curve=linear), PK's
+"""Method specs after other tools' methods: Syntacts' linear roll-off (RO:curve=linear), PK's
 crossfade (PK:blend=w) and its jump, VRCH-Server's one-contact rule (VRCH), and the correction
 each method is designed for. Expected values worked by hand from the sources' definitions."""
 

@@ -56,16 +56,17 @@ def test_a_bad_port_is_reported_by_start_and_nothing_keeps_running():
 def test_killing_the_parent_turns_the_array_off_without_the_watchdog(emulator_thread):
     emu, path = emulator_thread
     script = (
-        "import time, tactile_core as tc\n"
+        "import signal, tactile_core as tc\n"
         "from tactile_core.stream.process import open_stream\n"
         "from tactile_core.rendering.scene import Scene\n"
         f"s = open_stream({path!r}, scene=Scene(tc.Circle((2.5, 3), 2), mu=1.0, pause_s=0.0))\n"
-        "print('streaming', flush=True)\n"
-        "time.sleep(60)\n"
+        "print('streaming', s._proc.pid, flush=True)\n"
+        "signal.pause()  # until killed\n"
     )
     parent = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
     try:
-        assert parent.stdout.readline().strip() == "streaming"
+        said, child = parent.stdout.readline().split()
+        assert said == "streaming"
         wait(lambda: len(emu.log) > 30 and any(emu.log.last()))
         parent.send_signal(signal.SIGKILL)
         parent.wait(10)
@@ -75,9 +76,16 @@ def test_killing_the_parent_turns_the_array_off_without_the_watchdog(emulator_th
             parent.kill()
         parent.stdout.close()
     assert emu.watchdog_trips == 0  # the child noticed and sent all-off itself
-    frames = len(emu.log)
-    time.sleep(0.3)
-    assert len(emu.log) == frames  # and it has stopped streaming
+    wait(lambda: ended(int(child)))  # and it has stopped streaming: it is gone
+
+
+def ended(pid):
+    """True once process ``pid`` has exited (gone, or a zombie its new parent has not reaped)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except FileNotFoundError:
+        return True
 
 
 def test_local_stream_has_the_same_interface():
@@ -89,3 +97,17 @@ def test_local_stream_has_the_same_interface():
     finally:
         stats = stream.stop()
     assert stats.state == "stopped" and not np.asarray(stream.last_levels).any()
+
+
+def test_starting_the_stream_process_prints_no_runpy_warning():
+    # The child ran as ``python -m tactile_core.stream.process``, a module the package had
+    # already imported: runpy warned on stderr at every stream start ("found in sys.modules").
+    code = (
+        "from tactile_core.stream import open_stream\n"
+        "stream = open_stream(None)\n"
+        "assert stream.running\n"
+        "stream.stop()\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert "Warning" not in out.stderr, out.stderr

@@ -8,7 +8,6 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -16,7 +15,8 @@ import pytest
 import tactile_core as tc
 
 from .emulator_support import CLI, Emulator, stream, wait_streaming
-from .helpers import align
+from .helpers import align, array_status
+from .serve_support import wait_for
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
 
@@ -60,24 +60,29 @@ def test_emulator_closing_mid_stream_stops_the_streamer_with_a_message(emulator)
     assert report["frames"] > 0 and report["events"][-1][1] == "closed"
 
 
-def test_sigkilled_streamer_is_turned_off_by_the_watchdog(emulator):
-    emu = emulator()
+def test_sigkilled_streamer_is_turned_off_by_the_watchdog(emulator_thread):
+    # The emulator in a thread of this process, so the test sees the frames arrive: it kills
+    # the stream once lit frames came, and waits for the watchdog to act.
+    emu, path = emulator_thread
     proc = subprocess.Popen(
-        [*CLI, "stream", "--device", emu.path, "--shape", "circle:2.5,3,2", "--method", "CT",
+        [*CLI, "stream", "--device", path, "--shape", "circle:2.5,3,2", "--method", "CT",
          "--pause", "0", "--seconds", "60", "--lead-ms", "0"],
         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
     )  # fmt: skip
-    wait_streaming(proc)
-    time.sleep(0.3)
-    proc.kill()  # no chance to send all-off
-    proc.communicate(timeout=10)
-    time.sleep(0.6)
-    report, log = emu.finish()
+    try:
+        wait_streaming(proc)
+        wait_for(lambda: len(emu.log) >= 10, timeout_s=30, what="frames at the emulator")
+    finally:
+        proc.kill()  # no chance to send all-off
+        proc.communicate(timeout=10)
+    wait_for(lambda: emu.watchdog_trips > 0, timeout_s=30, what="the watchdog")
+    report = emu.report()
+    times, _, levels = emu.log.arrays()
     assert report["watchdog_trips"] == 1
-    assert log[-1, 2:].any()  # the last frame received had a tactor on
+    assert levels[-1].any()  # the last frame received had a tactor on
     (trip,) = [t for t, e in report["events"] if e == "watchdog"]
-    silence = trip - log[-1, 0]
-    # off 250 ms after the last frame (+ a poll); the log's times are rounded to 1 µs
+    silence = trip - (times[-1] - report["started_monotonic"])  # the report's, from its start
+    # off 250 ms after the last frame (+ a poll); the report rounds its times to 1 µs
     assert 0.25 - 1e-6 <= silence < 0.25 + 0.05
     assert not np.array(report["last_levels"]).any()
 
@@ -105,10 +110,11 @@ def test_garbage_and_truncated_frames_are_counted_not_fatal(emulator):
             good,
         ]:
             os.write(fd, chunk)
-            time.sleep(0.02)
-        time.sleep(1.0)  # the emulator leaves on Ctrl-C without reading what is still pending
     finally:
         os.close(fd)
+    # The emulator leaves on Ctrl-C without reading what is still pending: its answer to a
+    # query written after the chunks says it has read them.
+    array_status(emu.path)
     report, log = emu.finish()
     assert report["frames"] == 1 and len(log) == 1
     bad = report["bad_frames"]
@@ -117,28 +123,34 @@ def test_garbage_and_truncated_frames_are_counted_not_fatal(emulator):
     assert "received 1 frames" in emu.output
 
 
-def test_ctrl_c_turns_the_array_off_and_reports(emulator):
-    emu = emulator()
+def test_ctrl_c_turns_the_array_off_and_reports(emulator_thread):
+    emu, path = emulator_thread  # in this process: the test sees the frames arrive
     proc = subprocess.Popen(
-        [*CLI, "stream", "--device", emu.path, "--shape", "square:2.5,3.5,4", "--method", "MM",
+        [*CLI, "stream", "--device", path, "--shape", "square:2.5,3.5,4", "--method", "MM",
          "--mu", "1", "--pause", "0", "--seconds", "60"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         env={**os.environ, "PYTHONFAULTHANDLER": "1"},  # SIGABRT prints where it hangs
     )  # fmt: skip
-    wait_streaming(proc)
-    time.sleep(0.3)
-    proc.send_signal(signal.SIGINT)
     try:
+        wait_streaming(proc)
+        wait_for(lambda: len(emu.log) >= 10, timeout_s=30, what="frames at the emulator")
+        proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=30)
     except subprocess.TimeoutExpired:  # (a handler deadlocked once: tests/test_stop_signals.py)
         proc.send_signal(signal.SIGABRT)
         out, err = proc.communicate(timeout=10)
         pytest.fail(f"the stream did not stop 30 s after Ctrl-C; where it was:\n{err}")
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
     assert proc.returncode == 0, err
     assert "stopped: all off" in out
-    report, log = emu.finish()
-    assert log[:-1, 2:].any() and not log[-1, 2:].any()
-    assert report["watchdog_trips"] == 0
+    # the all-off frame, written before the stream exited, read by the emulator's thread
+    wait_for(lambda: not any(emu.log.last()), timeout_s=30, what="the all-off frame")
+    levels = emu.log.arrays()[2]
+    assert levels[:-1].any() and not levels[-1].any()
+    assert emu.watchdog_trips == 0
 
 
 def test_normal_interpreter_exit_sends_all_off(emulator):
@@ -152,14 +164,15 @@ def test_normal_interpreter_exit_sends_all_off(emulator):
         "scene = Scene(tc.Circle((2.5, 3), 2), mu=1.0, pause_s=0.0)\n"
         "s = Streamer(link, scene=scene)\n"
         "s.start()\n"
-        "time.sleep(1.0)\n"
+        "while s.stats.frames < 30:  # lit frames went out\n"
+        "    time.sleep(0.01)\n"
         "# exits without stop(): atexit must turn the array off\n"
     )
     proc = subprocess.run(
         [sys.executable, "-c", script], capture_output=True, text=True, timeout=30
     )
     assert proc.returncode == 0, proc.stderr
-    time.sleep(0.4)
+    array_status(emu.path)  # answered once the emulator has read what came before
     report, log = emu.finish()
     assert log[:-1, 2:].any() and not log[-1, 2:].any()
     assert report["watchdog_trips"] == 0

@@ -14,6 +14,7 @@ import pytest
 
 import tactile_core as tc
 from tactile_core.device import SimulatedArray
+from tactile_core.device.host_clock import VirtualClock
 from tactile_core.device.link import SerialLink
 from tactile_core.device.wire import ClockReply, MessageReader, encode_clock, encode_hello
 from tactile_core.rendering import Scene
@@ -114,17 +115,22 @@ def wait_until(predicate, timeout_s=20.0):
         time.sleep(0.002)
 
 
-def test_all_off_is_for_now_even_with_a_lead(sim_streamer):
+def test_all_off_is_for_now_even_with_a_lead():
+    # On a virtual clock (the stream's and the array's): the absence below is over 0.25 s of
+    # the array's time, however the host schedules the test.
     scene = Scene(tc.Line((2.5, 3.5), (2.5, 3.5)), "CT", mu=1.0, pause_s=0.0, rate_hz=100.0)
-    sim, streamer = sim_streamer(0.2, scene)  # a long lead: 20 frames waiting at any time
-    # waited for, not assumed: a stream thread the host holds back lets the queue run low
-    wait_until(lambda: sim.levels().any() and len(sim.model.queue) > 5)
-    streamer.all_off()
-    wait_until(lambda: not sim.levels().any())
-    assert len(sim.model.queue) == 0  # the plain all-off frame dropped what was scheduled
-    assert streamer.stats.scheduled  # still timed; paused frames simply are for now
-    time.sleep(0.25)  # longer than the lead: nothing scheduled comes back on
-    assert not sim.levels().any()
+    clock = VirtualClock()
+    sim = SimulatedArray(clock=clock)
+    options = StreamOptions(lead_ms=200.0)  # a long lead: 20 frames waiting at any time
+    with Streamer(sim, scene=scene, options=options, clock=clock, spin_s=0.0) as streamer:
+        wait_until(lambda: sim.levels().any() and len(sim.model.queue) > 5)
+        streamer.all_off()
+        wait_until(lambda: not sim.levels().any())
+        assert len(sim.model.queue) == 0  # the plain all-off frame dropped what was scheduled
+        assert streamer.stats.scheduled  # still timed; paused frames simply are for now
+        off_s = clock.now()
+        wait_until(lambda: clock.now() > off_s + 0.25)  # longer than the lead: nothing
+        assert not sim.levels().any()  # scheduled comes back on
 
 
 def test_stopping_turns_the_array_off_at_once(sim_streamer):

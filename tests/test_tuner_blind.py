@@ -203,7 +203,7 @@ def test_exports_and_presets_refuse_while_blind(window, tmp_path):
     assert not window.tune.heatmap.drawing
 
 
-# --- after the reveal: the window names the revealed method (issue 31) ----------------------------
+# --- after the reveal: the window names the revealed method -------------------------------------
 
 
 def _reveal_onto(window, clock, method_wanted):

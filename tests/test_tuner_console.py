@@ -220,7 +220,8 @@ def test_escape_while_the_intervals_play_pauses_with_the_array_off(window, qtbot
     assert panel.trials.intervals_playing
     qtbot.keyClick(window.experiments.participant_window.prompt, QtCore.Qt.Key.Key_Escape)
     assert not panel.trials.intervals_playing and not window.state.scene.playing
-    qtbot.wait(150)  # the interval timer would have played interval 2 by now
+    assert not panel.trials.interval_timer.isActive()  # nothing is timed to play interval 2
+    QtWidgets.QApplication.processEvents()  # nor posted to
     assert not window.state.scene.playing
     panel.trials.present_again()
     assert panel.trials.intervals_playing

@@ -77,21 +77,29 @@ def test_a_bad_file_changes_nothing_and_says_why(window, tmp_path):
     assert "tracks[0].effects[0].startTime must be within" in window.last_error
 
 
-def test_a_drawing_is_kept_as_a_time_keyed_path(window, qtbot, tmp_path):
+def test_a_drawing_is_kept_as_a_time_keyed_path(window, qtbot, tmp_path, monkeypatch):
+    import types
+
+    import tactile_tuner.files
+
     assert not window.files.keep_drawing()
     assert "draw a path first" in window.last_error
     window.controls.playback.draw_check.setChecked(True)
     heatmap = window.tune.heatmap
+    drawn_at = iter([100.0, 100.1, 100.25, 100.3])  # the clock the drawing is timed on
+    fake_time = types.SimpleNamespace(perf_counter=lambda: next(drawn_at))
+    monkeypatch.setattr(tactile_tuner.files, "time", fake_time)
     for x in (0.5, 1.5, 2.5, 3.5):
         heatmap.point_drawn.emit(x, 2.5)
-        qtbot.wait(20)
+    monkeypatch.undo()
     heatmap.draw_released.emit()
     assert window.files.keep_drawing()
     assert not heatmap.drawing
     shape = window.state.scene.shape
     assert isinstance(shape, TimedPath) and shape.pattern == "CONST_TDM"
     assert shape.points == ((0.5, 2.5), (1.5, 2.5), (2.5, 2.5), (3.5, 2.5))
-    assert 0.05 < shape.duration_s < 5.0 and window.state.scene.duration_s == shape.duration_s
+    assert shape.times_s == pytest.approx((0.0, 0.1, 0.25, 0.3))  # at the pace it was drawn
+    assert window.state.scene.duration_s == shape.duration_s
     assert window.files.save_preset_file(tmp_path / "drawn.json")
     assert window.files.export_tact_file(tmp_path / "drawn.tact")
     assert len(read_tact(tmp_path / "drawn.tact").paths[0].points) == 4

@@ -3,6 +3,8 @@ quitting."""
 
 import pytest
 
+from .tuner_support import settle
+
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 
@@ -106,7 +108,7 @@ def test_every_tab_fits_a_1280x720_screen_under_a_title_bar(window, qtbot):
     # bar 21 px of it (the status bar) fell off a 720 px screen.
     for i in range(window.tabs.count()):
         window.tabs.setCurrentIndex(i)
-        qtbot.wait(10)
+        settle()  # the tab's layout, with no time waited
         least = window.minimumSizeHint()
         assert least.height() <= 720 - TITLE_BAR_PX, window.tabs.tabText(i)
         assert least.width() <= 1280, window.tabs.tabText(i)

@@ -376,3 +376,17 @@ def test_at_a_terminal_single_keys_answer_without_enter(tmp_path):
         os.close(master)
     rows = read_rows(tmp_path / "participant-k1" / "correction.csv")
     assert [r["answer"] for r in rows] == ["", "1"]
+
+
+def test_simulate_runs_the_correction_tuning(tmp_path, capsys):
+    # tactile simulate --experiments correction failed: "trial kind 'interval' is not known"
+    code = main(["simulate", str(tmp_path), "--participants", "1", "--experiments", "correction"])
+    assert code == 0, capsys.readouterr().err
+    folder = tmp_path / "participant-sim01"
+    rows = (folder / "correction.csv").read_text().splitlines()
+    # The default plan: 2 instruction screens, 20 trials at each of 5 tactors, 40 at each of 2
+    # places, 12 at the cell corner; and the header.
+    assert len(rows) == 1 + 2 + 5 * 20 + 2 * 40 + 12
+    record = json.loads((folder / "correction.json").read_text())
+    # The simulated participant of the contract, TH 0.25 and K 1: mu = TH, gamma = 1 / (2K).
+    assert abs(record["mu"] - 0.25) < 0.05 and abs(record["gamma"] - 0.5) < 0.1

@@ -220,7 +220,5 @@ def intensity_array(name: str, values) -> np.ndarray:
     if bad.any():
         index = np.flatnonzero(bad.ravel())[0]
         value = float(arr.ravel()[index])
-        raise ValueError(
-            f"{name} must be intensities within [0, 1], got {value!r} at index {index}"
-        )
+        raise ValueError(f"{name} must be within [0, 1], got {value!r} at index {index}")
     return arr

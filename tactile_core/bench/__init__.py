@@ -8,7 +8,9 @@ Inside, one module per part: ``_common`` (scenes, timer, :class:`Table`), ``_bat
 against accuracy), ``_device`` (the link into the emulator), ``_audio`` (the audio callback's
 cost per block), ``_methods``, ``_motor_drive`` (motor-aware drive, felt and its cost),
 ``_staircase``, ``_tuning`` and ``_validation`` (the tuning
-against other observers, QUEST+);
+against other observers, QUEST+), ``_trade`` (the speed/accuracy trade in felt terms and the
+recommended setting per device; its model in ``_trade_model``, devices in ``_trade_target``,
+the rule in ``_trade_advice``);
 :func:`run` picks the parts.
 """
 
@@ -22,6 +24,7 @@ from ._audio import audio_table
 from ._batch import batch_table, dense_area_sampling, naive_area_sampling, ratio_table
 from ._common import FILTERS, GAMMA, MU, RATES_HZ, SCENES, Table, best_time
 from ._device import EmulatorProcess, device_tables
+from ._felt_readout import FeltReadout, felt_readout
 from ._layouts import layouts_table
 from ._link import link_table
 from ._live import live_table
@@ -37,6 +40,10 @@ from ._motor_drive import (
     motor_drive_table,
 )
 from ._staircase import fit_table, staircase_table
+from ._trade import LEVELS, MOTORS_MS, trade_run, trade_settings, trade_tables
+from ._trade_advice import CANDIDATE_RATES_HZ, Advice, Candidate, Tolerance, advise, recommend
+from ._trade_model import PAPER, Link, Runs, Setting, felt_runs
+from ._trade_target import FAMILIES, Family, Target
 from ._tuning import TUNING_OBSERVERS, TUNING_PLANS, tuning_table
 from ._validation import quest_table, validation_table
 
@@ -44,23 +51,40 @@ __all__ = [
     "BOUND_LAG_MM",
     "BOUND_ONSET_MS",
     "BOUND_RIPPLE",
+    "CANDIDATE_RATES_HZ",
+    "FAMILIES",
     "FILTERS",
     "GAMMA",
+    "LEVELS",
+    "MOTORS_MS",
     "MU",
+    "PAPER",
     "RATES_HZ",
     "SCENES",
     "TUNING_OBSERVERS",
     "TUNING_PLANS",
+    "Advice",
+    "Candidate",
     "EmulatorProcess",
+    "Family",
     "FeltEffect",
+    "FeltReadout",
+    "Link",
+    "Runs",
+    "Setting",
     "Table",
+    "Target",
+    "Tolerance",
     "accuracy_table",
+    "advise",
     "audio_table",
     "batch_table",
     "best_time",
     "dense_area_sampling",
     "device_tables",
     "felt_effect",
+    "felt_readout",
+    "felt_runs",
     "fit_table",
     "layouts_table",
     "link_table",
@@ -72,17 +96,23 @@ __all__ = [
     "naive_area_sampling",
     "quest_table",
     "ratio_table",
+    "recommend",
     "run",
     "staircase_table",
+    "trade_run",
+    "trade_settings",
+    "trade_tables",
     "tuning_table",
     "validation_table",
     "winners_table",
 ]
 
 
-def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
-    """Run the benchmark tables of ``part`` ("core", "methods", "motor", "device", "link",
-    "experiments", "tuning", "gui" or "all"), printed as Markdown."""
+def run(part: str = "core", quick: bool = False, out=print, profile=None) -> list[Table]:
+    """Run the benchmark tables of ``part`` ("core", "methods", "motor", "trade", "device",
+    "link", "experiments", "tuning", "gui" or "all"), printed as Markdown; ``profile`` (a
+    device profile's name or path) is the device of the trade part (default: the palm array,
+    and the recommendations for each actuator family)."""
     tables = []
 
     def show(table: Table) -> None:
@@ -109,6 +139,8 @@ def run(part: str = "core", quick: bool = False, out=print) -> list[Table]:
     if part in ("motor", "all"):
         show(motor_drive_table())
         show(motor_drive_cost_table())
+    if part in ("trade", "all"):
+        trade_run(profile, quick=quick, show=show)
     if part in ("device", "all"):
         for table in device_tables(seconds=3.0 if quick else 10.0):
             show(table)

@@ -187,5 +187,11 @@ def cmd_bench(args) -> int:
     """Print the benchmark tables."""
     from .. import bench
 
-    bench.run(part=args.part, quick=args.quick)
+    if args.profile is not None:
+        if args.part not in ("trade", "all"):
+            raise UsageError(f"--profile is for --part trade, not --part {args.part}")
+        from ..device.profile import load_profile
+
+        load_profile(args.profile)  # a bad name or file is refused before any table runs
+    bench.run(part=args.part, quick=args.quick, profile=args.profile)
     return 0

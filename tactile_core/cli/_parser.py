@@ -215,6 +215,7 @@ def build_parser() -> argparse.ArgumentParser:
             "core",
             "methods",
             "motor",
+            "trade",
             "device",
             "link",
             "gui",
@@ -225,5 +226,8 @@ def build_parser() -> argparse.ArgumentParser:
         default="all",
     )
     p.add_argument("--quick", action="store_true", help="smaller sizes, coarser reference")
+    p.add_argument("--profile", default=None,
+                   help=profile_help(" of --part trade: its motors, levels and link, and the "
+                                     "setting recommended for it"))  # fmt: skip
     p.set_defaults(func=cmd_bench)
     return parser

@@ -291,7 +291,7 @@ def cmd_stream(args) -> int:
         _tabulate(scene, profile)
     from ._serve import open_outputs
 
-    opened = open_outputs(args, profile, scene.rate_hz)
+    opened = open_outputs(args, profile, scene.rate_hz, stop)
     if opened is None:
         return 1
     lsl, link = opened

@@ -159,10 +159,22 @@ def lsl_outlets(args, profile, rate_hz: float):
     return outlets
 
 
-def open_outputs(args, profile, rate_hz: float):
+RETRY_S = 0.5
+"""How often ``--reconnect`` tries a link that cannot open yet, s (as the stream retries one
+that failed)."""
+
+
+def open_outputs(args, profile, rate_hz: float, stop=None):
     """The LSL outlets (:func:`lsl_outlets`) and then the device link, for ``tactile stream``
     and ``serve``: ``(outlets or None, link)``, or None once it has said on standard error why
-    one could not open (the command then exits 1, nothing left open)."""
+    one could not open (the command then exits 1, nothing left open).
+
+    With ``--reconnect`` a link that cannot open yet (a port not plugged in) is tried again
+    every :data:`RETRY_S` until it opens, ``stop`` (a :class:`StopRequest`) is set or
+    ``--seconds`` have passed, saying once what it waits for (and again when the reason
+    changes): a stream started before its array is plugged in waits for it, as one whose
+    array is unplugged later does.
+    """
     from ..device.link import LinkError, open_link
     from ..serve import LslError
 
@@ -175,13 +187,24 @@ def open_outputs(args, profile, rate_hz: float):
 
     seconds = getattr(args, "seconds", None)  # no longer than the run: an opening may hang
     timeout_s = OPEN_DEVICE_TIMEOUT_S if seconds is None else min(OPEN_DEVICE_TIMEOUT_S, seconds)
-    try:
-        return lsl, open_link(args.device, profile, open_timeout_s=timeout_s)
-    except LinkError as exc:
-        print(f"tactile {args.command}: {exc}", file=sys.stderr)
-        if lsl is not None:
-            lsl.close()
-        return None
+    end = None if seconds is None else time.monotonic() + seconds
+    said = ""
+    while True:
+        try:
+            return lsl, open_link(args.device, profile, open_timeout_s=timeout_s)
+        except LinkError as exc:
+            waiting = getattr(args, "reconnect", False) and stop is not None
+            if waiting and not stop.is_set() and (end is None or time.monotonic() < end):
+                if str(exc) != said:
+                    said = str(exc)
+                    print(f"tactile {args.command}: {exc}; waiting for it (--reconnect, "
+                          f"every {RETRY_S:g} s; Ctrl-C to give up)", file=sys.stderr)  # fmt: skip
+                if not stop.wait(RETRY_S):
+                    continue
+            print(f"tactile {args.command}: {exc}", file=sys.stderr)
+            if lsl is not None:
+                lsl.close()
+            return None
 
 
 def _plain(data: dict) -> dict:
@@ -257,7 +280,7 @@ def cmd_serve(args) -> int:
         print(_cannot_listen(exc), file=sys.stderr)
         return 1
     stop = _install_stop_handlers()
-    opened = open_outputs(args, profile, scene.rate_hz)
+    opened = open_outputs(args, profile, scene.rate_hz, stop)
     if opened is None:
         return 1
     lsl, link = opened

@@ -205,6 +205,12 @@ def mean_with_interval(values, **bootstrap) -> tuple[float, float, float]:
             *bootstrap_interval(lambda rows: rows.mean(axis=1), v, **bootstrap))  # fmt: skip
 
 
+MIN_BOOTSTRAP_N = 10
+"""Fewest values a bootstrap interval of Cohen's ``d`` is given for. Below it too many resamples
+draw nearly one value ``n`` times: their SD is tiny and their ``d`` enormous, so the interval's
+ends say nothing (four participants gave ``d -0.46 [-2245.64, +0.71]``)."""
+
+
 def _cohens_d(rows: np.ndarray, reference: float) -> np.ndarray:
     """Cohen's ``(mean - reference) / SD`` of each row of ``rows`` ``(B, n)``; NaN for a row
     whose values are all equal (no SD: ``d`` is undefined)."""
@@ -242,7 +248,8 @@ def one_sample(values, reference: float, *, alternative: str = "less") -> dict:
     equals ``reference``. The t interval and Cohen's ``d`` and its interval, which need an SD,
     are NaN, and ``note`` says why. The exact signed-rank test is defined and reported as
     usual. Bootstrap resamples that draw one value ``n`` times have no SD either; they are
-    left out of ``d``'s interval (:func:`bootstrap_interval`).
+    left out of ``d``'s interval (:func:`bootstrap_interval`). With fewer than
+    :data:`MIN_BOOTSTRAP_N` values ``d_ci`` is NaN, NaN and ``note`` says so.
     """
     from scipy import stats
 
@@ -264,8 +271,13 @@ def one_sample(values, reference: float, *, alternative: str = "less") -> dict:
         t, p_t = float(result.statistic), float(result.pvalue)
         ci = stats.t.interval(0.95, v.size - 1, loc=mean, scale=stats.sem(v))
         d = float(_cohens_d(v[None, :], reference)[0])
-        d_ci = bootstrap_interval(lambda rows: _cohens_d(rows, reference), v)
-        note = ""
+        if v.size >= MIN_BOOTSTRAP_N:
+            d_ci = bootstrap_interval(lambda rows: _cohens_d(rows, reference), v)
+            note = ""
+        else:
+            d_ci = (math.nan, math.nan)
+            note = (f"n = {v.size}: too few for a bootstrap interval of Cohen's d "
+                    f"(at least {MIN_BOOTSTRAP_N})")  # fmt: skip
     return {"n": int(v.size), "median": float(np.median(v)), "mean": mean,
             "ci": (float(ci[0]), float(ci[1])), "t": t, "p_t": p_t, "T": w,
             "p_exact": p_exact, "d": d, "d_ci": d_ci, "note": note}  # fmt: skip

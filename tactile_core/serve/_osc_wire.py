@@ -143,7 +143,7 @@ def _padded(raw: bytes) -> bytes:
 
 
 def encode_message(address: str, args: tuple | list = ()) -> bytes:
-    """One OSC message: ``str`` arguments as ``s``, ``int`` as ``i``, ``float`` as ``f``
+    r"""One OSC message: ``str`` arguments as ``s``, ``int`` as ``i``, ``float`` as ``f``
     (32-bit, what Max, Pd and TouchDesigner read everywhere).
 
     >>> encode_message("/tactile/error", ["/tactile/mu", "out of range"])[:16]

@@ -132,7 +132,7 @@ class ServeStats:
         )
         problems = [f"{getattr(self, k)} {name}" for k, name in PROBLEMS if getattr(self, k)]
         if self.timed_out:
-            problems.append(f"{self.timed_out} points timed out")
+            problems.append(f"{self.timed_out} {_plural(self.timed_out, 'point')} timed out")
         if problems:
             text += "; " + ", ".join(problems)
         if self.last_problem:
@@ -146,7 +146,8 @@ class ServeStats:
             f"{self.messages} messages",
             f"  applied: {self.points} point updates, {self.releases} releases, "
             f"{self.controls} controls, {self.shapes} shapes, {self.queries} queries; "
-            f"{self.timed_out} points timed out; {self.replies} replies sent, "
+            f"{self.timed_out} {_plural(self.timed_out, 'point')} timed out; {self.replies} "
+            f"{'reply' if self.replies == 1 else 'replies'} sent, "
             f"{self.replies_dropped} dropped",
             "  did nothing: " + ", ".join(f"{getattr(self, k)} {name}" for k, name in PROBLEMS),
         ]
@@ -157,3 +158,8 @@ class ServeStats:
     def to_dict(self) -> dict:
         """The JSON form (``tactile serve --json``)."""
         return {**asdict(self), "problems": self.problems}
+
+
+def _plural(n: int, word: str) -> str:
+    """``word`` for one, ``word + "s"`` for any other count."""
+    return word if n == 1 else word + "s"

@@ -1,7 +1,7 @@
 """The stream process's side: open the link, stream, obey the parent's commands.
 
 :func:`serve` is the whole life of the child that :class:`~.process.StreamerProcess` starts
-(``python -m tactile_core.stream.process``). It reads commands from one pipe and writes events
+(``python -m tactile_core.stream``). It reads commands from one pipe and writes events
 to the other:
 
 - commands: ``("config", url, profile, scene, options)`` first (``options`` a

@@ -4,7 +4,7 @@ A :class:`~.streamer.Streamer` thread shares Python's global interpreter lock wi
 every other thread of its process. A GUI repainting plots holds that lock for milliseconds at a
 time inside C++ drawing calls, and each frame waits that long: with the tuner's display running,
 an in-process stream at 300 Hz showed p99 interval errors of 10-12 ms. :class:`StreamerProcess`
-runs the same streamer in a child process (``python -m tactile_core.stream.process``) with the link
+runs the same streamer in a child process (``python -m tactile_core.stream``) with the link
 opened there, so nothing in the parent can delay a frame.
 
 - Scenes go to the child through a pipe (a pickled :class:`~tactile_core.Scene`, ~0.1 ms).
@@ -39,8 +39,8 @@ from .options import StreamOptions
 from .streamer import Onset, StreamStats
 
 _CHILDREN: weakref.WeakSet = weakref.WeakSet()
-CHILD_MODULE = "tactile_core.stream.process"
-"""The stream process's entry module (``python -m``)."""
+CHILD_MODULE = "tactile_core.stream"
+"""The stream process's entry: ``python -m tactile_core.stream`` (its ``__main__``)."""
 
 PROCESS_SUPPORTED = os.name == "posix"
 """Child-process streaming needs inherited pipe descriptors (POSIX); elsewhere threads."""
@@ -65,7 +65,7 @@ def own_core() -> tuple[set, set] | None:
 
 
 def main(argv=None) -> int:
-    """Entry point of the child: ``python -m tactile_core.stream.process CMD_FD EVENTS_FD``.
+    """Entry point of the child: ``python -m tactile_core.stream CMD_FD EVENTS_FD``.
 
     Ctrl-C and SIGHUP from the terminal reach the whole process group; the child ignores them
     and lets the parent stop it (or notices the parent is gone when its pipe closes), so a
@@ -402,7 +402,3 @@ def open_stream(url=None, profile=None, *, scene=None, on_status=None,
     stream = kind(url, profile, scene=scene, on_status=on_status, options=options,
                   on_onset=on_onset, on_event=on_event)  # fmt: skip
     return stream.start()
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -88,9 +88,10 @@ def exp2(out, estimates: dict, fits: dict, participants=None) -> dict:
             result["against_1"][(name, c)] = r
             lo, hi = r["ci"]
             note = f"\t({r['note']})" if r["note"] else ""
+            d_lo, d_hi = r["d_ci"]
+            d_ci = "" if np.isnan(d_lo) else f" [{d_lo:+.2f}, {d_hi:+.2f}]"
             out(f"  {c} {name}\tmean {r['mean']:.3f} [{lo:.3f}, {hi:.3f}]\tt p {_p(r['p_t'])}"
-                f"\texact p {_p(r['p_exact'])}\td {r['d']:+.2f} "
-                f"[{r['d_ci'][0]:+.2f}, {r['d_ci'][1]:+.2f}]{note}")  # fmt: skip
+                f"\texact p {_p(r['p_exact'])}\td {r['d']:+.2f}{d_ci}{note}")  # fmt: skip
     if len(table) >= 3:
         _across(out, table, participants, result)
     return result

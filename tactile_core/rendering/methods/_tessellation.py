@@ -121,7 +121,7 @@ class Tessellation:
         self.inverse = np.array(inverse)
         self.verts = np.array(verts, dtype=np.intp)
         self.rect = np.array(rect, dtype=bool)
-        hull = tri.convex_hull  # (edges, 2) point indices
+        hull = _boundary(simplices, cell_of)  # (edges, 2) point indices
         self.hull_a, self.hull_b = xy[hull[:, 0]], xy[hull[:, 1]]
         self.hull_index = index[hull]
 
@@ -364,6 +364,25 @@ class Tessellation:
         if i == j:
             return ((i, fade),)
         return tuple((a, w * fade) for a, w in ((i, 1.0 - f), (j, f)) if w > 0.0)
+
+
+def _boundary(simplices: np.ndarray, cell_of: np.ndarray) -> np.ndarray:
+    """The edges of the kept triangles that only one of them has: ``(edges, 2)`` point indices.
+
+    Where no triangle is skipped these are Qhull's convex hull. A flat sliver left out (an
+    actuator a rounding error inside the hull's edge makes one) leaves its own sides as the
+    boundary instead of Qhull's edge across it, so a point just outside projects onto the
+    sides the cells inside it use, and the weights go on without a step across the boundary.
+    """
+    count: dict = {}
+    for t, tri in enumerate(simplices.tolist()):
+        if cell_of[t] < 0:
+            continue
+        for u, v in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
+            key = (u, v) if u < v else (v, u)
+            count[key] = count.get(key, 0) + 1
+    edges = sorted(key for key, n in count.items() if n == 1)
+    return np.array(edges, dtype=np.intp).reshape(-1, 2)
 
 
 def _snap(u, tol):

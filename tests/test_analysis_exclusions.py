@@ -1,10 +1,11 @@
-"""Analysis that survives a pilot (issue 19, items 8 and 9, and item 2's analysis side): a
-track without reversals at the cap is left out with a note, group means leave out fits the track
-does not bound and say per condition how many contributed, and a track whose rows do not replay
-is reported and left out."""
+"""The analysis of a pilot's results, which are rarely complete: a track without reversals at
+the cap is left out with a note, a group mean leaves out the fits the track does not bound and
+says per condition how many contributed, and a track whose rows do not replay, or a file that is
+not a regular file, is named and left out while the rest is analysed."""
 
 import csv
 import math
+import shutil
 import statistics
 
 import pytest
@@ -13,6 +14,11 @@ from tactile_core.experiments import Experiment2, SimulatedParticipant, Staircas
 from tactile_core.experiments.analysis import analyze, exp2_tracks
 from tactile_core.experiments.analysis._reading import Problems
 from tactile_core.experiments.analysis._report import exp2_usable
+
+from . import results_support as support
+from .results_support import link_out, link_to_zero, make_fifo
+
+exp2_run, run = support.exp2_run, support.run
 
 
 def run_exp2(root, pid, wrong=(), stop_after=None):
@@ -54,7 +60,7 @@ def pilot(tmp_path_factory):
         mp.setattr("tactile_core.experiments.analysis._scores.fit_psychometric", stub_fit)
         mp.setattr("tactile_core.experiments.analysis._report._exp2_figure", lambda *a: None)
         mp.setattr("tactile_core.experiments.analysis._report._staircase_figure", lambda *a: None)
-        result = analyze(root, out=out.append)  # before: "zero-size array ... minimum", exit 2
+        result = analyze(root, out=out.append)  # (it failed: "zero-size array ... minimum", exit 2)
     return path, "\n".join(out), result
 
 
@@ -107,7 +113,7 @@ def test_a_track_whose_rows_do_not_replay_is_reported_and_left_out(tmp_path):
     lines = path.read_text().splitlines(keepends=True)
     fields = lines[8].split(",")
     at = Experiment2.fields.index("correct")
-    fields[at] = "0" if fields[at] == "1" else "1"  # before: the analysis built on it
+    fields[at] = "0" if fields[at] == "1" else "1"  # (the analysis built on it)
     lines[8] = ",".join(fields)
     path.write_text("".join(lines))
     problems = Problems()
@@ -116,3 +122,14 @@ def test_a_track_whose_rows_do_not_replay_is_reported_and_left_out(tmp_path):
         f"{path}:9: correct {fields[at]} does not follow from the answers (the staircase gives "
         f"{1 - int(fields[at])}): the row was changed after it was written; its stage is left out"
     ]
+
+
+@pytest.mark.parametrize("make", [make_fifo, link_to_zero, link_out])
+def test_the_analysis_names_a_special_file_and_goes_on(run, make):
+    path = run / "participant-p01" / "exp2.csv"
+    outside = run / "outside.csv"
+    shutil.move(path, outside)
+    make(path, outside)
+    problems = Problems()
+    assert exp2_tracks(run, problems) == {}
+    assert problems.items and f"{path}:1: cannot be read: not a regular file" in problems.items[0]

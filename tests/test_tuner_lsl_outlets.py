@@ -1,5 +1,6 @@
-"""The tuner's live settings broken as an operator would break them: each problem is a status
-line, the setting shows what is true, and nothing is left open."""
+"""The tuner's Lab Streaming Layer setting when liblsl cannot open the outlets or another
+program holds the tuner's source id: the setting shows what is true (off, or the id taken), and
+the status line gives the reason once."""
 
 import pylsl
 import pytest

@@ -1,16 +1,14 @@
-"""An operator's pass on the Experiments tab: what a technician does wrong during a run. Each
-test failed on the code before its fix."""
+"""The Experiments tab's console during a run: only the trials change the stimulus (not a
+preset, the controls, tuning by feel or another device), the run's fields stay as they are,
+All off pauses it, a restarted stream does not refuse an answer, Ctrl+Q asks first, a resumed
+session keeps its seed, and the console counts what the participant does."""
 
-import json
-import shutil
-import time
+import re
 from pathlib import Path
 
-import pytest
 from PySide6 import QtCore
 
-from tactile_core.experiments import RUNNERS
-from tactile_core.experiments.results import SESSION_FILE, open_session
+from tactile_core.experiments.results import SESSION_FILE
 from tactile_core.files.presets import builtin_presets
 
 from . import experiments_gui_support as support
@@ -80,31 +78,6 @@ def test_a_stream_restarted_mid_trial_does_not_refuse_the_answer(window, qtbot):
     assert row["late_frames"] == "2" and row["skipped_frames"] == "0"
 
 
-def test_r_in_the_silent_gap_does_not_play_the_next_trial_early(window, qtbot, monkeypatch):
-    import tactile_tuner.experiments.trials as trials_module
-
-    monkeypatch.setattr(trials_module, "GAP_S", 0.5)
-    panel = window.experiments
-    choose(panel, "calibration")
-    assert panel.start()
-    qtbot.waitUntil(lambda: panel.runner.current is not None, timeout=3000)
-    while panel.runner.current.kind != "detect":
-        press(qtbot, window, Key.Key_G)
-    press(qtbot, window, Key.Key_Y)
-    assert panel.trials.gap_timer.isActive()
-    before = window.state.scene
-    press(qtbot, window, Key.Key_R)
-    assert window.state.scene is before  # silence until the gap ends
-
-
-def test_present_again_brings_back_a_closed_participant_window(window, qtbot):
-    panel = start_exp2(window, qtbot)
-    window.all_off()
-    panel.participant_window.close()
-    panel.trials.present_again()
-    assert panel.participant_window.isVisible() and not panel.trials.paused
-
-
 def test_the_results_folder_is_the_users_not_taken_literally(window, qtbot, tmp_path,
                                                             monkeypatch):  # fmt: skip
     panel = window.experiments
@@ -127,52 +100,6 @@ def test_tuning_by_feel_is_refused_during_a_run(window, qtbot):
     assert "Stop it first" in window.statusBar().currentMessage()
 
 
-# --- the session on disk -----------------------------------------------------------------------
-
-
-def test_a_copy_refused_the_participant_writes_nothing_to_their_session(tmp_path):
-    # Exp. 3's emphasis and method set were saved before the lock was taken: a second copy,
-    # refused, had already rewritten session.json, and Exp. 3 was then refused with the
-    # participant's real emphasis ("differs from the session's 0.5").
-    first = RUNNERS["exp2"](open_session(tmp_path, "P01"))
-    try:
-        path = tmp_path / "participant-P01" / SESSION_FILE
-        before = path.read_bytes()
-        with pytest.raises(Exception, match="being recorded by"):
-            RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.5, methods=["CT", "MM"])
-        assert path.read_bytes() == before
-        assert "exp3_emphasis" not in json.loads(before).get("parameters", {})
-    finally:
-        first.close()
-    third = RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.0)
-    third.close()  # the participant's own emphasis, accepted
-
-
-def test_a_deleted_participant_does_not_give_the_next_one_anothers_orders(tmp_path):
-    for pid in ("P01", "P0l", "P02"):  # a typo among them, deleted afterwards
-        open_session(tmp_path, pid)
-    shutil.rmtree(tmp_path / "participant-P0l")
-    assert open_session(tmp_path, "P03").index == 3  # was 2, P02's: the same orders
-    assert open_session(tmp_path, "P02").index == 2
-
-
-def test_a_ready_screen_takes_space_and_enter_but_not_a_key_pressed_twice(window, qtbot,
-                                                                          monkeypatch):  # fmt: skip
-    import tactile_tuner.experiments.trials as trials_module
-
-    panel = window.experiments
-    choose(panel, "exp2")
-    assert panel.start()
-    assert panel.runner.current.kind == "continue"  # the introduction
-    monkeypatch.setattr(trials_module, "CONTINUE_GUARD_S", 60.0)
-    panel.trials.trial_started = time.monotonic()
-    press(qtbot, window, Key.Key_C)  # the last answer's key again: the screen stays
-    assert panel.runner.current.kind == "continue"
-    monkeypatch.setattr(trials_module, "CONTINUE_GUARD_S", 0.0)
-    press(qtbot, window, Key.Key_Space)  # letters only, before
-    wait_trial(qtbot, panel, "direction")
-
-
 def test_a_resumed_session_keeps_its_seed_and_says_so(window, qtbot):
     panel = window.experiments
     choose(panel, "exp2")
@@ -185,18 +112,61 @@ def test_a_resumed_session_keeps_its_seed_and_says_so(window, qtbot):
     assert "has seed 7, not 8: it keeps its own" in panel.log.toPlainText()
 
 
-def test_a_run_stopped_before_its_first_answer_may_start_again_otherwise(tmp_path):
-    # A mistyped method set or emphasis, started and stopped at once, could only be undone
-    # with a new participant id (and so another recruitment index).
-    wrong = RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.5, methods=["CT", "MM"])
-    wrong.close()  # no answer
-    paper = ["CT", "MM", "AS", "IM"]
-    right = RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.0, methods=paper)
-    assert right.methods == ["CT", "MM", "AS", "IM"] and right.emphasis == 0.0
-    right.answer("continue", rt_s=0.5)  # the first screen: now an answer is recorded
-    right.close()
-    session = json.loads((tmp_path / "participant-P01" / SESSION_FILE).read_text())
-    assert session["parameters"]["exp3_emphasis"] == 0.0
-    assert session["parameters"]["exp3_methods"] == ["CT", "MM", "AS", "IM"]
-    with pytest.raises(ValueError, match=r"emphasis 0\.5 differs from the session.s 0"):
-        RUNNERS["exp3"](open_session(tmp_path, "P01"), emphasis=0.5)
+def test_enter_in_the_participant_field_before_start_counts_one_presentation(
+    window, qtbot, tmp_path
+):
+    panel = window.experiments
+    choose(panel, "exp2")
+    field = panel.setup.participant_edit
+    field.setFocus()
+    qtbot.keyClick(field, Key.Key_Return)
+    qtbot.mouseClick(panel.setup.start_button, QtCore.Qt.MouseButton.LeftButton)
+    assert panel.running
+    panel.stop()  # a false start: the count of the next run is its own
+    field.setFocus()
+    qtbot.keyClick(field, Key.Key_Return)
+    qtbot.mouseClick(panel.setup.start_button, QtCore.Qt.MouseButton.LeftButton)
+    press(qtbot, window, Key.Key_G)  # the introduction, shown once in this run
+    wait_trial(qtbot, panel, "direction")
+    press(qtbot, window, Key.Key_Up)
+    qtbot.waitUntil(lambda: len(rows(panel.runner.path)) >= 2, timeout=3000)
+    assert [r["presentations"] for r in rows(panel.runner.path)] == ["1", "1"]
+
+
+def test_ctrl_q_during_a_run_asks_first(window, qtbot):
+    panel = window.experiments
+    choose(panel, "exp2")
+    panel.start()
+    asked = []
+    window.confirm = lambda title, text: asked.append(text) or False
+    window.activateWindow()
+    qtbot.keyClick(window.tabs, Key.Key_Q, QtCore.Qt.KeyboardModifier.ControlModifier)
+    assert asked and "experiment is running" in asked[0]
+    assert panel.running and window.isVisible()
+    window.confirm = lambda title, text: True
+
+
+def test_the_console_and_the_bar_count_the_same_trials(window, qtbot):
+    from tactile_tuner.experiments.guided import tuning_intro
+
+    panel = window.experiments
+    window.start_tuning()
+    said = int(re.search(r"(\d+) trials", tuning_intro()).group(1))
+    assert panel.start()
+    assert panel.progress.maximum() == said == panel.runner.total
+
+
+def test_resume_is_offered_only_for_an_experiment_the_participant_ran(window, qtbot, tmp_path):
+    panel = window.experiments
+    choose(panel, "exp1")
+    assert panel.start()
+    panel.stop()
+    assert (tmp_path / "results" / "participant-P01" / SESSION_FILE).exists()
+    asked = []
+    panel.confirm = lambda title, text: asked.append(text) or False
+    choose(panel, "exp2")
+    panel.start()
+    assert "Resume" not in asked[0] and "Start Experiment 2" in asked[0]
+    choose(panel, "exp1")
+    panel.start()
+    assert "Resume Experiment 1" in asked[1]

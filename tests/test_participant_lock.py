@@ -1,6 +1,6 @@
-"""The participant lock under races (issue 19, items 1 and 3): exactly one writer wins every
-race, fresh or over a lock left behind, and anything but a regular file in the lock's place is
-refused without blocking."""
+"""The participant lock under races: exactly one writer wins every race, fresh or over a lock
+left behind by a killed holder, whatever record that lock holds; and anything but a regular file
+in the lock's place is refused without blocking."""
 
 import importlib.util
 import json
@@ -31,7 +31,7 @@ def races():
 @pytest.mark.parametrize(("kind", "writers", "rounds"),
                          [("fresh", 2, 20), ("stale", 4, 30), ("empty", 4, 30)])  # fmt: skip
 def test_exactly_one_of_the_racing_writers_holds_the_lock(races, tmp_path, kind, writers, rounds):
-    # Before the OS lock: 40 of 200 four-writer races over a stale lock had two holders.
+    # Without an OS lock, 40 of 200 four-writer races over a stale lock had two holders.
     counts = races.race(kind, writers, rounds, tmp_path)
     assert counts["one"] == rounds, counts
     assert counts["errors"] == 0, counts
@@ -39,7 +39,7 @@ def test_exactly_one_of_the_racing_writers_holds_the_lock(races, tmp_path, kind,
 
 def test_writers_taking_and_releasing_one_lock_never_overlap(races, tmp_path):
     # A release removes the file while other writers open it: none may lock the removed file
-    # while another holds the new one (before: 5 overlaps in 8000 attempts).
+    # while another holds the new one (it did: 5 overlaps in 8000 attempts).
     counts = races.churn(4, 300, tmp_path)
     assert counts["won"] > 0 and counts["overlaps"] == 0, counts
 
@@ -95,7 +95,7 @@ def test_any_record_in_a_lock_nobody_holds_is_taken_over(tmp_path, record):
     folder.mkdir()
     host = socket.gethostname()
     (folder / ".lock").write_text(json.dumps({"host": host, "pid": record, "since": "x"}))
-    lock = ParticipantLock(folder)  # before: pid 2**40 raised OverflowError
+    lock = ParticipantLock(folder)  # pid 2**40 raised OverflowError
     assert lock.held
     assert json.loads((folder / ".lock").read_text())["pid"] == os.getpid()
     lock.release()

@@ -1,0 +1,98 @@
+"""What the hands do on the tune tab's plots, and what the array gets: a click pulses a tactor
+(Shift holds it until the next click), dragging the cursor holds the trace at that instant on
+the array as on the views, and draw mode keeps the method picked in it and puts back the scene
+it changed."""
+
+import numpy as np
+import pytest
+from PySide6 import QtCore
+
+import tactile_core as tc
+
+from . import tuner_support as support
+from .helpers import record_sent
+from .tuner_support import WAIT_MS, frames_sent, frames_shown
+
+window = support.window  # the fixture
+
+Key = QtCore.Qt.Key
+
+
+def test_clicking_a_cell_pulses_its_tactor_and_shift_holds_it(window, qtbot):
+    before = window.state.scene
+    sent = record_sent(window)  # the pulse lasts 0.3 s: every frame, not the newest one
+    window.tune.heatmap.cell_clicked.emit(3, 4, False)
+    scene = window.state.scene
+    assert scene.shape == tc.Line((3.5, 4.5), (3.5, 4.5)) and scene.method == "CT"
+    qtbot.waitUntil(lambda: any(lv[4 * 5 + 3] == 22 for lv in list(sent)), timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: window.state.scene.shape == before.shape, timeout=WAIT_MS)  # back
+    window.tune.heatmap.cell_clicked.emit(1, 1, True)  # Shift: held
+    held = window.state.scene
+    assert held.shape == tc.Line((1.5, 1.5), (1.5, 1.5))
+    # held: a trace that repeats, and nothing timed to end it as the pulse's timer ends a pulse
+    assert held.repeat and not window.tune.gestures._pulse_timer.isActive()
+    qtbot.waitUntil(lambda: window.device.sent_levels()[1, 1] == 22, timeout=WAIT_MS)
+    window.tune.heatmap.cell_clicked.emit(1, 1, False)  # a click releases it
+    assert window.state.scene.shape == before.shape
+
+
+def test_dragging_the_cursor_holds_and_shows_that_moment(window, qtbot):
+    scene = window.state.scene.replace(shape=tc.Line((0.5, 1.84), (4.5, 4.16)), method="AS",
+                                       mu=0.0, gamma=1.0, playing=True)  # fmt: skip
+    window.state.set_scene(scene)
+    window.tune.curves.scrubbed.emit(0.5)  # a quarter into the 2 s trace: x = 1.5
+    assert window.state.scene.hold_s == 0.5  # the array holds that instant, as the views show it
+    window.state.set_view_mode("corrected")
+    expected = tc.render(scene.shape, "AS", 0.25)
+    qtbot.waitUntil(
+        lambda: np.allclose(window.tune.heatmap.values, expected, atol=1e-12), timeout=WAIT_MS
+    )
+    assert window.tune.curves.cursor.value() == pytest.approx(0.5)
+
+
+def test_scrubbing_plays_that_instant_on_the_array(window, qtbot):
+    window.state.update(mu=0.0, gamma=1.0)
+    sent = record_sent(window)
+    window.tune.curves.scrubbed.emit(0.9)  # the cursor dragged to 0.9 s of the 2 s trace
+    scene = window.state.scene
+    t = scene.trace().parameter1(0.9)
+    expected = tc.quantize(tc.render(scene.shape, scene.method, np.array([t]))[0], 23)
+    expected = expected.reshape(-1)[window.device.profile.array.channel_index]
+    qtbot.waitUntil(lambda: any(np.array_equal(f, expected) for f in list(sent)),
+                    timeout=WAIT_MS)  # fmt: skip
+    first = next(i for i, f in enumerate(list(sent)) if np.array_equal(f, expected))
+    frames_sent(qtbot, sent, 30)  # 0.1 s of frames at 300 Hz
+    assert all(np.array_equal(f, expected) for f in sent[first:])  # held, not moving on
+    assert "paused" not in window.device.stats.status
+    window.tabs.setFocus()
+    qtbot.keyClick(window.tabs, Key.Key_Space)  # Space plays the trace again
+    assert window.state.scene.playing and window.state.scene.hold_s is None
+
+
+def test_draw_mode_clears_its_curves_and_restores_the_scene(window, qtbot):
+    before = window.state.scene.replace(method="IM", pause_s=0.7)
+    window.state.set_scene(before)
+    qtbot.waitUntil(lambda: window.tune.curves.curves is not None, timeout=WAIT_MS)
+    window.controls.playback.draw_check.setChecked(True)
+    qtbot.waitUntil(lambda: window.tune.curves.curves is None, timeout=WAIT_MS)
+    assert window.state.scene.method == "AS" and window.state.scene.pause_s == 0.0
+    window.controls.playback.draw_check.setChecked(False)
+    scene = window.state.scene
+    assert (scene.method, scene.pause_s, scene.shape) == ("IM", 0.7, before.shape)
+    qtbot.waitUntil(lambda: window.tune.curves.curves is not None, timeout=WAIT_MS)
+
+
+def test_a_method_picked_in_draw_mode_stays_and_titles_the_curves(window, qtbot):
+    window.state.update(method="MM")
+    window.controls.playback.draw_check.setChecked(True)
+    assert window.state.scene.method == "AS"
+    window.tabs.setFocus()
+    qtbot.keyClick(window.tabs, Key.Key_1)  # CT
+    title = window.tune.curves.plotItem.titleLabel
+    qtbot.waitUntil(lambda: title.text.startswith("CT"), timeout=WAIT_MS)
+    window.state.update(playing=True)  # the point held down: no trace, no cursor
+    frames_shown(qtbot, window)
+    assert not window.tune.curves.cursor.isVisible()
+    window.controls.playback.draw_check.setChecked(False)
+    assert window.state.scene.method == "CT" and window.state.scene.shape.length > 1
+    qtbot.waitUntil(lambda: title.text.startswith("CT activ"), timeout=WAIT_MS)

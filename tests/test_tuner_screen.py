@@ -1,0 +1,152 @@
+"""The tuner's window fits the screen it is on: at 1280 x 720 every tab fits and the controls
+never scroll sideways, titles and problems stay inside their panels, a saved size larger than
+the screen is fitted, docs come back from the View menu, choices come back with the next
+start, and --screenshot writes the size asked or refuses a path before starting."""
+
+import os
+import subprocess
+import sys
+
+import pytest
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from . import tuner_support as support
+from .tuner_support import WAIT_MS, settle
+
+window = support.window  # the fixture
+
+Key = QtCore.Qt.Key
+
+
+def _right_edge(widget, window):
+    return widget.mapTo(window, QtCore.QPoint(widget.width(), 0)).x()
+
+
+def test_the_view_menu_brings_a_closed_dock_back(window, qtbot):
+    actions = {a.text(): a for a in window.view_menu.actions()}
+    window.controls_dock.close()
+    assert not actions["Controls panel"].isChecked()
+    actions["Controls panel"].trigger()
+    assert window.controls_dock.isVisible()
+    window.device_dock.setFloating(True)
+    window.reset_layout()
+    assert not window.device_dock.isFloating() and window.device_dock.isVisible()
+
+
+def test_a_saved_size_larger_than_the_screen_is_fitted(qtbot, qt_settings):
+    from tactile_tuner.window import MainWindow
+
+    win = MainWindow(restore=False)
+    qtbot.addWidget(win)
+    win.resize(5000, 4000)
+    win.fit_to_screen()
+    area = win.screen().availableGeometry()
+    assert win.frameGeometry().width() <= area.width()
+    assert win.frameGeometry().height() <= area.height()
+    win.close()
+
+
+def test_at_1280x720_the_controls_never_scroll_sideways(window, qtbot):
+    window.resize(1280, 720)
+    settle()
+    scroll = window.controls_scroll
+    assert scroll.horizontalScrollBarPolicy() == QtCore.Qt.ScrollBarPolicy.ScrollBarAlwaysOff
+    assert scroll.viewport().width() >= window.controls.minimumSizeHint().width()
+
+
+def test_at_1280x720_the_window_fits_on_every_tab(window, qtbot):
+    # The window cannot be narrower than its widest tab: one wide tab widened it to 1472 px.
+    for i in range(window.tabs.count()):
+        window.tabs.setCurrentIndex(i)
+        window.resize(1280, 720)
+        settle()
+        assert window.minimumSizeHint().width() <= 1280, window.tabs.tabText(i)
+        assert window.width() <= 1280, window.tabs.tabText(i)
+    window.tabs.setCurrentIndex(0)
+
+
+@pytest.mark.parametrize("size", [(1280, 720), (1600, 1000)])
+def test_the_curve_title_and_hint_fit_their_panel(window, qtbot, size):
+    # A title wider than its plot is cut off at the right (it was, at 1600 x 1000).
+    window.resize(*size)
+    settle()
+    window.tune.fit_heatmap()
+    settle()
+    title = window.tune.curves.plotItem.titleLabel.item.boundingRect().width()
+    assert 0 < title <= window.tune.curves.width()
+    hint = window.findChild(QtWidgets.QLabel, "curves_hint")
+    assert hint.minimumSizeHint().width() == 0  # elides; never sets the panel's width
+    assert "drag the dashed cursor" in hint.toolTip()
+
+
+@pytest.mark.parametrize("width", [1280, 1400, 1600])
+def test_a_refused_method_set_is_shown_inside_the_window(window, qtbot, width):
+    window.resize(width, 720)
+    for tab, chooser in ((window.compare, window.compare.chooser),
+                         (window.blind, window.blind.chooser)):  # fmt: skip
+        window.tabs.setCurrentWidget(tab)
+        chooser.edit.setText("CT XX")
+        qtbot.keyClick(chooser.edit, Key.Key_Return)
+        problem = chooser.problem
+        qtbot.waitUntil(problem.isVisible, timeout=WAIT_MS)
+        assert "XX" in problem.text()
+        assert _right_edge(problem, window) <= window.width()
+        lines = max(1, problem.height() // problem.fontMetrics().lineSpacing())
+        assert problem.fontMetrics().horizontalAdvance(problem.text()) <= problem.width() * lines
+        assert chooser.pick.width() >= chooser.pick.sizeHint().width()  # "pick" not clipped
+
+
+def test_felt_amplitude_keeps_the_plots_inside_a_1280_window(window, qtbot):
+    check = window.controls.correction.felt_domain_check
+    assert check.isEnabled()
+    for on in (True, False, True):
+        check.setChecked(on)
+        qtbot.waitUntil(lambda on=on: window.tune.correction._felt_domain == on, timeout=WAIT_MS)
+        settle()
+        window.tune.fit_heatmap()
+        for view in (window.tune.correction, window.tune.curves):
+            assert _right_edge(view, window) <= window.width(), on
+            # the plot inside its view: never pushed past it by a title wider than the view
+            assert view.plotItem.geometry().right() <= view.viewport().width() + 1, on
+            assert view.width() >= 250
+
+
+def test_compare_methods_and_results_folder_come_back(qtbot, qt_settings, tmp_path):
+    from tactile_tuner.window import MainWindow
+
+    first = MainWindow(restore=True)
+    qtbot.addWidget(first)
+    first.compare.chooser.apply(["AS", "IM", "EN"])
+    first.experiments.setup.folder_edit.setText(str(tmp_path / "study"))
+    first.close()
+    second = MainWindow(restore=True)
+    qtbot.addWidget(second)
+    assert second.compare.methods == ["AS", "IM", "EN"]
+    assert second.experiments.setup.folder_edit.text() == str(tmp_path / "study")
+    second.close()
+
+
+def test_screenshot_size_is_the_size_asked(tmp_path):
+    out = tmp_path / "shot.png"
+    env = {"QT_QPA_PLATFORM": "offscreen", "HOME": str(tmp_path), "PATH": "/usr/bin:/bin"}
+    proc = subprocess.run(
+        [sys.executable, "-m", "tactile_tuner.main", "--screenshot", str(out), "--size",
+         "1280x720"], capture_output=True, text=True, timeout=120, env=env,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    image = QtGui.QImage(str(out))
+    assert (image.width(), image.height()) == (1280, 720)
+
+
+@pytest.mark.parametrize("where", ["missing/shot.png", "fifo.png", "folder.png", "shot.txt"])
+def test_screenshot_refuses_a_path_it_cannot_write_before_starting(tmp_path, where):
+    os.mkfifo(tmp_path / "fifo.png")
+    (tmp_path / "folder.png").mkdir()
+    proc = subprocess.run(
+        [sys.executable, "-m", "tactile_tuner.main", "--screenshot", str(tmp_path / where)],
+        capture_output=True, text=True, timeout=60,
+        env={"QT_QPA_PLATFORM": "offscreen", "HOME": str(tmp_path), "PATH": "/usr/bin:/bin"},
+    )  # fmt: skip
+    # It said "saved ..." and exited 0 with nothing written; the FIFO blocked for ever.
+    assert proc.returncode == 2 and "--screenshot" in proc.stderr
+    assert "saved" not in proc.stdout
