@@ -68,7 +68,7 @@ def test_profile_help_says_a_name_or_a_json_file(capsys, command):
     the bundled names work."""
     text = help_text(capsys, command)
     assert (
-        "aname(belt-8,grid-3x3,lra-5x6,palm-5x6,sleeve-2x6,vest-2x4x5,vest-4x5,voicecoil-8,"
+        "aname(belt-8,grid-3x3,lra-5x6,palm-5x6,sleeve-2x6,vest-4x5,vest-front-back,voicecoil-8,"
         "wireless-4x4)oraJSONfile"
     ) in text
 

@@ -82,7 +82,7 @@ def test_a_pattern_round_trips_through_its_file(tmp_path):
 def test_the_example_patterns_are_bundled_and_load():
     examples = example_patterns()
     assert sorted(examples) == ["letter-a", "taps", "vest-sweep"]
-    vest = find_profile("vest-2x4x5").layout
+    vest = find_profile("vest-front-back").layout
     letter = Pattern.load(examples["letter-a"], PALM)
     assert len(letter.effects) == 3 and letter.duration_s == pytest.approx(2.1)
     assert Pattern.load(examples["vest-sweep"], vest).groups == ("front", "back")
@@ -270,4 +270,4 @@ def test_a_group_the_layout_lacks_is_refused_naming_the_field(tmp_path):
     with pytest.raises(PatternError, match=rf"{path}: effects\[3\]\.group must name a group of "
                        r"the layout \(left, right\), got 'front'"):  # fmt: skip
         Pattern.load(path, find_profile("vest-4x5").layout)
-    assert Pattern.load(path, find_profile("vest-2x4x5").layout).groups == ("front",)
+    assert Pattern.load(path, find_profile("vest-front-back").layout).groups == ("front",)

@@ -20,7 +20,7 @@ from .helpers import align
 from .test_streamer import Taps, virtual
 
 PALM = find_profile("palm-5x6")
-VEST = find_profile("vest-2x4x5")
+VEST = find_profile("vest-front-back")
 EXAMPLES = example_patterns()
 LETTER, SWEEP, TAPS = (Pattern.load(EXAMPLES[k]) for k in ("letter-a", "vest-sweep", "taps"))
 
@@ -85,7 +85,7 @@ def test_render_writes_a_patterns_frames_to_csv_npz_and_wav(tmp_path, capsys):
     with np.load(tmp_path / "a.npz") as saved:
         assert np.array_equal(saved["frames"], frames)
     wav = ["render", "--shape", f"pattern:{EXAMPLES['vest-sweep']}", "--method", "BA",
-           "--profile", "vest-2x4x5", "--rate", "100",
+           "--profile", "vest-front-back", "--rate", "100",
            "--out", str(tmp_path / "s.wav")]  # fmt: skip
     assert main(wav) == 0
     assert "40 channels of 1.6" in capsys.readouterr().out
@@ -111,7 +111,7 @@ def test_render_refuses_a_pattern_it_cannot_play_by_field(tmp_path, capsys, extr
 def test_stream_plays_the_pattern_then_stops(tmp_path, capsys):
     record = tmp_path / "sent.csv"
     args = ["stream", "--device", "sim", "--shape", f"pattern:{EXAMPLES['vest-sweep']}",
-            "--method", "BA", "--profile", "vest-2x4x5", "--rate", "100",
+            "--method", "BA", "--profile", "vest-front-back", "--rate", "100",
             "--record", str(record)]  # fmt: skip
     assert main(args) == 0
     err = capsys.readouterr().err
@@ -144,7 +144,7 @@ def test_stream_plays_the_taps_into_the_emulator(emulator):
 def test_export_tact_then_import_gives_the_same_frames(tmp_path, capsys):
     out = tmp_path / "sweep.tact"
     args = ["export-tact", "--shape", f"pattern:{EXAMPLES['vest-sweep']}", "--profile",
-            "vest-2x4x5", "--group", "front=VestFront", "--group", "back=VestBack",
+            "vest-front-back", "--group", "front=VestFront", "--group", "back=VestBack",
             "--out", str(out)]  # fmt: skip
     assert main(args) == 0
     assert "wrote pattern 'front to back'" in capsys.readouterr().out

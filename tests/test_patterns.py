@@ -10,7 +10,7 @@ from tactile_core.rendering.methods import get_method
 from tactile_core.rendering.shapes import TimedPath
 
 PALM = tc.Grid(5, 6)
-VEST = find_profile("vest-2x4x5").layout  # groups front (0-19) and back (20-39)
+VEST = find_profile("vest-front-back").layout  # groups front (0-19) and back (20-39)
 
 
 def frames_at(pattern, rate_hz, target=PALM, method="AS", **correction):

@@ -33,7 +33,7 @@ def test_the_first_script_builds_saves_and_plays_the_three_examples(tmp_path, mo
     monkeypatch.setattr(script_module.Array, "play", play)
     exec(compile(script, "docs/patterns.md", "exec"), {"__name__": "__docs__"})
     assert played == [("palm-5x6", "letter A", False), ("palm-5x6", "taps", False),
-                      ("vest-2x4x5", "front to back", False)]  # fmt: skip
+                      ("vest-front-back", "front to back", False)]  # fmt: skip
     for stem, path in example_patterns().items():
         saved = tmp_path / f"{stem}.json"
         assert json.loads(saved.read_text()) == json.loads(path.read_text()), stem

@@ -36,6 +36,9 @@ def test_the_file_menu_opens_patterns_and_lists_the_examples(window):
 
 def test_open_pattern_plays_it_as_the_scenes_source(window, qtbot):
     sent = record_sent(window)
+    window.state.update(playing=False)  # the scene before it off (its line crosses actuator 17)
+    qtbot.waitUntil(lambda: bool(sent) and not sent[-1].any(), timeout=10000)
+    before = len(sent)
     assert window.files.open_pattern_file(example_patterns()["taps"])
     scene = window.state.scene
     assert isinstance(scene.source, Pattern) and scene.shape is None
@@ -46,11 +49,9 @@ def test_open_pattern_plays_it_as_the_scenes_source(window, qtbot):
         "The pattern taps: 1 effect on 1 track over 1 s."
         in window.controls.shape.other_label.text()
     )
-    # the stream plays its taps: from the pattern's first frame on (the scene before it may
-    # still have sent one), only actuator 17 lights (channel order is the palm's cells)
-    qtbot.waitUntil(lambda: sum(f[17] > 0 for f in sent) >= 5, timeout=10000)
-    first = next(k for k, f in enumerate(sent) if f[17] > 0)
-    lit = {int(i) for f in sent[first:] for i in np.flatnonzero(f)}
+    # the stream plays its taps: only actuator 17 lights (channel order is the palm's cells)
+    qtbot.waitUntil(lambda: sum(f[17] > 0 for f in sent[before:]) >= 5, timeout=10000)
+    lit = {int(i) for f in sent[before:] for i in np.flatnonzero(f)}
     assert lit == {17}
     curves = window.tune.shown_curves
     assert curves is not None and list(curves.cells) == [(2, 3)]
@@ -91,8 +92,8 @@ def test_the_next_start_opens_the_pattern_again(qtbot, tmp_path):
 
 def test_a_pattern_that_does_not_fit_a_new_profile_gives_way_to_its_default_shape(window, qtbot):
     # the sweep names the vest's groups: on the palm array it cannot play
-    window.files.use_profile("vest-2x4x5")
-    qtbot.waitUntil(lambda: window.device.profile.name == "vest-2x4x5", timeout=10000)
+    window.files.use_profile("vest-front-back")
+    qtbot.waitUntil(lambda: window.device.profile.name == "vest-front-back", timeout=10000)
     assert window.files.open_pattern_file(example_patterns()["vest-sweep"])
     assert isinstance(window.state.scene.source, Pattern)
     window.files.use_profile("palm-5x6")
