@@ -162,8 +162,13 @@ def pattern_tact_document(pattern, target, *, name: str = "tactile-tuner",
     tracks: dict[int, list] = {}
     count = 0
     method = get_method(default_method(target))
+    owner = {where: group for group, where in positions.items()}
     for i, effect in enumerate(pattern.effects):
         where = positions.get(effect.group, position)
+        if where in owner and owner[where] != effect.group:
+            raise ValueError(f"effects[{i}] (group {effect.group!r}) would go to {where}, which "
+                             f"holds group {owner[where]!r}'s actuators: map its group to a "
+                             "position, or write the rest to another position")  # fmt: skip
         box, motor_of = places[where]
         parts = compile_parts(type(pattern)((effect,)), method, target)
         for r in range(effect.repeat):
