@@ -8,9 +8,10 @@ be ...``), so that the file reader only puts ``effects[3].`` in front of it.
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
-import itertools
 from dataclasses import dataclass
+from functools import cached_property
 
 from .._shared import validate as _validate
 from ..rendering.layout import MAX_ACTUATORS
@@ -342,16 +343,22 @@ class Effect:
         return "shape"
 
     def gain1(self, phase_s: float) -> float:
-        """The envelope's gain ``phase_s`` seconds into one play (1 without keyframes)."""
+        """The envelope's gain ``phase_s`` seconds into one play (1 without keyframes): on the
+        segment that ends at the first keyframe at or after ``phase_s``."""
         env = self.envelope
         if not env:
             return 1.0
         if phase_s <= env[0][0]:
             return env[0][1]
-        for (t0, g0), (t1, g1) in itertools.pairwise(env):
-            if phase_s <= t1:
-                return g0 + (g1 - g0) * (phase_s - t0) / (t1 - t0)
-        return env[-1][1]
+        if phase_s > env[-1][0]:
+            return env[-1][1]
+        j = bisect.bisect_left(self._key_times, phase_s)
+        (t0, g0), (t1, g1) = env[j - 1], env[j]
+        return g0 + (g1 - g0) * (phase_s - t0) / (t1 - t0)
+
+    @cached_property
+    def _key_times(self) -> list:
+        return [t for t, _ in self.envelope]
 
     def replace(self, **changes) -> Effect:
         """A copy with ``changes`` (checked). Changing ``duration_s`` of an effect whose content
