@@ -188,3 +188,23 @@ def test_an_exported_pattern_has_an_effect_per_play_and_its_dots_on_motors(tmp_p
     back = mixed.to_tact(VEST.layout, position="Head",
                          positions={"front": "VestFront", "back": "VestBack"})  # fmt: skip
     assert len(back["project"]["layout"]["layouts"]["Head"]) == 40
+
+
+@pytest.mark.parametrize("source", ["designer", "paths and dots"])
+def test_a_tact_file_imported_as_effects_plays_as_the_file_does(tmp_path, source):
+    # each .tact effect becomes one TactEffect at its startTime; played, the pattern gives the
+    # frames bHaptics' file gives played as a .tact pattern (the same mapping, the same max)
+    from . import tact_support as ts
+
+    if source == "designer":
+        path = "tests/data/testfeedback.tact"
+    else:
+        path = ts.write(tmp_path, ts.crossing_paths_and_a_dot())
+    vest = find_profile("vest-4x5").layout
+    imported = Pattern.from_tact(path)
+    assert all(e.kind == "tact" for e in imported.effects)
+    _, own = imported.frames("BA", vest, rate_hz=100.0, mu=0.2, gamma=0.8)
+    _, theirs = load_pattern(path).frames("BA", vest, rate_hz=100.0, mu=0.2, gamma=0.8)
+    assert own.shape == theirs.shape and own == pytest.approx(theirs, abs=1e-12)
+    again = Pattern.load(imported.save(tmp_path / "imported.json"))
+    assert again == imported

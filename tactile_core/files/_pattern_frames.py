@@ -31,7 +31,7 @@ from ..rendering.shapes import FADES
 from ..rendering.trace import MAX_SAMPLES, Sampling, entry_table
 from ._pattern_parts import compile_parts
 from ._tact_coords import fade1
-from ._tact_frames import MAX_TABLE_FRAMES
+from .tact import MAX_TABLE_FRAMES
 
 BLOCK_SAMPLES = 256
 """Samples rendered together (a block of a table or of :meth:`PatternFrames.render`)."""

@@ -33,9 +33,17 @@ from ..rendering.scene import Scene
 from ..rendering.shapes import FADES, MAX_POINTS, TimedPath
 from ._pattern_effects import MAX_TEXT_CHARS, MAX_TRACKS, Dot, Effect, TactEffect
 from ._pattern_parts import compile_parts, layout_group
-from ._tact_coords import layout_to_unit
-from ._tact_read import MAX_EFFECTS, MAX_NAME_CHARS, MAX_TACT_BYTES, TactError, parse_tact
-from ._tact_write import DECIMALS, POSITIONS, SAMPLE_MS, _now_ms, _r, path_of_scene
+from ._tact_write import DECIMALS, SAMPLE_MS, _now_ms, _r
+from .tact import (
+    MAX_EFFECTS,
+    MAX_NAME_CHARS,
+    MAX_TACT_BYTES,
+    POSITIONS,
+    TactError,
+    layout_to_unit,
+    parse_tact,
+    path_of_scene,
+)
 
 
 def tact_effects(path, position: str | None = None, groups: dict | None = None):
@@ -78,12 +86,15 @@ def tact_effects(path, position: str | None = None, groups: dict | None = None):
                 held.setdefault(key, ([], []))[kind].append(item)
     effects = []
     for (track, index, where), (paths, dots) in sorted(held.items()):
-        raw = project["tracks"][track]["effects"][index]
-        start_s, length_s = _ms(raw["startTime"]) / 1e3, _ms(raw["offsetTime"]) / 1e3
+        if track >= 0:  # an effect of the project
+            raw = project["tracks"][track]["effects"][index]
+            start_s, length_s = _ms(raw["startTime"]) / 1e3, _ms(raw["offsetTime"]) / 1e3
+        else:  # frames of the file not in a project's effect: one effect from 0
+            raw, start_s, length_s, track = {}, 0.0, file.duration_s, 0
         motors = file.layouts.get(where, {})
         shapes = tuple(TimedPath(p.points, [max(t - start_s, 0.0) for t in p.times_s],
                                  p.intensities, p.pattern, p.fade) for p in paths)  # fmt: skip
-        places = tuple(Dot(motors[d.index], d.intensity, max(d.start_s - start_s, 0.0),
+        places = tuple(Dot(_place(d, motors), d.intensity, max(d.start_s - start_s, 0.0),
                            d.end_s - d.start_s, d.fade) for d in dots)  # fmt: skip
         content = TactEffect(shapes, places, max(length_s, _end(shapes, places)), where)
         name = raw.get("name") if isinstance(raw.get("name"), str) else ""
@@ -102,9 +113,20 @@ def _printable(name: str) -> str:
 
 
 def _effect_of(field: str) -> tuple[int, int]:
-    """``(track, effect)`` of a field path ``tracks[T].effects[E]...``."""
-    track, _, rest = field.removeprefix("tracks[").partition("].effects[")
+    """``(track, effect)`` of a field path ``tracks[T].effects[E]...``; ``(-1, -1)`` for what
+    no project effect holds (bHaptics' compiled frames)."""
+    track, sep, rest = field.removeprefix("tracks[").partition("].effects[")
+    if not field.startswith("tracks[") or not sep:
+        return -1, -1
     return int(track), int(rest.partition("]")[0])
+
+
+def _place(dot, motors: dict) -> tuple[float, float]:
+    """A file's dot's place in 0..1: its motor's in the position's layout (or the place the
+    record carries itself)."""
+    if dot.index in motors:
+        return motors[dot.index]
+    return (dot.x, dot.y)
 
 
 def _ms(value) -> float:
