@@ -229,15 +229,17 @@ class FileActions(QtCore.QObject):
 
     # --- bHaptics .tact files ---------------------------------------------------------------------
 
-    def import_tact_file(self, path, position=None) -> bool:
-        """Import a ``.tact`` file onto the current array. A position with one path becomes the
-        scene's shape (a time-keyed path, over its own duration); anything more (several paths,
-        dots) plays as the scene's pattern: the heatmap draws its paths, the curves view its
-        actuators over its duration."""
+    def import_tact_file(self, path, position=None, scale=None, rotation=None) -> bool:
+        """Import a ``.tact`` file onto the current array: every position on the array's group
+        for it (``VestFront`` on ``front``, ...), or one. A single path over the whole array
+        becomes the scene's shape (a time-keyed path, over its own duration); anything more
+        (several paths, dots, several positions, bHaptics' scale or rotation) plays as the
+        scene's pattern: the heatmap draws its paths, the curves view its actuators over its
+        duration."""
         if self._refused():
             return False
         try:
-            pattern = load_pattern(path, position)
+            pattern = load_pattern(path, position, scale=scale, rotation=rotation)
         except (TactError, ValueError) as exc:
             self.error_raised.emit(str(exc))
             return False
@@ -249,7 +251,9 @@ class FileActions(QtCore.QObject):
         self.before_load()
         self._imported.add(Path(path).resolve())
         scene = self.state.scene.replace(epoch=self.state.scene.epoch + 1, playing=True)
-        if len(paths) == 1 and not dots:
+        (whole, *more) = pattern.placement(target)
+        plain = pattern.scale.identity and pattern.rotation.identity
+        if len(paths) == 1 and not dots and not more and whole.index is None and plain:
             (shape,) = paths
             start = shape.times_s[0]
             shape = TimedPath(shape.points, [s - start for s in shape.times_s], shape.intensities,
@@ -259,16 +263,18 @@ class FileActions(QtCore.QObject):
         else:
             scene = scene.replace(shape=None, source=pattern)
             self._pattern_file = (pattern, {"path": str(Path(path).absolute()),
-                                            "position": pattern.position})  # fmt: skip
+                                            "position": position})  # fmt: skip
             what = (f"{count(len(paths), 'path')} and {count(len(dots), 'dot')} play as a "
-                    f"pattern of {pattern.duration_s:g} s (Restart replays it)")  # fmt: skip
+                    f"pattern of {pattern.duration_on(target):g} s "
+                    "(Restart replays it)")  # fmt: skip
         self.state.set_scene(scene)
         self.preset_name, self.preset_notes, self.preset_scene = Path(path).stem, "", scene
         self.preset_changed.emit()
-        skipped = f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""
+        left_out = pattern.skipped_on(target)
+        skipped = f"; not played: {', '.join(left_out)}" if left_out else ""
         notes = "".join(f"; {note}" for note in pattern.notes)  # what plays otherwise than asked
-        self.message_posted.emit(f"imported {pattern.position} of {Path(path).name}: {what}"
-                                 f"{skipped}{notes}", 10_000)  # fmt: skip
+        self.message_posted.emit(f"imported {pattern.describe(target)} of {Path(path).name}: "
+                                 f"{what}{skipped}{notes}", 10_000)  # fmt: skip
         return True
 
     # --- patterns ---------------------------------------------------------------------------------
@@ -311,11 +317,20 @@ class FileActions(QtCore.QObject):
             self.open_pattern_file(path)
 
     def pattern_file(self, source) -> dict | None:
-        """``{"path": ..., "position": ...}`` of the ``.tact`` file a scene's ``source`` was
-        imported from (``{"path": ..., "kind": "pattern"}`` of a pattern file it was opened
-        from), or None (neither)."""
+        """``{"path", "position", ["scale", "rotation"]}`` of the ``.tact`` file a scene's
+        ``source`` was imported from (with the options it plays with), ``{"path", "kind":
+        "pattern"}`` of a pattern file it was opened from, or None (neither)."""
         pattern, where = self._pattern_file
-        return dict(where) if source is not None and source is pattern else None
+        if isinstance(pattern, Pattern):  # a pattern file
+            return dict(where) if source is not None and source is pattern else None
+        if source is None or pattern is None or getattr(source, "file", None) is not pattern.file:
+            return None
+        out = dict(where)
+        if not source.scale.identity:
+            out["scale"] = [source.scale.intensity, source.scale.duration]
+        if not source.rotation.identity:
+            out["rotation"] = [source.rotation.angle_deg, source.rotation.offset_y]
+        return out
 
     def export_tact_file(self, path) -> bool:
         """The scene's trace (its shape over its duration) as a ``.tact`` file, in 0..1 of the

@@ -77,8 +77,8 @@ def reopen_pattern(window) -> None:
         said = f"the last session's .tact pattern was not saved: {kept}"
     elif not path.is_file():
         said = f"the last session's .tact file {path} is gone: {kept}"
-    elif window.files.import_tact_file(path, position):
-        said = f"the last session's pattern again: {position} of {path}"
+    elif window.files.import_tact_file(path, position, last.get("scale"), last.get("rotation")):
+        said = f"the last session's pattern again: {position or 'every position'} of {path}"
     else:
         said = f"the last session's .tact file {path} no longer opens: {kept}"
     window.statusBar().showMessage(said, 20_000)

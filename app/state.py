@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6 import QtCore
 
 import tactile_core as tc
+from tactile_core.files.pattern import Pattern
 from tactile_core.rendering import placement
 from tactile_core.rendering.geometry import Grid
 from tactile_core.rendering.layout import Layout
@@ -229,10 +230,9 @@ class TunerState(QtCore.QObject):
             shape = placement.default_shape(layout)
             self._post(f"the shape lies off this layout ({layout.describe()}): {shape} instead")
             scene = scene.replace(shape=shape, hold_s=None)
-        check = getattr(scene.source, "check", None)  # a pattern: its groups, actuators, methods
-        if scene.shape is None and callable(check):
+        if isinstance(scene.source, Pattern):  # its groups, its dots' actuators, its methods
             try:
-                check(layout)
+                scene.source.check(layout)
             except ValueError as exc:
                 shape = placement.default_shape(layout)
                 self._post(f"the pattern does not play on this layout ({exc}): {shape} instead")

@@ -92,15 +92,6 @@ def crossing_paths_and_a_dot():
     )
 
 
-def connected_dots(position="VestFront"):
-    """Three dots of one effect with ``dotConnected: true`` (the Designer draws a line through
-    them) on ``position``, and a plain dot effect on the front."""
-    connected = dot_mode([(0, 1.0), (5, 1.0), (10, 1.0)], 0, 500)
-    connected["dotMode"]["dotConnected"] = True
-    return document(effect({position: connected}),
-                    effect({"VestFront": dot_mode([(6, 0.8)], 0, 300)}))  # fmt: skip
-
-
 def dots_only():
     """Dots alone, on both sides of the vest, as bHaptics' heartbeat files are: two effects, the
     first lighting motors 1 and 2 (intensity 1) from 0 to 0.1 s, the second motor 5 (0.5) from

@@ -87,7 +87,7 @@ CASES = [
         50,
         f"{D}.endTime is 50 ms, before its startTime (100 ms): a negative duration",
     ),
-    ([*DOTS, "endTime"], 500, f"{D}.endTime must be within [0, 400], got 500"),
+    ([*DOTS, "endTime"], 4e6, f"{D}.endTime must be within [0, 3.6e+06], got 4e+06"),
     (
         [*DOTS, "pointList", 0, "index"],
         25,
@@ -196,3 +196,23 @@ def test_load_pattern_refuses_an_empty_file_as_the_command_line_does(tmp_path, c
             "--out", str(tmp_path / "f.csv")]  # fmt: skip
     assert main(args) == 2
     assert capsys.readouterr().err == f"tactile render: error: {message}\n"
+
+
+def test_real_files_that_were_refused_now_read():
+    """Files in bHaptics' own repositories that the reader refused: a dot whose endTime is past
+    its effect's end (bhaptics/haptic-library's Teleport_Left.tact: 1000 ms in a 500 ms effect,
+    which bHaptics' compiled frames end with the effect), a path point repeated at the same time
+    (bhaptics/haptic-guide's Reload_L.tact), a layout giving only its type (PingLeft.tact)."""
+    late = ts.document(ts.effect({"VestFront": ts.dot_mode([(6, 0.8)], 100, 900)}, 0, 400))
+    (dot,) = parse_tact(late).dots
+    assert (dot.start_s, dot.end_s) == (0.1, 0.4)  # cut at the effect's end
+    twice = [ts.point(0.5, 0.5, 1, 0), ts.point(0, 1, 0.5, 300), ts.point(0, 1, 0.7, 300)]
+    (path,) = parse_tact(ts.document(ts.effect({"VestFront": ts.path_mode(twice)}))).paths
+    assert path.points == ((0.5, 0.5), (0.0, 1.0)) and path.intensities == (1.0, 0.7)
+    moved = [ts.point(0, 1, 0.5, 300), ts.point(1, 1, 0.5, 300)]  # two places at once: no
+    with pytest.raises(TactError, match=r"pointList\[1\].time is 300 ms, not after the point"):
+        parse_tact(ts.document(ts.effect({"VestFront": ts.path_mode(moved)})))
+    typed = ts.document(ts.effect({"VestBack": ts.dot_mode([(19, 0.7)], 0, 100)}))
+    typed["project"]["layout"] = {"name": "Tactot", "type": "Tactot"}
+    (dot,) = parse_tact(typed).dots
+    assert (dot.x, dot.y) == (1.0, 1.0)  # the vest's motor 19: bottom right

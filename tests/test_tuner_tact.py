@@ -58,17 +58,6 @@ def test_paths_and_dots_play_as_the_scenes_pattern(window, qtbot, tmp_path):
     assert "no shape to export" in window.last_error
 
 
-def test_the_import_summary_says_connected_dots_play_as_dots(window, tmp_path):
-    """dotConnected: true is not supported; before, the import said nothing of it."""
-    data = ts.connected_dots()  # and a path: this checks the summary, not a dots-only import
-    path = ts.effect({"VestFront": ts.path_mode([ts.point(0, 1, 0.5, 0), ts.point(1, 0, 1, 800)])})
-    data["project"]["tracks"][0]["effects"].append(path)
-    assert window.files.import_tact_file(ts.write(tmp_path, data))
-    message = window.statusBar().currentMessage()
-    assert "1 path and 4 dots play as a pattern" in message
-    assert "dotConnected is true: its 3 dots play as separate dots" in message
-
-
 def test_a_bad_file_changes_nothing_and_says_why(window, tmp_path):
     before = window.state.scene
     bad = ts.mutate(ts.simple(), ["project", "tracks", 0, "effects", 0, "startTime"], -3)
@@ -199,3 +188,21 @@ def test_export_tact_proposes_a_new_name_and_never_overwrites_the_imported_file(
     assert "it is the .tact file this session imported" in window.last_error
     assert source.read_bytes() == before
     assert window.files.export_tact_file(tmp_path / "sweep-export-2.tact")
+
+
+def test_bhaptics_options_change_the_playing_pattern_and_are_remembered(window, tmp_path):
+    """bHaptics' ScaleOption and RotationOption had no control in the tuner."""
+    assert window.files.import_tact_file(ts.write(tmp_path, ts.simple()))
+    box = window.controls.shape
+    assert box.tact_options.isVisibleTo(box)
+    fields = box.tact_fields
+    assert [f.value() for f in fields.values()] == [1.0, 1.0, 0.0, 0.0]
+    fields["duration"].setValue(2.0)
+    fields["angle"].setValue(180.0)
+    source = window.state.scene.source
+    assert (source.scale.duration, source.rotation.angle_deg) == (2.0, 180.0)
+    assert "over 2 s" in box.other_label.text()  # the file's 1 s, twice as slow
+    assert window.files.pattern_file(source)["rotation"] == [180.0, 0.0]
+    assert window.files.pattern_file(source)["scale"] == [1.0, 2.0]
+    box.shape_combo.setCurrentIndex(1)  # a shape: no options to show
+    assert not box.tact_options.isVisibleTo(box)

@@ -1,4 +1,5 @@
-"""The shape: line, circle or square, and its coordinates in grid units."""
+"""The shape: line, circle or square, and its coordinates in grid units; for an imported
+``.tact`` pattern, what it plays and bHaptics' play-time options (scale and rotation)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ from PySide6 import QtCore, QtWidgets
 
 import tactile_core as tc
 from tactile_core.files.pattern import Pattern
+from tactile_core.files.tact import TactPattern
 from tactile_core.rendering import placement
 
 from ..texts import count, tip
@@ -56,13 +58,62 @@ class ShapeWidget(SceneGroupWidget):
         self.other_label.setWordWrap(True)
         self.other_label.setTextFormat(QtCore.Qt.TextFormat.PlainText)  # a file's name, as is
         self.other_label.setAlignment(QtCore.Qt.AlignmentFlag.AlignTop)
-        self.shape_stack.addWidget(self.other_label)
+        other = QtWidgets.QWidget()
+        column = QtWidgets.QVBoxLayout(other)
+        column.setContentsMargins(0, 0, 0, 0)
+        column.addWidget(self.other_label)
+        self.tact_options = self._tact_options_box()
+        column.addWidget(self.tact_options)
+        column.addStretch(1)
+        self.shape_stack.addWidget(other)
         self.shape_combo.currentIndexChanged.connect(self._on_shape_combo_changed)
         v.addWidget(self.shape_stack)
         state.scene_changed.connect(self.refresh)
         state.layout_changed.connect(self._on_state_layout_changed)
         self._on_state_layout_changed(state.layout)
         self.refresh()
+
+    def _tact_options_box(self) -> QtWidgets.QGroupBox:
+        """bHaptics' ScaleOption and RotationOption for an imported pattern (docs/tact.md)."""
+        box = QtWidgets.QGroupBox("bHaptics options")
+        box.setObjectName("tact-options")
+        form = QtWidgets.QFormLayout(box)
+        self.tact_fields = {
+            "intensity": spin_box(0.0, 10.0, 0.1, 2, " x"),
+            "duration": spin_box(0.05, 10.0, 0.1, 2, " x"),
+            "angle": spin_box(-360.0, 360.0, 15.0, 1, " deg"),
+            "offset": spin_box(-1.0, 1.0, 0.05, 2),
+        }
+        tips = {
+            "intensity": "ScaleOption intensity: every intensity of the file times this",
+            "duration": "ScaleOption duration: every time of the file times this (2 = half as "
+            "fast)",
+            "angle": "RotationOption angle round the body (vest files): 90 turns the pattern a "
+            "quarter turn to the wearer's left, 180 swaps front and back",
+            "offset": "RotationOption vertical offset (vest files), in panel heights: 0.25 moves "
+            "the pattern a quarter of the panel up",
+        }
+        labels = {"intensity": "intensity", "duration": "duration", "angle": "rotation",
+                  "offset": "offset up"}  # fmt: skip
+        for key, field in self.tact_fields.items():
+            field.setToolTip(tip(tips[key]))
+            field.valueChanged.connect(self._on_tact_options_changed)
+            form.addRow(labels[key], field)
+        return box
+
+    def _on_tact_options_changed(self, _value=None) -> None:
+        source = self.state.scene.source
+        if self._updating or not isinstance(source, TactPattern):
+            return
+        f = {key: field.value() for key, field in self.tact_fields.items()}
+        try:
+            scale, rotation = (f["intensity"], f["duration"]), (f["angle"], f["offset"])
+            position = source.position if source.named else None
+            pattern = TactPattern(source.file, position, scale, rotation)
+        except ValueError as exc:
+            self.state.error_raised.emit(str(exc))
+            return
+        self.state.update(source=pattern, epoch=self.state.scene.epoch + 1, playing=True)
 
     def _on_state_layout_changed(self, layout) -> None:
         grid = layout.is_grid
@@ -118,6 +169,17 @@ class ShapeWidget(SceneGroupWidget):
             self.shape_combo.setCurrentIndex(len(SHAPES))
             self.shape_stack.setCurrentIndex(len(SHAPES))
             self.other_label.setText(describe_content(scene, self.state.layout))
+            source = scene.source
+            self.tact_options.setVisible(isinstance(source, TactPattern))
+            if isinstance(source, TactPattern):
+                values = {
+                    "intensity": source.scale.intensity,
+                    "duration": source.scale.duration,
+                    "angle": source.rotation.angle_deg,
+                    "offset": source.rotation.offset_y,
+                }
+                for key, field in self.tact_fields.items():
+                    field.setValue(values[key])
             return
         self.shape_combo.setCurrentIndex(SHAPES.index(kind))
         self.shape_stack.setCurrentIndex(SHAPES.index(kind))
@@ -145,11 +207,11 @@ def describe_content(scene, target) -> str:
         effects, tracks = count(len(source.effects), "effect"), count(len(source.tracks), "track")
         return (f"The pattern {source.name or 'untitled'}: {effects} on {tracks} over "
                 f"{source.duration_s:g} s.{pick}")  # fmt: skip
-    if hasattr(source, "effects"):  # a .tact pattern
+    if isinstance(source, TactPattern):
         paths, dots = len(source.paths(target)), len(source.dots(target))
-        return (f"The .tact pattern {source.name or 'untitled'}, {source.position}: "
+        return (f"The .tact pattern {source.name or 'untitled'}, {source.describe(target)}: "
                 f"{count(paths, 'path')} and {count(dots, 'dot')} over "
-                f"{source.duration_s:g} s.{pick}")  # fmt: skip
+                f"{source.duration_on(target):g} s.{pick}")  # fmt: skip
     if source is not None:
         return "Free points sent by another program (OSC or a script)."
     return "Nothing: the array is off."

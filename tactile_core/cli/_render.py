@@ -110,11 +110,13 @@ def cmd_render(args) -> int:
     if composed is not None:
         pattern, what, left_out = composed, describe(args, composed), ""
     elif pattern is not None:
-        what, left_out = f"{pattern.position} of {args.shape[len('tact:') :]}", not_played(pattern)
+        what = f"{pattern.describe(grid)} of {args.shape[len('tact:') :]}"
+        left_out = not_played(pattern, grid)
         warn_of_notes("render", pattern)
     if pattern is not None:  # frame k samples the middle of [k / rate, (k + 1) / rate)
-        n = int(np.ceil(pattern.duration_s * args.rate - 1e-9))
-        _check_render_size(n, grid.size, pattern.duration_s, args.rate)
+        duration = pattern.duration_on(grid)
+        n = int(np.ceil(duration * args.rate - 1e-9))
+        _check_render_size(n, grid.size, duration, args.rate)
         time_s, frames = pattern.frames(method, grid, rate_hz=args.rate, mu=mu, gamma=gamma)
     else:
         n = int(np.floor(args.duration * args.rate + 1e-9)) + 1
@@ -247,11 +249,11 @@ def cmd_stream(args) -> int:
         pattern = composed
         say_playing(args, pattern)
     elif pattern is not None:
-        print(f"playing {pattern.position} of {args.shape[len('tact:') :]}"
-              f"{not_played(pattern)}", file=sys.stderr, flush=True)  # fmt: skip
+        print(f"playing {pattern.describe(profile.layout)} of {args.shape[len('tact:') :]}"
+              f"{not_played(pattern, profile.layout)}", file=sys.stderr, flush=True)  # fmt: skip
         warn_of_notes("stream", pattern)
     if pattern is not None and args.seconds is None:
-        args.seconds = max(pattern.duration_s, 0.1)  # the file, then the array off
+        args.seconds = max(pattern.duration_on(profile.layout), 0.1)  # the file, then off
     if shape is not None:  # one trace at the stream's frame times (at most DARK_CHECK_FRAMES)
         n = min(int(np.floor(args.duration * args.rate + 1e-9)) + 1, DARK_CHECK_FRAMES)
         timed = get_method(method).on_clock(args.duration)

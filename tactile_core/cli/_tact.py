@@ -1,5 +1,7 @@
 """bHaptics ``.tact`` files on the command line: ``--shape tact:FILE`` for ``render`` and
-``stream`` (the file as a pattern on the profile's array), and ``tactile export-tact``."""
+``stream`` (the file as a pattern on the profile's array, with bHaptics' play-time options
+``--tact-scale`` and ``--tact-rotate``), and ``tactile export-tact`` (``--compiled`` adds the
+compiled frames)."""
 
 from __future__ import annotations
 
@@ -8,6 +10,7 @@ import argparse
 from .._shared import validate as _validate
 from .._shared.outfile import check_output
 from ..files.tact import (
+    FORMS,
     MAX_NAME_CHARS,
     POSITIONS,
     TactError,
@@ -27,10 +30,34 @@ def is_tact(shape_text) -> bool:
 
 
 def add_tact_option(p: argparse.ArgumentParser) -> None:
-    """``--tact-position`` of ``render`` and ``stream``."""
+    """``--tact-position``, ``--tact-scale``, ``--tact-rotate`` and ``--tact-form`` of
+    ``render`` and ``stream``."""
     p.add_argument("--tact-position", default=None, metavar="NAME",
-                   help="with --shape tact:FILE, the device position to play (VestFront, ...; "
-                   "default: the first with content)")  # fmt: skip
+                   help="with --shape tact:FILE, one device position to play over the whole "
+                   "array (VestFront, ...; default: every position on the profile's group for "
+                   "it, front/back/left/right, or the first with content)")  # fmt: skip
+    p.add_argument("--tact-scale", default=None, metavar="INTENSITY,DURATION",
+                   help="bHaptics' ScaleOption: multiply the file's intensities and times "
+                   "(0.5,2 = half as strong, half as fast)")  # fmt: skip
+    p.add_argument("--tact-rotate", default=None, metavar="ANGLE,OFFSET",
+                   help="bHaptics' RotationOption for the vest: degrees round the body (90 = "
+                   "a quarter turn to the wearer's left) and panel heights up")  # fmt: skip
+    p.add_argument("--tact-form", choices=FORMS, default=None,
+                   help="play the Designer project or bHaptics' compiled frames (default: the "
+                   "project, or the frames of a file without one)")  # fmt: skip
+
+
+def _pair(option: str, text):
+    """``A,B`` as two numbers, or None; a usage error names the option."""
+    if text is None:
+        return None
+    parts = str(text).split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        return tuple(float(part) for part in parts)
+    except ValueError:
+        raise UsageError(f"{option} takes two numbers A,B, got {text!r}") from None
 
 
 def load_tact_arg(args):
@@ -43,10 +70,18 @@ def load_tact_arg(args):
         raise UsageError("--shape tact: needs a file, as in tact:pattern.tact")
     if getattr(args, "direction", "forward") != "forward":
         raise UsageError("--direction reverse does not apply to a .tact file (it plays as written)")
+    scale = _pair("--tact-scale", getattr(args, "tact_scale", None))
+    rotation = _pair("--tact-rotate", getattr(args, "tact_rotate", None))
     try:
-        pattern = load_pattern(path, getattr(args, "tact_position", None))
+        pattern = load_pattern(path, getattr(args, "tact_position", None), scale=scale,
+                               rotation=rotation,
+                               form=getattr(args, "tact_form", None))  # fmt: skip
     except TactError as exc:  # an empty file too: the library refuses it
         raise UsageError(str(exc)) from None
+    except ValueError as exc:  # a scale or rotation out of range
+        option = "--tact-scale" if str(exc).startswith(("intensity", "duration", "scale")) else (
+            "--tact-rotate")  # fmt: skip
+        raise UsageError(f"{option}: {exc}") from None
     return pattern
 
 
@@ -59,9 +94,11 @@ def warn_of_notes(command: str, pattern) -> None:
         print(f"tactile {command}: warning: {note}", file=sys.stderr, flush=True)
 
 
-def not_played(pattern) -> str:
-    """``"; not played: VestBack, ..."``: the positions of the file left out ("" if none)."""
-    return f"; not played: {', '.join(pattern.skipped)}" if pattern.skipped else ""
+def not_played(pattern, target) -> str:
+    """``"; not played: VestBack, ..."``: the positions of the file left out on ``target``
+    ("" if none)."""
+    skipped = pattern.skipped_on(target)
+    return f"; not played: {', '.join(skipped)}" if skipped else ""
 
 
 def add_export_parser(sub) -> None:
@@ -91,6 +128,12 @@ def add_export_parser(sub) -> None:
                    "device position, in 0..1 of the group's actuators (front=VestFront); "
                    "repeat for each group")  # fmt: skip
     p.add_argument("--name", default=None, help="the project's name (default: the file's stem)")
+    p.add_argument("--compiled", action="store_true",
+                   help="also write bHaptics' compiled form: the trace's motor values every 20 "
+                   "ms, rendered by --method (the file then carries both forms)")  # fmt: skip
+    p.add_argument("--method", default=None,
+                   help="with --compiled, the rendering method (default: the preset's, else "
+                   "the array's default)")  # fmt: skip
     p.add_argument("--out", required=True, help="output file, .tact")
     p.set_defaults(func=cmd_export_tact)
 
@@ -153,9 +196,32 @@ def cmd_export_tact(args) -> int:
     if args.group:
         raise UsageError("--group applies to --shape pattern:FILE only")
     path = path_of_scene(scene)
+    compiled, frames = None, ""
+    if args.compiled:
+        compiled = _compiled_method(args, scene, target)
+        frames = f" and its frames by {compiled} every 20 ms (compiled form)"
+    elif args.method is not None:
+        raise UsageError("--method applies with --compiled (the frames it renders)")
     try:
-        write_tact(out, path, target, name=name, position=args.position)
+        write_tact(out, path, target, name=name, position=args.position, compiled=compiled)
     except OSError as exc:
         raise write_failed(out, exc) from None
-    print(f"wrote {len(path.points)} points over {path.duration_s:g} s ({path.pattern}) to {out}")
+    print(f"wrote {len(path.points)} points over {path.duration_s:g} s ({path.pattern}){frames} "
+          f"to {out}")  # fmt: skip
     return 0
+
+
+def _compiled_method(args, scene, target) -> str:
+    """The method ``--compiled`` renders the frames by, checked on ``target``."""
+    from ..rendering.methods import get_method
+    from ..rendering.placement import default_method
+    from ..rendering.rasterize import check_renders
+
+    name = args.method if args.method is not None else (
+        scene.method if args.preset is not None else default_method(target))  # fmt: skip
+    try:
+        method = get_method(name)
+        check_renders(method, target)
+    except ValueError as exc:
+        raise UsageError(f"--method: {exc}") from None
+    return method.spec

@@ -130,6 +130,11 @@ class Pattern:
         """When its last effect ends, in seconds (0 for an empty pattern)."""
         return max((e.end_s for e in self.effects), default=0.0)
 
+    def duration_on(self, target) -> float:
+        """:attr:`duration_s`, whatever the array (a ``.tact`` pattern's may depend on the
+        positions the array's groups play)."""
+        return self.duration_s
+
     @property
     def key(self) -> Pattern:
         """What makes two patterns the same content: the pattern itself (a value), so a copy

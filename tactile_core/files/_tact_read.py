@@ -13,10 +13,13 @@ The structure follows bHaptics' own parsers (``ProjectModel.cpp`` of bhaptics/ha
                          "dotMode": {"dotConnected", "feedback": [{"startTime", "endTime",
                                      "playbackType", "pointList": [{"index", "intensity"}]}]}
                      }}}]}]},
-     "durationMillis": ..., "intervalMillis": ..., "size": ...}
+     "durationMillis": ..., "intervalMillis": ..., "size": ...,
+     "feedback": {MS: [{"position", "mode", "values": [0..100, ...]}, ...]}}
 
-An effect starts ``startTime`` ms into the file and lasts ``offsetTime`` ms; its points' and
-dots' times count from its start. Coordinates are in 0..1 of the device position, y downward.
+``feedback`` is the compiled form, bHaptics' own frames (``_tact_compiled``); a file may carry
+either form or both. An effect starts ``startTime`` ms into the file and lasts ``offsetTime``
+ms; its points' and dots' times count from its start. Coordinates are in 0..1 of the device
+position, y downward.
 Every problem raises :class:`TactError` naming the field, e.g.
 ``tracks[0].effects[2].modes.VestFront.pathMode.feedback[3].pointList[1].x``.
 """
@@ -24,11 +27,13 @@ Every problem raises :class:`TactError` naming the field, e.g.
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
+import math
 
 from .._shared import validate as _validate
 from .._shared.jsonfile import parse_json, read_bytes
 from ..rendering.shapes import FADES, MAX_POINTS, PATTERNS
+from ._tact_compiled import DEVICE_MOTORS, compiled_dots, device_places, read_compiled
+from ._tact_records import TactDot, TactError, TactFile, TactPath
 
 MAX_TACT_BYTES = 4 << 20
 """Largest ``.tact`` file read (4 MiB; bHaptics' sample files are under 100 KB)."""
@@ -44,83 +49,23 @@ MAX_LAYOUT = 1024
 MAX_TIME_MS = 3_600_000.0
 """Latest moment anything may end, in ms from the file's start (an hour)."""
 MODES = ("PATH_MODE", "DOT_MODE")
+FORMS = ("project", "compiled")
+"""The two forms of a file: the Designer project and bHaptics' compiled frames."""
+
+__all__ = ["TactDot", "TactError", "TactFile", "TactPath", "parse_tact", "read_tact"]
 
 
-class TactError(ValueError):
-    """A ``.tact`` file that cannot be used; the message names the file and the field."""
-
-
-@dataclass(frozen=True)
-class TactPath:
-    """One path (one ``pathMode.feedback`` entry), times in seconds from the file's start.
-
-    ``points`` are in bHaptics' 0..1 (y downward). A single point is held from its time to
-    the end of its effect: it is stored as two points at the same place.
-    """
-
-    position: str
-    points: tuple
-    times_s: tuple
-    intensities: tuple
-    pattern: str
-    fade: str
-    field: str
-
-
-@dataclass(frozen=True)
-class TactDot:
-    """One motor of one ``dotMode.feedback`` entry, on from ``start_s`` to ``end_s``."""
-
-    position: str
-    index: int
-    intensity: float
-    start_s: float
-    end_s: float
-    fade: str
-    field: str
-
-
-@dataclass(frozen=True)
-class TactFile:
-    """What a ``.tact`` file holds, checked.
-
-    Attributes
-    ----------
-    name : str
-        The project's name ('' when it has none).
-    layouts : dict of str to dict of int to (float, float)
-        Per device position, each motor's ``(x, y)`` in 0..1 by its index.
-    paths, dots : tuple
-        :class:`TactPath` and :class:`TactDot` records of the enabled tracks.
-    duration_s : float
-        When the last effect of an enabled track ends, in seconds.
-    ends_s : dict of str to float
-        Per position with content, when the last effect holding its paths or dots ends, in
-        seconds (what that position lasts played alone).
-    positions : tuple of str
-        The positions that hold paths or dots, in the order they first appear.
-    connected : tuple of (str, str, int)
-        ``(position, field, dots)`` of each played dot effect with ``dotConnected: true``,
-        which plays as separate dots (a path through them is not supported).
-    """
-
-    name: str
-    layouts: dict
-    paths: tuple
-    dots: tuple
-    duration_s: float
-    positions: tuple
-    connected: tuple = ()
-    ends_s: dict = dataclasses.field(default_factory=dict)
-
-
-def read_tact(path) -> TactFile:
+def read_tact(path, form: str | None = None) -> TactFile:
     """Read and check a ``.tact`` file.
 
     Parameters
     ----------
     path : path
         The file (JSON, UTF-8, a byte-order mark allowed), at most :data:`MAX_TACT_BYTES`.
+    form : {"project", "compiled"}, optional
+        Which form to play: the Designer project (``project``) or bHaptics' compiled frames
+        (``feedback``). By default the project, or the frames of a file without one. Both are
+        checked whenever present.
 
     Returns
     -------
@@ -130,21 +75,29 @@ def read_tact(path) -> TactFile:
     ------
     TactError
         Naming the file and the field when anything is missing, of the wrong type, out of range
-        (coordinates or intensities outside 0..1, negative durations, times out of order or
-        after their effect's end) or too large.
+        (coordinates or intensities outside 0..1, motor values outside 0..100, negative
+        durations, times out of order or after their effect's end) or too large, or the form
+        asked for is not in the file.
     """
     data = read_bytes(path, TactError, max_bytes=MAX_TACT_BYTES)
-    return parse_tact(parse_json(data, path, TactError), str(path))
+    return parse_tact(parse_json(data, path, TactError), str(path), form)
 
 
-def parse_tact(data, source: str = "tact") -> TactFile:
+def parse_tact(data, source: str = "tact", form: str | None = None) -> TactFile:
     """Check a parsed ``.tact`` document (see :func:`read_tact`)."""
+    if form is not None and form not in FORMS:
+        raise ValueError(f"form must be one of {', '.join(FORMS)}, got {_validate.shown(form)}")
     reader = _Reader(source)
-    return reader.file(data)
+    return reader.file(data, form)
 
 
 class _Reader:
     """Walks the document once, counting what it reads against the bounds."""
+
+    max_layout = MAX_LAYOUT
+    max_time_ms = MAX_TIME_MS
+    max_positions = 64
+    modes = MODES
 
     def __init__(self, source: str):
         self.source = source
@@ -201,12 +154,37 @@ class _Reader:
             self.fail(field, f"must be one of {', '.join(options)}, got {_validate.shown(value)}")
         return value
 
-    def file(self, data) -> TactFile:
+    def file(self, data, form: str | None = None) -> TactFile:
         data = self.object(data, "the file")
+        has_project = any(key in data for key in ("project", "layout", "tracks"))
+        compiled = read_compiled(self, data) if "feedback" in data else None
+        if form is None:
+            form = "project" if has_project or compiled is None else "compiled"
+        if form == "compiled":
+            if compiled is None:
+                self.fail("feedback", "is missing: the file has no compiled frames")
+            if has_project:  # checked, though the frames play
+                self.project(data)
+            self.points = 0
+            dots, layouts, ends, positions = compiled_dots(self, compiled)
+            return TactFile(name=self.name(data), layouts=layouts, paths=(), dots=dots,
+                            duration_s=compiled.end_s, positions=positions, ends_s=ends,
+                            compiled=compiled, form="compiled")  # fmt: skip
+        return dataclasses.replace(self.project(data), compiled=compiled)
+
+    def name(self, data) -> str:
+        project = data.get("project", data)
+        name = project.get("name", "") if isinstance(project, dict) else ""
+        return name[:MAX_NAME_CHARS] if isinstance(name, str) else ""
+
+    def project(self, data) -> TactFile:
         project = self.object(data["project"], "project") if "project" in data else data
         layout = self.object(self.get(project, "layout", ""), "layout")
-        layouts = self.layouts(self.object(self.get(layout, "layouts", "layout"), "layout.layouts"))
-        name = project.get("name", "")
+        if "layouts" in layout or "type" not in layout:
+            layouts = self.layouts(self.object(self.get(layout, "layouts", "layout"),
+                                               "layout.layouts"))  # fmt: skip
+        else:  # a layout named by its type alone: the device's own places
+            layouts = {p: device_places(p, n) for p, n in DEVICE_MOTORS.items()}
         paths, dots, end_ms, positions = [], [], 0.0, []
         tracks = self.array(self.get(project, "tracks", ""), "tracks", MAX_EFFECTS)
         for i, track in enumerate(tracks):
@@ -222,7 +200,7 @@ class _Reader:
                 if enable:
                     end_ms = max(end_ms, end)
         return TactFile(
-            name=name[:MAX_NAME_CHARS] if isinstance(name, str) else "",
+            name=self.name(data),
             layouts=layouts,
             paths=tuple(paths),
             dots=tuple(dots),
@@ -322,6 +300,9 @@ class _Reader:
                 if time > length:
                     self.fail(f"{at}.time", f"is {time:g} ms, after its effect's end "
                               f"(offsetTime {length:g} ms)")  # fmt: skip
+                if times and time == times[-1] and (x, y) == xy[-1]:
+                    levels[-1] = level  # the same point again (bHaptics' files repeat some)
+                    continue
                 if times and time <= times[-1]:
                     self.fail(f"{at}.time", f"is {time:g} ms, not after the point before it "
                               f"({times[-1]:g} ms): times must increase")  # fmt: skip
@@ -339,18 +320,23 @@ class _Reader:
         return out
 
     def dot_mode(self, mode, field, position, start, length, layouts) -> list:
-        out = []
+        """The dots of a ``dotMode``; with ``dotConnected: true`` each entry fades into the next
+        (:func:`_connect`)."""
+        entries = []
         for where, entry in self.feedback(mode, "dotMode", field):
             begin = self.number(self.get(entry, "startTime", where), f"{where}.startTime", 0.0,
-                                length)  # fmt: skip
-            end = self.number(self.get(entry, "endTime", where), f"{where}.endTime", 0.0, length)
+                                MAX_TIME_MS)  # fmt: skip
+            end = self.number(self.get(entry, "endTime", where), f"{where}.endTime", 0.0,
+                              MAX_TIME_MS)  # fmt: skip
             if end < begin:
                 self.fail(f"{where}.endTime", f"is {end:g} ms, before its startTime "
                           f"({begin:g} ms): a negative duration")  # fmt: skip
+            begin, end = min(begin, length), min(end, length)  # the effect ends them
             fade = self.choice(entry.get("playbackType", "NONE"), f"{where}.playbackType", FADES)
             dots = self.array(self.get(entry, "pointList", where), f"{where}.pointList",
                               MAX_LAYOUT)  # fmt: skip
             self.count(len(dots), f"{where}.pointList")
+            motors = []
             for n, dot in enumerate(dots):
                 at = f"{where}.pointList[{n}]"
                 dot = self.object(dot, at)
@@ -359,9 +345,17 @@ class _Reader:
                 if index not in layouts.get(position, {}):
                     self.fail(f"{at}.index", f"is motor {index}, which layout.layouts."
                               f"{position} does not list")  # fmt: skip
-                if end > begin:
-                    out.append(TactDot(position, index, level, (start + begin) / 1e3,
-                                       (start + end) / 1e3, fade, at))  # fmt: skip
+                motors.append((index, level, at))
+            entries.append((begin, end, fade, motors))
+        body = mode["dotMode"]
+        places = layouts.get(position, {})
+        if body.get("dotConnected") is True:
+            return _connect(entries, position, start, places)
+        out = []
+        for begin, end, fade, motors in entries:
+            if end > begin:
+                out.extend(TactDot(position, i, level, (start + begin) / 1e3, (start + end) / 1e3,
+                                   fade, at, *places[i]) for i, level, at in motors)  # fmt: skip
         return out
 
     def count(self, n: int, field: str) -> None:
@@ -385,3 +379,26 @@ def _kind(value) -> str:
     if isinstance(value, dict):
         return "an object"
     return type(value).__name__
+
+
+def _connect(entries, position: str, start: float, places: dict) -> list:
+    """Connected dots as bHaptics plays them (measured on its compiled frames, docs/tact.md):
+    entry ``j``'s dots fade out (1 -> 0) from its ``startTime`` to the next entry's while the
+    next entry's dots fade in (0 -> 1), both ends included, so at an entry's start the two add;
+    the last entry then holds until its ``endTime``, from just after its start."""
+    out = []
+    for j, (begin, end, _, motors) in enumerate(entries):
+        if j + 1 < len(entries):
+            following = entries[j + 1]
+            if following[0] > begin:
+                a, b = (start + begin) / 1e3, (start + following[0]) / 1e3
+                out.extend(TactDot(position, i, level, a, b, "FADE_OUT", at, *places[i])
+                           for i, level, at in motors)  # fmt: skip
+                out.extend(TactDot(position, i, level, a, b, "FADE_IN", at, *places[i])
+                           for i, level, at in following[3])  # fmt: skip
+        elif end > begin:
+            a = (start + begin) / 1e3
+            a = math.nextafter(a, math.inf) if j else a  # (the fade into it ends at its start)
+            out.extend(TactDot(position, i, level, a, (start + end) / 1e3, "NONE", at,
+                               *places[i]) for i, level, at in motors)  # fmt: skip
+    return out

@@ -13,7 +13,9 @@ Coordinates go out in 0..1 of the array's actuator extent, y downward (the inver
 import's mapping, clipped to [0, 1]); x, y and intensity rounded to 4 decimals, times to whole
 milliseconds (a point less than 1 ms after the one before it is dropped). The layout written is
 this array's own actuators, in the same coordinates, numbered as the Designer numbers motors:
-from the top left, row by row (:func:`motor_places`).
+from the top left, row by row (:func:`motor_places`). With ``compiled=METHOD`` the document
+also carries the compiled form: the path's frames by that method every 20 ms
+(:func:`compile_frames`), as bHaptics' own exports carry both forms.
 """
 
 from __future__ import annotations
@@ -27,9 +29,11 @@ import numpy as np
 from .._shared import validate as _validate
 from .._shared.jsonfile import write_json_atomic
 from .._shared.outfile import check_output
-from ..rendering.rasterize import check_target
+from ..rendering.methods import get_method
+from ..rendering.rasterize import check_renders, check_target, render
 from ..rendering.shapes import MAX_POINTS, Line, Polyline, Shape, Square, TimedPath
 from ..rendering.trace import Trace
+from ._tact_compiled import INTERVAL_MS, compiled_document, frame_count
 from ._tact_coords import layout_box, layout_to_unit
 from ._tact_read import MAX_NAME_CHARS
 
@@ -87,7 +91,8 @@ def path_of_scene(scene) -> TimedPath:
 
 
 def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
-                  position: str = "VestFront", created_ms: int | None = None) -> dict:  # fmt: skip
+                  position: str = "VestFront", created_ms: int | None = None,
+                  compiled: str | None = None) -> dict:  # fmt: skip
     """The ``.tact`` document of one time-keyed path on an array.
 
     Parameters
@@ -102,6 +107,9 @@ def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
         The bHaptics device position the effect is for (one of :data:`POSITIONS`).
     created_ms : int, optional
         ``createdAt``/``updatedAt`` in ms since the epoch (default: now).
+    compiled : str, optional
+        A rendering method: the document then carries the compiled form too, the path's frames
+        by that method every 20 ms (:func:`compile_frames`), as bHaptics' exports carry both.
 
     Returns
     -------
@@ -147,6 +155,9 @@ def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
     effect = {"name": "Effect 1", "startTime": 0, "offsetTime": end, "modes": {position: mode}}
     now = created_ms if created_ms is not None else _now_ms()
     kind = POSITIONS[position]
+    frames = {}
+    if compiled is not None:
+        frames = compiled_document({position: compile_frames(path, target, compiled)})
     return {
         "project": {
             "name": name,
@@ -161,7 +172,41 @@ def tact_document(path: TimedPath, target, *, name: str = "tactile-tuner",
         "durationMillis": 0,
         "intervalMillis": SAMPLE_MS,
         "size": len(motors),
+        **frames,
     }
+
+
+def compile_frames(path: TimedPath, target, method: str, *, interval_ms: int = INTERVAL_MS):
+    """A path's frames as bHaptics' compiled form holds them: motor values every
+    ``interval_ms``.
+
+    Parameters
+    ----------
+    path : TimedPath
+        In layout units of ``target``; its times are taken from its start.
+    target : Grid or Layout
+        The array it is rendered on.
+    method : str
+        The rendering method (its raw intensities: no correction, which is this array's).
+    interval_ms : int, keyword-only
+        The frames' spacing (bHaptics' 20 ms).
+
+    Returns
+    -------
+    ndarray of int64, shape (n, size)
+        Frame ``k`` at ``k * interval_ms`` (``n`` frames before the path's end), values 0..100
+        (the raw intensity x 100 cut to a whole number, as bHaptics' values are), columns in
+        the Designer's motor order (:func:`motor_order`).
+    """
+    if not isinstance(path, TimedPath):
+        raise ValueError(f"path must be a TimedPath, got {_validate.shown(path)}")
+    target = check_target(target)
+    method = get_method(method)
+    check_renders(method, target)
+    n = frame_count(path.duration_s, interval_ms)
+    t = np.clip(np.arange(n) * interval_ms / 1e3 / path.duration_s, 0.0, 1.0)
+    raw = render(path, method.on_clock(path.duration_s), t, grid=target).reshape(n, target.size)
+    return np.clip(np.floor(raw[:, motor_order(target)] * 100.0 + 1e-9), 0, 100).astype(np.int64)
 
 
 def motor_places(target) -> list[tuple[float, float]]:
@@ -177,7 +222,16 @@ def motor_places(target) -> list[tuple[float, float]]:
     """
     box = layout_box(target)
     places = [layout_to_unit(x, y, box) for x, y in check_target(target).positions]
-    return sorted(places, key=lambda uv: (round(uv[1], DECIMALS), round(uv[0], DECIMALS)))
+    return [places[i] for i in motor_order(target)]
+
+
+def motor_order(target) -> list[int]:
+    """The actuators of ``target`` in the Designer's motor order (:func:`motor_places`):
+    ``motor_order(target)[m]`` is motor ``m``'s actuator."""
+    box = layout_box(target)
+    places = [layout_to_unit(x, y, box) for x, y in check_target(target).positions]
+    return sorted(range(len(places)), key=lambda i: (round(places[i][1], DECIMALS),
+                                                     round(places[i][0], DECIMALS)))  # fmt: skip
 
 
 def write_tact(out, path: TimedPath, target, **options):
