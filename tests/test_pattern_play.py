@@ -208,3 +208,24 @@ def test_a_tact_file_imported_as_effects_plays_as_the_file_does(tmp_path, source
     assert own.shape == theirs.shape and own == pytest.approx(theirs, abs=1e-12)
     again = Pattern.load(imported.save(tmp_path / "imported.json"))
     assert again == imported
+
+
+def test_the_compiled_form_holds_the_patterns_frames_every_20_ms(tmp_path, capsys):
+    out = tmp_path / "sweep.tact"
+    args = ["export-tact", "--shape", f"pattern:{EXAMPLES['vest-sweep']}", "--profile",
+            "vest-front-back", "--group", "front=VestFront", "--group", "back=VestBack",
+            "--compiled", "--out", str(out)]  # fmt: skip
+    assert main(args) == 0
+    assert "and its frames by BA every 20 ms (compiled form)" in capsys.readouterr().out
+    doc = json.loads(out.read_text())
+    assert doc["intervalMillis"] == 20 and len(doc["feedback"]) == 80  # 1.6 s
+    # frame 10 (0.2 s) is a quarter of the way along the front's line (0.8 s), BA on the vest;
+    # bHaptics numbers a panel's motors from the top left, row by row
+    layout = VEST.layout
+    motors = sorted(range(20), key=lambda a: (-layout.xy[a][1], layout.xy[a][0]))
+    raw = tc.render(tc.Line((0.0, 2.0), (3.0, 2.0)), "BA", 0.25, grid=layout)
+    expected = np.floor(raw[motors] * 100 + 1e-9).astype(int).tolist()
+    frame = {e["position"]: e["values"] for e in doc["feedback"]["200"]}
+    assert frame["VestFront"] == expected and any(expected)
+    assert not any(frame["VestBack"])  # the back waits for its turn
+    assert read_tact(out, form="compiled").positions == ("VestFront", "VestBack")

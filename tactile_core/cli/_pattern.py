@@ -74,15 +74,23 @@ def parse_group_positions(items) -> dict:
 def export_pattern(args, out, target, name: str) -> int:
     """``tactile export-tact --shape pattern:FILE``: the pattern's effects as a ``.tact``
     file (paths and dots per effect) on ``target``."""
+    from ..rendering.placement import default_method
     from ._common import write_failed
 
-    pattern = load_pattern_arg(args, target)
+    compiled = None
+    if getattr(args, "compiled", False):
+        compiled = args.method if args.method is not None else default_method(target)
+    elif getattr(args, "method", None) is not None:
+        raise UsageError("--method applies with --compiled (the frames it renders)")
+    pattern = load_pattern_arg(args, target, compiled)
     try:
         written = pattern.save_tact(out, target, name=name, position=args.position,
-                                    positions=parse_group_positions(args.group))  # fmt: skip
+                                    positions=parse_group_positions(args.group),
+                                    compiled=compiled)  # fmt: skip
     except OSError as exc:
         raise write_failed(out, exc) from None
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    print(f"wrote {describe(args, pattern)} to {written}")
+    frames = f" and its frames by {compiled} every 20 ms (compiled form)" if compiled else ""
+    print(f"wrote {describe(args, pattern)}{frames} to {written}")
     return 0

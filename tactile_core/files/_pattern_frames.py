@@ -274,15 +274,22 @@ class PatternFrames:
         size = self.grid.size
         start = (np.arange(count) + first) / self.sampling.rate_hz
         when = (start[:, None] + self.sampling.offsets_s()[None, :]).reshape(-1)
-        raw = np.zeros((when.size, size))
-        for lo in range(0, when.size, BLOCK_SAMPLES):
-            self._render_block(when[lo : lo + BLOCK_SAMPLES], raw[lo : lo + BLOCK_SAMPLES])
-        if self._sum:
-            np.minimum(raw, 1.0, out=raw)
+        raw = self.raw_at(when)
         if corrected:
             raw = correct(raw, self.mu, self.gamma, gain=self.gain)
         frames = raw.reshape(count, s, size).mean(axis=1)
         return start, frames.reshape((count, *self.grid.frame_shape))
+
+    def raw_at(self, when_s: np.ndarray) -> np.ndarray:
+        """Combined raw intensities at the ascending times ``when_s`` (seconds from the
+        pattern's start), before the correction: ``(len(when_s), size)`` float64."""
+        when = np.asarray(when_s, dtype=np.float64).reshape(-1)
+        raw = np.zeros((when.size, self.grid.size))
+        for lo in range(0, when.size, BLOCK_SAMPLES):
+            self._render_block(when[lo : lo + BLOCK_SAMPLES], raw[lo : lo + BLOCK_SAMPLES])
+        if self._sum:
+            np.minimum(raw, 1.0, out=raw)
+        return raw
 
     def _render_block(self, when: np.ndarray, raw: np.ndarray) -> None:
         """Combine the parts on at the ascending times ``when`` into ``raw`` (a view)."""

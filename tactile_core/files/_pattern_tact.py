@@ -31,8 +31,11 @@ from ..rendering.placement import default_method
 from ..rendering.rasterize import check_target
 from ..rendering.scene import Scene
 from ..rendering.shapes import FADES, MAX_POINTS, TimedPath
+from ..rendering.trace import Sampling
 from ._pattern_effects import MAX_TEXT_CHARS, MAX_TRACKS, Dot, Effect, TactEffect
+from ._pattern_frames import PatternFrames
 from ._pattern_parts import compile_parts, layout_group
+from ._tact_compiled import INTERVAL_MS, frame_count
 from ._tact_write import DECIMALS, SAMPLE_MS, _now_ms, _r
 from .tact import (
     MAX_EFFECTS,
@@ -40,6 +43,7 @@ from .tact import (
     MAX_TACT_BYTES,
     POSITIONS,
     TactError,
+    compiled_document,
     layout_to_unit,
     parse_tact,
     path_of_scene,
@@ -140,6 +144,7 @@ def _end(paths, dots) -> float:
 
 def pattern_tact_document(pattern, target, *, name: str = "tactile-tuner",
                           position: str = "VestFront", positions: dict | None = None,
+                          compiled: str | None = None,
                           created_ms: int | None = None) -> dict:  # fmt: skip
     """The ``.tact`` document (the Designer's project form) of a pattern on an array.
 
@@ -155,6 +160,11 @@ def pattern_tact_document(pattern, target, *, name: str = "tactile-tuner",
     positions : dict of str to str, optional
         ...except the effects of these groups, each written to its position in 0..1 of the
         group's actuators (``{"front": "VestFront", "back": "VestBack"}`` on a vest).
+    compiled : str, optional
+        A rendering method (for the effects that name none): the document then carries
+        bHaptics' compiled form too, the pattern's combined raw intensities every 20 ms on each
+        position's motors (x 100, cut to whole numbers, as :func:`~._tact_write.compile_frames`
+        makes a path's).
     created_ms : int, optional
         ``createdAt``/``updatedAt`` in ms since the epoch (default: now).
 
@@ -212,6 +222,7 @@ def pattern_tact_document(pattern, target, *, name: str = "tactile-tuner",
         motors = enumerate(_sorted_places(target, place))
         layouts[where] = [{"index": k, "x": _r(u), "y": _r(v)} for k, (u, v) in motors]
     end_ms = _ms_of(pattern.duration_s)
+    frames = {} if compiled is None else _compiled(pattern, target, compiled, places)
     return {
         "project": {
             "name": name,
@@ -226,7 +237,21 @@ def pattern_tact_document(pattern, target, *, name: str = "tactile-tuner",
         "durationMillis": 0,
         "intervalMillis": SAMPLE_MS,
         "size": max(len(v) for v in layouts.values()),
+        **frames,
     }
+
+
+def _compiled(pattern, target, method: str, places: dict) -> dict:
+    """The compiled form's keys: the pattern's raw frames at ``k * 20`` ms, per position its
+    motors' values in their order."""
+    live = PatternFrames(pattern, method, target, Sampling(), 0.0, 1.0)
+    n = frame_count(pattern.duration_s, INTERVAL_MS)
+    raw = live.raw_at(np.arange(n) * INTERVAL_MS / 1e3)
+    values = {}
+    for where, (_, motor_of) in places.items():
+        order = sorted(motor_of, key=motor_of.get)
+        values[where] = np.clip(np.floor(raw[:, order] * 100.0 + 1e-9), 0, 100).astype(np.int64)
+    return compiled_document(values, interval_ms=INTERVAL_MS)
 
 
 def _ms_of(seconds: float) -> int:
