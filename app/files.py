@@ -1,6 +1,6 @@
 """The tuner's files: presets (open, save, built-in), exports (curves, correction table),
-bHaptics ``.tact`` files (import, export, a drawing kept as the shape), and device profiles
-(load one, save a calibrated one)."""
+bHaptics ``.tact`` files (import, export, a drawing kept as the shape), patterns (open one and
+play it), and device profiles (load one, save a calibrated one)."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from PySide6 import QtCore
 
 from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_names
 from tactile_core.files import export, tact
+from tactile_core.files.pattern import Pattern, PatternError
 from tactile_core.files.presets import MAX_NAME_CHARS, Preset, PresetError, load_preset, save_preset
 from tactile_core.files.tact import TactError, load_pattern, path_of_scene, write_tact
 from tactile_core.rendering.shapes import TimedPath, path_from_samples
@@ -281,11 +282,52 @@ class FileActions(QtCore.QObject):
                                  f"{what}{skipped}{notes}", 10_000)  # fmt: skip
         return True
 
+    # --- patterns ---------------------------------------------------------------------------------
+
+    def open_pattern_file(self, path) -> bool:
+        """Open a pattern file (``docs/patterns.md``) and play it as the scene's frame source,
+        from its start: checked against the current array (the groups it names, its dots'
+        actuators) and method first; on any problem show it and change nothing."""
+        if self._refused():
+            return False
+        try:
+            pattern = Pattern.load(path)
+            if not pattern.effects:
+                raise PatternError(f"{path}: the pattern has no effects to play")
+            pattern.check(self.device.profile.layout, self.state.scene.method)
+        except PatternError as exc:
+            self.error_raised.emit(str(exc))
+            return False
+        except ValueError as exc:  # what does not play on this array, by field
+            self.error_raised.emit(f"{path}: {exc}")
+            return False
+        self.before_load()
+        scene = self.state.scene.replace(shape=None, source=pattern, playing=True,
+                                         epoch=self.state.scene.epoch + 1)  # fmt: skip
+        self._pattern_file = (pattern, {"path": str(Path(path).absolute()), "kind": "pattern"})
+        self.state.set_scene(scene)
+        self.preset_name = pattern.name or Path(path).stem
+        self.preset_notes, self.preset_scene = pattern.notes, scene
+        self.preset_changed.emit()
+        what = f"{count(len(pattern.effects), 'effect')} over {pattern.duration_s:g} s"
+        self.message_posted.emit(f"opened the pattern {Path(path).name}: {what} (Restart "
+                                 "replays it)", 10_000)  # fmt: skip
+        return True
+
+    def ask_open_pattern(self) -> None:
+        """Ask for a pattern file and play it."""
+        path = dialogs.open_path(self.parent(), "patterns", "Open pattern",
+                                 ["Patterns (*.json)"])  # fmt: skip
+        if path:
+            self.open_pattern_file(path)
+
     def pattern_file(self, source) -> dict | None:
         """``{"path", "position", ["scale", "rotation"]}`` of the ``.tact`` file a scene's
-        ``source`` was imported from (with the options it plays with), or None (not an imported
-        pattern)."""
+        ``source`` was imported from (with the options it plays with), ``{"path", "kind":
+        "pattern"}`` of a pattern file it was opened from, or None (neither)."""
         pattern, where = self._pattern_file
+        if isinstance(pattern, Pattern):  # a pattern file
+            return dict(where) if source is not None and source is pattern else None
         if source is None or pattern is None or getattr(source, "file", None) is not pattern.file:
             return None
         out = dict(where)

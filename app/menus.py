@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6 import QtGui, QtWidgets
 
 from tactile_core.device.profile import profile_names
+from tactile_core.files.pattern import example_patterns
 from tactile_core.files.presets import builtin_presets
 
 from . import help as help_dialogs
@@ -43,6 +44,10 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     )
     menu.addAction("Export correction table (CSV, C header)...", files.ask_export_lut)
     menu.addSeparator()
+    menu.addAction("Open pattern...", files.ask_open_pattern)
+    examples = menu.addMenu("Example patterns")
+    for stem, path in example_patterns().items():
+        examples.addAction(stem, lambda p=path: files.open_pattern_file(p))
     menu.addAction("Import .tact...", files.ask_import_tact)
     menu.addAction("Export .tact...", files.ask_export_tact)
     keep = menu.addAction("Keep the drawing as the shape", files.keep_drawing)

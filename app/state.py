@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6 import QtCore
 
 import tactile_core as tc
+from tactile_core.files.pattern import Pattern
 from tactile_core.rendering import placement
 from tactile_core.rendering.geometry import Grid
 from tactile_core.rendering.layout import Layout
@@ -230,13 +231,21 @@ class TunerState(QtCore.QObject):
 
     def fit_scene(self) -> None:
         """Make the scene one the layout can play: BA for a method that cannot render on it, the
-        layout's default shape for a shape that lies off it (a scene made for another array),
-        each said in a status message."""
+        layout's default shape for a shape that lies off it (a scene made for another array) or
+        a pattern that does not play there (a group it names, an actuator), each said in a
+        status message."""
         scene, layout = self._scene, self._layout
         if scene.shape is not None and not placement.fits(scene.shape, layout):
             shape = placement.default_shape(layout)
             self._post(f"the shape lies off this layout ({layout.describe()}): {shape} instead")
             scene = scene.replace(shape=shape, hold_s=None)
+        if isinstance(scene.source, Pattern):  # its groups, its dots' actuators, its methods
+            try:
+                scene.source.check(layout)
+            except ValueError as exc:
+                shape = placement.default_shape(layout)
+                self._post(f"the pattern does not play on this layout ({exc}): {shape} instead")
+                scene = scene.replace(shape=shape, source=None, hold_s=None)
         self.set_scene(scene)
 
     def _post(self, text: str) -> None:

@@ -36,11 +36,19 @@ def curve_samples(duration_s: float, rate_hz: float) -> int:
     return min(max(round(duration_s * rate_hz), 1), MAX_CURVE_INTERVALS) + 1
 
 
+def plotted_effects(pattern) -> int:
+    """How many paths and dots a pattern's curves and outlines draw: an imported ``.tact``
+    pattern counts them (``effects``); a pattern file holds its effects, each counted by its
+    path points and dots."""
+    effects = pattern.effects
+    return effects if isinstance(effects, int) else sum(e.points() for e in effects)
+
+
 def pattern_outlines(pattern, target) -> list | None:
     """The outline of each of a ``.tact`` pattern's paths on ``target``, for the heatmap; None
     when there are more than :data:`MAX_PLOTTED_EFFECTS` effects or
     :data:`MAX_OUTLINE_POINTS` points."""
-    if pattern.effects > MAX_PLOTTED_EFFECTS:
+    if plotted_effects(pattern) > MAX_PLOTTED_EFFECTS:
         return None
     outlines = [path.outline() for path in pattern.paths(target)]
     return outlines if sum(map(len, outlines)) <= MAX_OUTLINE_POINTS else None
@@ -249,8 +257,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         period = scene.duration_s + scene.pause_s
         try:
             if pattern is not None:
-                if pattern.effects > MAX_PLOTTED_EFFECTS:
-                    self._no_trace(f"{pattern.effects} paths and dots: too many to plot")
+                if plotted_effects(pattern) > MAX_PLOTTED_EFFECTS:
+                    self._no_trace(f"{plotted_effects(pattern)} paths and dots: too many to plot")
                     return
                 outline = pattern_outlines(pattern, self.state.layout)
                 # one sample a frame (the middle of each), as the stream takes them
