@@ -7,23 +7,13 @@ import pytest
 
 from tactile_core.files.pattern import Pattern, example_patterns
 
+from . import tuner_support as support
 from .helpers import record_sent
 
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 
-@pytest.fixture
-def window(qtbot):
-    from tactile_tuner.window import MainWindow
-
-    win = MainWindow(restore=False, process=False)
-    qtbot.addWidget(win)
-    win.show()
-    qtbot.waitExposed(win)
-    qtbot.waitUntil(lambda: win.device.stats.frames > 5, timeout=10000)
-    yield win
-    win.confirm = lambda title, text: True
-    win.close()
+window = support.window  # the fixture
 
 
 def test_the_file_menu_opens_patterns_and_lists_the_examples(window):
