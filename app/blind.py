@@ -31,11 +31,16 @@ class BlindPanel(QtWidgets.QWidget):
     :attr:`session`, a :class:`~tactile_core.experiments.BlindSession`, which holds the mapping,
     the felt time, the ratings and the rules.
 
-    Start shuffles the methods onto keys 1-N; pressing a key plays its method without saying
-    which it is. Each key the rater felt gets 0-100 ratings of quality, smoothness and thickness
-    (a rating starts empty, "not rated"); Reveal and Save need every felt key rated. The panel
-    shows the session and writes what the user does to it; the session plays nothing itself:
-    the panel puts the key's method in the tuner's scene and tells the session whether it plays.
+    Start shuffles the methods onto keys 1-N and plays nothing: the array is off until the
+    rater presses a key, so the order of presentation is the rater's (no key is always first,
+    and none counts as felt before it is pressed). Pressing a key plays its method without
+    saying which it is; before the first key Space, Restart and the play button play nothing
+    (the scene from before the session would pass for a key). Each key the rater felt gets
+    0-100 ratings of quality, smoothness and thickness (a rating starts empty, "not rated");
+    Reveal and Save need every felt key rated, and a refusal's list of what is still empty
+    shrinks as the ratings come in. The panel shows the session and writes what the user does
+    to it; the session plays nothing itself: the panel puts the key's method in the tuner's
+    scene and tells the session whether it plays.
 
     Start over a session with unsaved ratings, and *Cancel session*, ask first
     (:attr:`confirm`). Cancelling puts back the scene from before the session.
@@ -64,12 +69,14 @@ class BlindPanel(QtWidgets.QWidget):
         self.confirm = lambda title, text: dialogs.confirm(self, title, text)
         """Asks yes or no before ratings are discarded (tests answer it themselves)."""
         self._blind_shown = False  # what blind_changed said last
+        self._refused = ""  # the action (Reveal, Save) whose refusal the status shows
+        state.play_guard = self._play_guard
         self._grid_methods = None  # the set chosen on a grid, while a layout restricts it
         layout = QtWidgets.QVBoxLayout(self)
         intro = QtWidgets.QLabel(
-            "Start shuffles the methods onto number keys. Press a key to feel its method on the "
-            "array (the display hides which one it is), rate every key you felt from 0 to 100, "
-            "then Reveal and Save."
+            "Start shuffles the methods onto number keys; nothing plays until you press one. "
+            "Press the keys in any order to feel their methods on the array (the display hides "
+            "which one it is), rate every key you felt from 0 to 100, then Reveal and Save."
         )
         intro.setWordWrap(True)
         layout.addWidget(intro)
@@ -129,8 +136,9 @@ class BlindPanel(QtWidgets.QWidget):
         self.session.set_methods(methods)
 
     def start(self, seed: int | None = None) -> bool:
-        """Shuffle the methods onto keys 1-N, hide the mapping and play key 1; over a session
-        with unsaved ratings, only once :attr:`confirm` says yes (False otherwise)."""
+        """Shuffle the methods onto keys 1-N, hide the mapping and turn the array off until
+        the rater's first key; over a session with unsaved ratings, only once :attr:`confirm`
+        says yes (False otherwise)."""
         if self.session.unsaved and not self.confirm(
             "Start a new blind session",
             f"The ratings of this session are not saved{self._where()}.\n\nDiscard them and "
@@ -138,8 +146,15 @@ class BlindPanel(QtWidgets.QWidget):
         ):
             return False
         self.session.start(seed, discard=True)
-        self.select_key(1)
+        self.state.update(playing=False)  # the scene from before: no key's, so not played
         return True
+
+    def _play_guard(self) -> str:
+        """Why the scene may not play now: blind, before the first key (it is no key's)."""
+        session = self.session
+        if session.active and session.current_key is None:
+            return f"press a key 1-{len(session.mapping)} first: nothing plays before a key"
+        return ""
 
     def select_key(self, key: int) -> None:
         """Play the method behind ``key`` (1-N)."""
@@ -158,7 +173,7 @@ class BlindPanel(QtWidgets.QWidget):
         try:
             self.session.reveal()
         except ValueError as exc:
-            self._say(str(exc))
+            self._say(str(exc), refused="Reveal")
             return False
         self._say("revealed")
         return True
@@ -191,7 +206,7 @@ class BlindPanel(QtWidgets.QWidget):
             self._say(f"could not save: {exc}")
             return None
         except ValueError as exc:
-            self._say(str(exc))
+            self._say(str(exc), refused="Save")
             return None
         self._say(f"saved to {path}")
         return path
@@ -241,10 +256,22 @@ class BlindPanel(QtWidgets.QWidget):
 
     # --- the view of the session ---------------------------------------------------------------
 
-    def _say(self, text: str) -> None:
-        """``text`` in the status line, with why the last autosave failed, if it did."""
+    def _say(self, text: str, refused: str = "") -> None:
+        """``text`` in the status line, with why the last autosave failed, if it did;
+        ``refused``: the text is why that action (Reveal, Save) was refused, kept up to date
+        as the session changes (:meth:`_on_session_changed`)."""
+        self._refused = refused
         problem = self.session.autosave_error
         self.status.setText("; ".join(t for t in (text, problem) if t) or self.status.text())
+
+    def _update_refusal(self) -> None:
+        """The refusal on show, as it stands now: what is still empty, or that it may go on."""
+        action = self._refused
+        if not action or not self.session.mapping:
+            return
+        why = self.session.refusal(action)
+        self._say(why or f"every key you felt is rated: {action} now", refused=action if why
+                  else "")  # fmt: skip
 
     def _where(self) -> str:
         path = self.session.autosave_path
@@ -256,7 +283,7 @@ class BlindPanel(QtWidgets.QWidget):
         session = self.session
         if list(session.methods) != self.chooser.methods:
             self.chooser.methods = list(session.methods)
-            self.chooser.edit.setText(" ".join(session.methods))
+            self.chooser.show_methods()
         if len(self.key_buttons) != len(session.methods):
             self._build_rows()
         on, dealt = session.active, bool(session.mapping)
@@ -279,10 +306,12 @@ class BlindPanel(QtWidgets.QWidget):
         self.save_button.setEnabled(dealt)
         self.cancel_button.setEnabled(dealt)
         self.chooser.setEnabled(not on)
+        self._update_refusal()
         if on != self._blind_shown:
             self._blind_shown = on
             if on:
-                self._say(f"blind: press 1-{len(session.mapping)} to switch methods")
+                self._say(f"blind: press a key 1-{len(session.mapping)} to feel its method, in "
+                          "any order (nothing plays until you do)")  # fmt: skip
             self.blind_changed.emit(on)
 
     def _build_rows(self) -> None:

@@ -103,7 +103,7 @@ class CompareView(QtWidgets.QWidget):
             raise ValueError(f"compare needs 2 to 6 distinct methods, got {methods}")
         self.methods = methods
         self.chooser.methods = list(methods)
-        self.chooser.edit.setText(" ".join(methods))
+        self.chooser.show_methods()
         self._shown_scene = None
         if self.isVisible():
             self._build()
@@ -134,8 +134,12 @@ class CompareView(QtWidgets.QWidget):
             heat.plot.setLabel("bottom", "")
             heat.plot.setLabel("left", "")
             heat.setMinimumSize(100, 160)
-            curve = CurvesView(title=f"{method.name}, {method.correction_label}"
-                               if len(methods) <= 4 else "")  # fmt: skip
+            curve = CurvesView()
+            # the longest that fits (with 5 or 6 methods the title had been left out)
+            said = f"{method.name}, {method.correction_label}"
+            curve.set_titles(said, (said, "9pt"),
+                             (f"{method.name}<br>{method.correction_label}", "9pt"),
+                             (method.name, "9pt"))  # fmt: skip
             curve.setToolTip(f"{spec} is driven with {method.correction_label}")
             curve.setMinimumSize(100, 120)
             curve.setLabel("left", "")

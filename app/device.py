@@ -86,8 +86,9 @@ class DeviceController(QtCore.QObject):
         self._service_from_thread.connect(self.service_event.emit)
         self._generation = 0
         self.divert = None
-        """While another program drives the array: a callable that takes the state's scenes
-        instead of the stream (the OSC server's method and correction)."""
+        """While something else than the state's scene plays on the array (another program's
+        points, a pulsed tactor): a callable that takes the state's scenes instead of the
+        stream (the OSC server's method and correction; the pulse lets go of the tactor)."""
         self.driven_points: tuple = ()
         """The points another program drives, ``((id, x, y, intensity), ...)``, for display."""
         state.set_layout(self.profile.layout)  # the scene follows the layout before it streams
@@ -200,8 +201,17 @@ class DeviceController(QtCore.QObject):
         else:
             self.streamer.set_scene(outgoing(scene))
 
+    def play_apart(self, scene, divert) -> None:
+        """Play ``scene`` on the array instead of the state's, which stays as it is (a tactor
+        pulsed from the heatmap: the controls and the views keep showing the tuning). The
+        state's scenes go to ``divert`` (:attr:`divert`) until that is None again and
+        :meth:`resume` hands the state's scene back to the stream."""
+        self.divert = divert
+        self.streamer.set_scene(outgoing(scene))
+
     def resume(self) -> None:
-        """Hand the state's scene to the stream again (after another program drove it)."""
+        """Hand the state's scene to the stream again (after another program or a pulse
+        played)."""
         self.streamer.set_scene(outgoing(self.state.scene))
 
     def all_off(self) -> None:

@@ -189,7 +189,10 @@ class DevicePanel(QtWidgets.QWidget):
     def _on_connect_clicked(self) -> None:
         if self._typed_link() in self._in_use:
             return  # already streaming there (Enter again, a double click)
-        self.device.connect_device(self.port_combo.currentText())
+        if not self.device.connect_device(self.port_combo.currentText()):
+            # Refused (the message names the link typed): the box shows the link in use again,
+            # not one that plays nothing while the simulated array goes on.
+            self.port_combo.setCurrentText(self._link_in_use()[0])
 
     def set_run_locked(self, locked: bool) -> None:
         """During an experiment run the device stays as it is: another port, a disconnect

@@ -1,6 +1,6 @@
 """The tuner's files: presets (open, save, built-in), exports (curves, correction table),
-bHaptics ``.tact`` files (import, export, a drawing kept as the shape), and device profiles
-(load one, save a calibrated one)."""
+bHaptics ``.tact`` files (import, export, a drawing kept as the shape), patterns (open one and
+play it), and device profiles (load one, save a calibrated one)."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from PySide6 import QtCore
 
 from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_names
 from tactile_core.files import export, tact
+from tactile_core.files.pattern import Pattern, PatternError
 from tactile_core.files.presets import MAX_NAME_CHARS, Preset, PresetError, load_preset, save_preset
 from tactile_core.files.tact import TactError, load_pattern, path_of_scene, write_tact
 from tactile_core.rendering.shapes import TimedPath, path_from_samples
@@ -42,6 +43,9 @@ class FileActions(QtCore.QObject):
     preset_changed = QtCore.Signal()
     """The scene's preset changed: a preset or a ``.tact`` file replaced the scene, or the
     scene was saved as a preset (its name is now :attr:`preset_name`)."""
+    drawing_changed = QtCore.Signal(bool)
+    """Whether there is a drawing to keep as the shape (:meth:`keep_drawing`): in draw mode,
+    once a drag has drawn a path."""
 
     def __init__(self, state, device, parent):
         super().__init__(parent)
@@ -68,8 +72,10 @@ class FileActions(QtCore.QObject):
         self._pattern_file = (None, None)
         """The pattern imported last and where it came from (its file and position)."""
         self._stroke: list = []
-        """The last drawing in draw mode: ``(seconds, x, y)`` per point drawn."""
+        """The last drawing in draw mode: ``(seconds, x, y)`` per point drawn (none outside
+        draw mode)."""
         self._stroke_done = True
+        self._drawing = False  # in draw mode
 
     def _refused(self) -> bool:
         reason = self.blocked()
@@ -170,8 +176,8 @@ class FileActions(QtCore.QObject):
                 export.write_curves_csv(path, curves)
             elif path.suffix.lower() in (".png", ".svg"):
                 what = scene.shape.spec if scene.shape is not None else self.preset_name
-                title = f"{scene.method} on {what}, mu = {scene.mu:g}, "
-                title += f"gamma = {scene.gamma:g}"
+                title = f"{scene.method} on {what}, mu = {value3(scene.mu)}, "
+                title += f"gamma = {value3(scene.gamma)}"
                 export.plot_curves(path, curves, title=title, colors=cell_colors(curves.cells))
             else:
                 self.error_raised.emit(
@@ -276,11 +282,52 @@ class FileActions(QtCore.QObject):
                                  f"{what}{skipped}{notes}", 10_000)  # fmt: skip
         return True
 
+    # --- patterns ---------------------------------------------------------------------------------
+
+    def open_pattern_file(self, path) -> bool:
+        """Open a pattern file (``docs/patterns.md``) and play it as the scene's frame source,
+        from its start: checked against the current array (the groups it names, its dots'
+        actuators) and method first; on any problem show it and change nothing."""
+        if self._refused():
+            return False
+        try:
+            pattern = Pattern.load(path)
+            if not pattern.effects:
+                raise PatternError(f"{path}: the pattern has no effects to play")
+            pattern.check(self.device.profile.layout, self.state.scene.method)
+        except PatternError as exc:
+            self.error_raised.emit(str(exc))
+            return False
+        except ValueError as exc:  # what does not play on this array, by field
+            self.error_raised.emit(f"{path}: {exc}")
+            return False
+        self.before_load()
+        scene = self.state.scene.replace(shape=None, source=pattern, playing=True,
+                                         epoch=self.state.scene.epoch + 1)  # fmt: skip
+        self._pattern_file = (pattern, {"path": str(Path(path).absolute()), "kind": "pattern"})
+        self.state.set_scene(scene)
+        self.preset_name = pattern.name or Path(path).stem
+        self.preset_notes, self.preset_scene = pattern.notes, scene
+        self.preset_changed.emit()
+        what = f"{count(len(pattern.effects), 'effect')} over {pattern.duration_s:g} s"
+        self.message_posted.emit(f"opened the pattern {Path(path).name}: {what} (Restart "
+                                 "replays it)", 10_000)  # fmt: skip
+        return True
+
+    def ask_open_pattern(self) -> None:
+        """Ask for a pattern file and play it."""
+        path = dialogs.open_path(self.parent(), "patterns", "Open pattern",
+                                 ["Patterns (*.json)"])  # fmt: skip
+        if path:
+            self.open_pattern_file(path)
+
     def pattern_file(self, source) -> dict | None:
         """``{"path", "position", ["scale", "rotation"]}`` of the ``.tact`` file a scene's
-        ``source`` was imported from (with the options it plays with), or None (not an imported
-        pattern)."""
+        ``source`` was imported from (with the options it plays with), ``{"path", "kind":
+        "pattern"}`` of a pattern file it was opened from, or None (neither)."""
         pattern, where = self._pattern_file
+        if isinstance(pattern, Pattern):  # a pattern file
+            return dict(where) if source is not None and source is pattern else None
         if source is None or pattern is None or getattr(source, "file", None) is not pattern.file:
             return None
         out = dict(where)
@@ -324,12 +371,36 @@ class FileActions(QtCore.QObject):
         if path:
             self.export_tact_file(path)
 
+    def follow_drawing(self, gestures) -> None:
+        """Record what is drawn in ``gestures``' draw mode (a
+        :class:`~app.tune.gestures.HeatmapGestures`), for :meth:`keep_drawing`."""
+        gestures.heatmap.point_drawn.connect(self.record_drawn_point)
+        gestures.heatmap.draw_released.connect(self.end_drawn_stroke)
+        gestures.draw_mode_changed.connect(self.set_draw_mode)
+
+    @property
+    def can_keep_drawing(self) -> bool:
+        """In draw mode with a path drawn (two points or more): :meth:`keep_drawing` keeps it."""
+        return self._drawing and len(self._stroke) >= 2
+
+    def set_draw_mode(self, on: bool) -> None:
+        """Draw mode began or ended: either way, no drawing yet (one from an earlier draw mode
+        would replace whatever scene plays since: a preset, a ``.tact`` file)."""
+        self._drawing = bool(on)
+        self._stroke, self._stroke_done = [], True
+        self.drawing_changed.emit(self.can_keep_drawing)
+
     def record_drawn_point(self, x: float, y: float) -> None:
         """Draw mode moved the point to ``(x, y)``: add it to the drawing (a new drawing starts
         after the pointer was released)."""
+        if not self._drawing:
+            return
+        before = self.can_keep_drawing
         if self._stroke_done:
             self._stroke, self._stroke_done = [], False
         self._stroke.append((time.perf_counter(), float(x), float(y)))
+        if self.can_keep_drawing != before:
+            self.drawing_changed.emit(self.can_keep_drawing)
 
     def end_drawn_stroke(self) -> None:
         """The pointer was released: the drawing is complete."""
@@ -337,7 +408,11 @@ class FileActions(QtCore.QObject):
 
     def keep_drawing(self) -> bool:
         """Leave draw mode with the last drawing as the scene's shape: a time-keyed path that
-        replays it at the pace it was drawn (save it as a preset, export it as ``.tact``)."""
+        replays it at the pace it was drawn (save it as a preset, export it as ``.tact``).
+        Only in draw mode, with a path drawn (:attr:`can_keep_drawing`)."""
+        if not self._drawing:
+            self.error_raised.emit("draw a path first: turn on draw mode and drag on the heatmap")
+            return False
         try:
             shape = path_from_samples([s for s, _, _ in self._stroke],
                                       [(x, y) for _, x, y in self._stroke])  # fmt: skip

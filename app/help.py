@@ -16,10 +16,18 @@ SHORTCUTS = (
     ("Space", "play or pause (also releases a held tactor)"),
     ("Esc", "all off, from anywhere (in an open menu, drop-down or dialog: closes only that)"),
     ("Enter", "in a field: commit the value and give the keys back to the window"),
-    ("click / Shift+click a cell", "pulse that tactor for 0.3 s / hold it on"),
+    (
+        "click / Shift+click a cell",
+        "pulse that tactor for 0.3 s / hold it on (a change to the tuning releases it)",
+    ),
     ("drag the time cursor", "scrub: the heatmap and the array hold that instant"),
     ("Blind A/B", ""),
-    ("1-8", "play the method behind the key (which one stays hidden until Reveal)"),
+    (
+        "1-8",
+        "play the method behind the key (which one stays hidden until Reveal); "
+        "nothing plays after Start until a key is pressed",
+    ),
+    ("Space", "pause or play the key selected"),
     ("During an experiment (the participant's keys)", ""),
     *((kind, text.format(n="N")) for kind, text in RUN_KEYS.items()),
     ("Esc", "pause the run, array off; Enter or Present again resumes"),

@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6 import QtGui, QtWidgets
 
 from tactile_core.device.profile import profile_names
+from tactile_core.files.pattern import example_patterns
 from tactile_core.files.presets import builtin_presets
 
 from . import help as help_dialogs
@@ -44,9 +45,18 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     )
     menu.addAction("Export correction table (CSV, C header)...", files.ask_export_lut)
     menu.addSeparator()
+    menu.addAction("Open pattern...", files.ask_open_pattern)
+    examples = menu.addMenu("Example patterns")
+    for stem, path in example_patterns().items():
+        examples.addAction(stem, lambda p=path: files.open_pattern_file(p))
     menu.addAction("Import .tact...", files.ask_import_tact)
     menu.addAction("Export .tact...", files.ask_export_tact)
-    menu.addAction("Keep the drawing as the shape", files.keep_drawing)
+    keep = menu.addAction("Keep the drawing as the shape", files.keep_drawing)
+    keep.setStatusTip(
+        "In draw mode, after a drag: leave draw mode with the path drawn as the shape"
+    )
+    keep.setEnabled(files.can_keep_drawing)  # only in draw mode, with a drawing
+    files.drawing_changed.connect(keep.setEnabled)
     menu.addSeparator()
     # Ctrl+Q on every platform (the standard key is empty on some, e.g. Windows, offscreen).
     menu.addAction("Quit", window.close, QtGui.QKeySequence("Ctrl+Q"))

@@ -28,6 +28,8 @@ from tactile_core.rendering.methods import get_method
 from tactile_core.rendering.points import free_method
 from tactile_core.serve import DEFAULT_PORT
 
+from .texts import value3
+
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
@@ -209,7 +211,7 @@ class ServeController(QtCore.QObject):
             return
         elif kind == "osc-scene" and self.serving != "off":
             if self.state.update(**payload):  # only what the sender changed
-                said = ", ".join(f"{k} {v:.2f}" if k != "method" else str(v)
+                said = ", ".join(f"{k} {value3(v)}" if k != "method" else str(v)
                                  for k, v in payload.items())  # fmt: skip
                 self._post(f"the sender set {said}", 5000)
         elif kind in ("osc-refused", "osc-warning"):

@@ -44,7 +44,9 @@ def traffic_text(serve: ServeController, stats) -> str:
 
 
 class ServePanel(QtWidgets.QGroupBox):
-    """A toggle with the address to listen on; the traffic and the counters while serving."""
+    """A toggle with the address to listen on; the traffic and the counters while serving; the
+    LSL outlets' state: each on a line of its own (the LSL state had been squeezed onto the
+    counters' line, which made the window 1320 px wide at 1280 x 720)."""
 
     def __init__(self, serve: ServeController, parent=None):
         super().__init__("Driven by another program (OSC)", parent)
@@ -92,11 +94,10 @@ class ServePanel(QtWidgets.QGroupBox):
         row.addWidget(self.port_spin)
         row.addWidget(self.warning)
         row.addStretch(1)
-        grid.addLayout(row, 0, 0, 1, 2)
-        grid.addWidget(self.traffic, 1, 0, 1, 2)
+        grid.addLayout(row, 0, 0)
+        grid.addWidget(self.traffic, 1, 0)
         grid.addWidget(self.counters, 2, 0)
-        grid.addWidget(self.lsl_label, 2, 1)
-        grid.setColumnStretch(0, 1)
+        grid.addWidget(self.lsl_label, 3, 0)
         self.toggle.setToolTip(tip(
             "Listen for OSC messages (/tactile/point x y [intensity], /tactile/method, "
             "/tactile/mu, /tactile/gamma, /tactile/shape, /tactile/off, as tactile serve) and "
@@ -151,6 +152,7 @@ class ServePanel(QtWidgets.QGroupBox):
         """The traffic line and the counters."""
         self.traffic.setText(traffic_text(self.serve, stats))
         self.counters.setText("" if stats is None else counters_text(stats))
+        self.counters.setVisible(stats is not None)  # (no empty line while never served)
         self.counters.setStatusTip("" if stats is None else stats.last_problem)
 
 
@@ -206,12 +208,13 @@ def install_serve(window) -> ServeController:
 
     def on_changed() -> None:
         serving = serve.serving != "off"
-        if serving:
+        if serving:  # the sender owns the array: no drawing, no tactor held
             gestures.set_draw_mode(False)
+            gestures.end_pulse(restore=False)
         window.controls.method.set_free_only(free_only if serving else "")
 
     serve.changed.connect(on_changed)
     window.serve_panel = ServePanel(serve)
-    window.device_panel.layout().addWidget(window.serve_panel, 0, 5, 3, 1)
+    window.device_panel.layout().addWidget(window.serve_panel, 0, 5, 4, 1)  # its four rows
     add_serve_actions(window, serve)
     return serve

@@ -52,7 +52,7 @@ def restored_preset(settings):
 
 
 def reopen_pattern(window) -> None:
-    """The last session played a ``.tact`` pattern: import it again from its file, on the
+    """The last session played a ``.tact`` pattern or a pattern file: open it again, on the
     restored tuning; if the file is gone (or was never known), say so in the status bar (the
     tuning stays, on the default shape)."""
     settings = window.settings
@@ -69,7 +69,11 @@ def reopen_pattern(window) -> None:
         return  # the last session played a shape
     kept = (f"{window.files.preset_name} with the last session's tuning (method, mu, gamma, "
             "timing)")  # fmt: skip
-    if last is None:
+    if last is not None and last.get("kind") == "pattern":  # a pattern file
+        opened = path.is_file() and window.files.open_pattern_file(path)
+        said = (f"the last session's pattern again: {path}" if opened else
+                f"the last session's pattern {path} no longer opens: {kept}")  # fmt: skip
+    elif last is None:
         said = f"the last session's .tact pattern was not saved: {kept}"
     elif not path.is_file():
         said = f"the last session's .tact file {path} is gone: {kept}"

@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6 import QtCore
 
 import tactile_core as tc
+from tactile_core.files.pattern import Pattern
 from tactile_core.rendering import placement
 from tactile_core.rendering.geometry import Grid
 from tactile_core.rendering.layout import Layout
@@ -93,6 +94,10 @@ class TunerState(QtCore.QObject):
         """A callable ``guard(name) -> why`` ("" when allowed) consulted by :meth:`update`
         besides the layout (another program driving free points refuses MM and IM); a refusal
         goes to the status line."""
+        self.play_guard = None
+        """A callable ``guard() -> why`` ("" when allowed) consulted by :meth:`update` before
+        the scene plays (Blind A/B before the rater's first key: nothing plays that is not a
+        key); a refusal goes to the status line."""
         self.run_owner = None
         """The experiment run that alone sets the scene meanwhile (:meth:`lock`), or None."""
         if layout is not None:
@@ -122,13 +127,18 @@ class TunerState(QtCore.QObject):
 
     def update(self, *, owner=None, **changes) -> bool:
         """Apply field changes; False (and :attr:`error_raised`) if they are invalid. Playing
-        (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go.
+        (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go;
+        :attr:`play_guard` may refuse it.
 
         A change that starts a new presentation (a new epoch or shape, playing after a pause)
         without naming its ``marker`` is the tuner's own: the kind a part gave the scene before
         (``ab``, ``trial``) is dropped. During an experiment run only its ``owner`` changes
         the scene (:meth:`lock`)."""
         if self._refused_by_run(owner):
+            return False
+        why = self.play_guard() if changes.get("playing") and self.play_guard else ""
+        if why:
+            self._post(why)
             return False
         if changes.get("playing") and "hold_s" not in changes:
             changes["hold_s"] = None
@@ -221,13 +231,21 @@ class TunerState(QtCore.QObject):
 
     def fit_scene(self) -> None:
         """Make the scene one the layout can play: BA for a method that cannot render on it, the
-        layout's default shape for a shape that lies off it (a scene made for another array),
-        each said in a status message."""
+        layout's default shape for a shape that lies off it (a scene made for another array) or
+        a pattern that does not play there (a group it names, an actuator), each said in a
+        status message."""
         scene, layout = self._scene, self._layout
         if scene.shape is not None and not placement.fits(scene.shape, layout):
             shape = placement.default_shape(layout)
             self._post(f"the shape lies off this layout ({layout.describe()}): {shape} instead")
             scene = scene.replace(shape=shape, hold_s=None)
+        if isinstance(scene.source, Pattern):  # its groups, its dots' actuators, its methods
+            try:
+                scene.source.check(layout)
+            except ValueError as exc:
+                shape = placement.default_shape(layout)
+                self._post(f"the pattern does not play on this layout ({exc}): {shape} instead")
+                scene = scene.replace(shape=shape, source=None, hold_s=None)
         self.set_scene(scene)
 
     def _post(self, text: str) -> None:

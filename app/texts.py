@@ -32,8 +32,9 @@ PROFILE_BLOCKED = "The device profile cannot change {}: it is for this array's l
 
 
 def value3(x: float) -> str:
-    """A correction value (mu, gamma) as the controls show it, to the 0.001 the gamma slider
-    steps in: three decimals, a last zero dropped (``0.143``, ``0.70``, ``0.33``, ``1.00``)."""
+    """A correction value (mu, gamma) as the tuner writes it everywhere (the boxes, the titles,
+    the status line, file names), to the 0.001 the gamma slider steps in: three decimals where
+    the value needs them, else two (``0.143``, ``0.70``, ``0.33``, ``1.00``)."""
     text = f"{x:.3f}"
     return text[:-1] if text.endswith("0") else text
 

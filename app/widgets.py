@@ -61,7 +61,11 @@ class MethodSetWidget(QtWidgets.QWidget):
     """A set of methods to compare, typed as specs (``AS EN RO:r=1.5``) or picked from a menu
     of every registered method; a set outside ``low..high`` methods, with an unknown name or
     with a method that :attr:`check` refuses (one that cannot render on the device's layout) is
-    refused with the reason shown, and the last good set stays."""
+    refused with the reason shown, and the last good set stays.
+
+    The reason stays under the field until another set is applied: the field gives up the focus
+    after Enter (the window takes the keys back) and says its editing finished once more, with
+    the set in use back in it; that is no new set, and changes nothing (nor does Enter on it)."""
 
     methods_changed = QtCore.Signal(list)
 
@@ -122,6 +126,8 @@ class MethodSetWidget(QtWidgets.QWidget):
         self.apply([*kept, name] if on else kept)
 
     def _on_edited(self) -> None:
+        if self.edit.text().split() == self.methods:
+            return  # the set in use: nothing new (the field was left after a refusal put it back)
         self.apply(self.edit.text().split())
 
     def refuse(self, message: str, keep=None, *, warn: bool = True) -> None:
@@ -135,6 +141,10 @@ class MethodSetWidget(QtWidgets.QWidget):
         self.problem.setStyleSheet(f"color: {'#ff8a80' if dark else '#c62828'}" if warn else "")
         self.problem.setText(message)
         self.problem.setVisible(bool(message))
+        self.show_methods()
+
+    def show_methods(self) -> None:
+        """The set in use in the field (the owner changed it, or a set was refused)."""
         self.edit.setText(" ".join(self.methods))
 
     def apply(self, specs) -> bool:

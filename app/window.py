@@ -244,8 +244,7 @@ class MainWindow(QtWidgets.QMainWindow):
             BLIND_FILES if blind.active else RUN_FILES if self.experiments.running else ""
         )
         self.files.before_load = lambda: gestures.set_draw_mode(False)
-        tune.heatmap.point_drawn.connect(self.files.record_drawn_point)
-        tune.heatmap.draw_released.connect(self.files.end_drawn_stroke)
+        self.files.follow_drawing(gestures)
         self.files.error_raised.connect(self.show_error)
         self.files.message_posted.connect(status)
         self.files.preset_changed.connect(self._update_title)
@@ -265,7 +264,7 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def all_off(self) -> None:
         """Everything off now (Esc, the button, the menu)."""
-        self.tune.gestures.end_pulse(restore=True)
+        self.tune.gestures.end_pulse(restore=False)  # (the tuning goes out paused below)
         self.device.all_off()
         if self.experiments.running:  # Space is the run's, not play/pause
             self.experiments.pause()  # (the menu's All off said so, and did not pause it)
@@ -280,7 +279,7 @@ class MainWindow(QtWidgets.QMainWindow):
     def toggle_play(self) -> None:
         """Play or pause the trace (Space); a pulsed tactor is let go first."""
         if self.tune.gestures.pulsing:
-            self.tune.gestures.end_pulse(restore=True)
+            self.tune.gestures.end_pulse()
             return
         scene = self.state.scene
         # A held (scrubbed) instant plays the trace again; otherwise play or pause.

@@ -15,6 +15,9 @@ The package is layered; each layer imports only those above it in this list::
     experiments  the paper's three experiments, analysis, tuning the correction by feel
     bench, cli   the ``tactile`` command and its benchmarks; ``script`` (``tc.open_array``)
 
+``tc.Pattern`` (with ``tc.Effect``, ``tc.Dots``, ``tc.Dot``) composes effects on a time line
+(:mod:`tactile_core.files.pattern`); like ``tc.open_array`` it is imported when first used.
+
 ``docs/architecture.md`` draws the layers and the one-way flow of a frame.
 
 >>> import numpy as np
@@ -49,9 +52,13 @@ __all__ = [
     "PALM_ARRAY",
     "ArraySpec",
     "Circle",
+    "Dot",
+    "Dots",
+    "Effect",
     "Grid",
     "Line",
     "LiveFrames",
+    "Pattern",
     "Polyline",
     "Sampling",
     "Shape",
@@ -74,9 +81,17 @@ __all__ = [
 ]
 
 
+_PATTERNS = ("Dot", "Dots", "Effect", "Pattern")
+"""Patterns (:mod:`tactile_core.files.pattern`), imported when first asked for."""
+
+
 def __getattr__(name: str):
     if name == "open_array":  # the scripting API, imported when first asked for
         from .script import open_array
 
         return open_array
+    if name in _PATTERNS:
+        from .files import pattern
+
+        return getattr(pattern, name)
     raise AttributeError(f"module 'tactile_core' has no attribute {name!r}")

@@ -185,7 +185,7 @@ class Array:
     # --- presenting ----------------------------------------------------------------------------
 
     def play(self, shape, method: str | None = None, *, mu: float = 0.33, gamma: float = 0.7,
-             duration_s: float = 1.0, gain: float = 1.0, direction: str = "forward",
+             duration_s: float | None = None, gain: float = 1.0, direction: str = "forward",
              wait: bool = True, marker: str = "script") -> Presentation:  # fmt: skip
         """Present ``shape`` once with ``method`` and the correction ``(mu, gamma)``.
 
@@ -193,15 +193,17 @@ class Array:
         ----------
         shape : Shape or str
             A shape (``tc.Circle(...)``) or its spec (``"circle:2.5,3,2"``); or a frame source
-            (any object with ``live(...)``, such as an imported pattern), played for
-            ``duration_s``.
+            (any object with ``live(...)``: a :class:`~tactile_core.files.pattern.Pattern`, an
+            imported ``.tact`` pattern), played for ``duration_s``.
         method : str, optional
             Any method that renders on the array (the paper's four, the peers, a plug-in;
             ``"RO:r=1.5"``); IM by default on a grid, BA on a layout that is not one.
         mu, gamma, gain : float
             The correction and master intensity.
-        duration_s : float
-            How long the trace takes; the array is off afterwards.
+        duration_s : float, optional
+            How long the trace takes, in seconds; the array is off afterwards. By default 1 s
+            for a shape, and a frame source's own ``duration_s`` (a pattern's: when its last
+            effect ends).
         wait : bool
             Block until it has played (default), or return at once.
         marker : str
@@ -219,6 +221,9 @@ class Array:
         if isinstance(shape, str):
             shape = parse_shape(shape)
         kind = {"shape": shape} if isinstance(shape, Shape) else {"source": shape}
+        if duration_s is None:
+            own = getattr(shape, "duration_s", None) if "source" in kind else None
+            duration_s = own if _validate.is_number(own) and own > 0 else 1.0
         scene = Scene(method=method, mu=mu, gamma=gamma, duration_s=duration_s, pause_s=0.0,
                       repeat=False, rate_hz=self.rate_hz, gain=gain, direction=direction,
                       marker=marker, epoch=next(self._epochs),

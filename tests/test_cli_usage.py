@@ -56,7 +56,7 @@ def test_a_shape_that_is_not_a_spec_is_told_every_form(text):
 def test_help_lists_every_shape_spec_the_parser_accepts(capsys, command):
     """Before: line, circle, square and tact only (polyline, polygon and timed were taken)."""
     text = help_text(capsys, command)
-    for kind in (*SHAPE_KINDS, "tact"):
+    for kind in (*SHAPE_KINDS, "tact", "pattern"):
         assert f"{kind}:" in text
     for option in ("speed", "fade-in", "fade-out", "fade-in-out"):  # the timed path's
         assert option in text

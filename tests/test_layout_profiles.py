@@ -39,7 +39,7 @@ def with_layout(**changes):
 @pytest.mark.parametrize(
     "name, size, grid",
     [("palm-5x6", 30, True), ("grid-3x3", 9, True), ("belt-8", 8, False),
-     ("sleeve-2x6", 12, False), ("vest-4x5", 20, False)],
+     ("sleeve-2x6", 12, False), ("vest-4x5", 20, False), ("vest-front-back", 40, False)],
 )  # fmt: skip
 def test_shipped_profiles(name, size, grid):
     profile = load_profile(name)

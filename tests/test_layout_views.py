@@ -169,11 +169,13 @@ def test_clicking_a_disc_pulses_that_actuator_alone(belt, qtbot):
     before = belt.state.scene
     sent = record_sent(belt)  # the pulse lasts 0.3 s: every frame, not the newest one
     belt.tune.heatmap.actuator_clicked.emit(3, False)
-    assert belt.state.scene.method == "PK"
+    assert belt.device.streamer.scene.method == "PK"  # on the array, beside the tuning
+    assert belt.state.scene == before
     qtbot.waitUntil(lambda: any(lv[3] == 22 for lv in list(sent)), timeout=3000)
     pulse = [lv for lv in list(sent) if lv[3] == 22]
     assert all((lv > 0).sum() == 1 for lv in pulse)  # that actuator alone
-    qtbot.waitUntil(lambda: belt.state.scene.shape == before.shape, timeout=3000)  # back
+    qtbot.waitUntil(lambda: belt.device.streamer.scene.shape == before.shape,
+                    timeout=3000)  # fmt: skip
 
 
 def test_a_grid_profile_keeps_the_grid_image(qtbot):

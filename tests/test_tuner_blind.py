@@ -120,10 +120,60 @@ def test_blind_ab_hides_the_mapping_and_records_it(window, qtbot, tmp_path, cloc
     assert [r["felt_s"] for r in rows] == ["0.50"] * 4
 
 
+def test_start_plays_nothing_until_the_raters_first_key(window, qtbot, clock):
+    # Start played key 1 by itself: it was always presented first, and it counted as felt
+    # (to be rated before Reveal) whether the rater chose it or not.
+    blind = window.blind
+    window.state.update(playing=True)  # the tuning from before plays
+    blind.start(seed=4)
+    session = blind.session
+    assert session.current_key is None and not window.state.scene.playing
+    assert not any(b.isChecked() for b in blind.key_buttons)
+    qtbot.waitUntil(lambda: not window.device.sent_levels().any(), timeout=5000)  # all off
+    clock.advance(3.0)
+    # Space, Restart, the play button: the scene from before is no key's, and does not play
+    window.tabs.setFocus()
+    qtbot.keyClick(window.tabs, Key.Key_Space)
+    window.state.restart()
+    window.controls.playback.play_button.click()
+    assert not window.state.scene.playing
+    assert "press a key 1-4 first" in window.statusBar().currentMessage()
+    assert session.felt_s == (0.0, 0.0, 0.0, 0.0) and session.refusal("Reveal").endswith(
+        "no key was felt yet")  # fmt: skip
+    qtbot.keyClick(window.tabs, Key.Key_3)  # the rater's first key
+    assert window.state.scene.playing and window.state.scene.method == session.mapping[2]
+    clock.advance(1.0)
+    assert session.felt() == [False, False, True, False]
+    qtbot.keyClick(window.tabs, Key.Key_Space)  # now Space pauses and plays that key
+    assert not window.state.scene.playing
+    qtbot.keyClick(window.tabs, Key.Key_Space)
+    assert window.state.scene.playing and window.state.scene.method == session.mapping[2]
+
+
+def test_the_reveal_refusal_follows_the_ratings_as_they_come_in(window, clock):
+    # It stayed on screen, listing key 1's ratings as empty, after they had all been entered.
+    blind = window.blind
+    blind.start(seed=8)
+    _feel(blind, clock, 1)
+    _feel(blind, clock, 2)
+    assert not blind.reveal()
+    text = blind.status.text()
+    assert "still empty: key 1 quality" in text and "key 2 thickness" in text
+    _rate(blind, 1)
+    text = blind.status.text()
+    assert "key 1" not in text and "still empty: key 2 quality" in text
+    blind.rating_spins[1][0].setValue(40)
+    assert "still empty: key 2 smoothness, key 2 thickness" in blind.status.text()
+    _rate(blind, 2)
+    assert "still empty" not in blind.status.text()
+    assert "every key you felt is rated: Reveal" in blind.status.text()
+    assert blind.reveal()
+
+
 def test_rating_a_key_never_played_is_refused_and_shows_not_rated(window, clock):
     blind = window.blind
-    blind.start(seed=3)  # key 1 plays at once
-    clock.advance(0.5)
+    blind.start(seed=3)
+    _feel(blind, clock, 1, 0.5)
     blind.rating_spins[2][0].setValue(50)  # key 3 was never played
     assert blind.rating_spins[2][0].value() == -1 and blind.session.rating(3, "quality") is None
     assert "key 3 was not played" in blind.status.text()
@@ -132,7 +182,7 @@ def test_rating_a_key_never_played_is_refused_and_shows_not_rated(window, clock)
 def test_the_felt_column_stops_at_reveal(window, clock):
     blind = window.blind
     blind.start(seed=6)
-    clock.advance(0.6)
+    _feel(blind, clock, 1, 0.6)
     _rate(blind, 1)
     assert blind.reveal()
     assert blind.felt_labels[0].text() == "0.6 s"
@@ -145,7 +195,7 @@ def test_the_felt_column_stops_at_reveal(window, clock):
 def test_pausing_the_tuner_stops_the_felt_time(window, clock):
     blind = window.blind
     blind.start(seed=2)
-    clock.advance(0.25)
+    _feel(blind, clock, 1, 0.25)
     window.state.update(playing=False)  # Space: the array is off, the key is not felt
     clock.advance(10.0)
     window.state.update(playing=True)
@@ -249,7 +299,7 @@ def test_a_reveal_onto_the_tuning_from_before_shows_no_star(qtbot, tmp_path, clo
 def test_start_mid_session_asks_and_no_keeps_the_ratings(window, qtbot, clock):
     blind = window.blind
     blind.start(seed=2)
-    clock.advance(1.0)
+    _feel(blind, clock, 1)
     _rate(blind, 1, 70)
     mapping = blind.session.mapping
     asked = []
@@ -286,7 +336,7 @@ def test_a_blind_session_can_be_cancelled_without_rating_everything(window, qtbo
 def test_a_rating_entered_is_autosaved_at_once(window, tmp_path, clock):
     blind = window.blind
     blind.start(seed=9)
-    clock.advance(1.0)
+    _feel(blind, clock, 1)
     blind.rating_spins[0][1].setValue(33)
     path = blind.session.autosave_path
     assert path is not None and path.parent == tmp_path / "autosave"
@@ -298,7 +348,7 @@ def test_an_autosave_that_fails_is_said_in_the_status(window, tmp_path, clock):
     (tmp_path / "autosave").write_text("a file where the folder should be")
     blind = window.blind
     blind.start(seed=9)
-    clock.advance(1.0)
+    _feel(blind, clock, 1)
     blind.rating_spins[0][0].setValue(12)
     assert blind.session.rating(1, "quality") == 12  # kept in the session
     assert "could not autosave the ratings" in blind.status.text()
@@ -307,7 +357,7 @@ def test_an_autosave_that_fails_is_said_in_the_status(window, tmp_path, clock):
 def test_ctrl_q_with_unsaved_ratings_asks_first(window, qtbot, clock):
     blind = window.blind
     blind.start(seed=3)
-    clock.advance(1.0)
+    _feel(blind, clock, 1)
     blind.rating_spins[0][0].setValue(10)
     asked = []
     window.confirm = lambda title, text: asked.append(text) or False

@@ -1,7 +1,6 @@
-"""What the hands do on the tune tab's plots, and what the array gets: a click pulses a tactor
-(Shift holds it until the next click), dragging the cursor holds the trace at that instant on
-the array as on the views, and draw mode keeps the method picked in it and puts back the scene
-it changed."""
+"""What the hands do on the tune tab's plots, and what the array gets: dragging the cursor holds
+the trace at that instant on the array as on the views, and draw mode keeps the method picked in
+it and puts back the scene it changed. (A click that pulses a tactor: test_tuner_pulses.py.)"""
 
 import numpy as np
 import pytest
@@ -16,24 +15,6 @@ from .tuner_support import WAIT_MS, frames_sent, frames_shown
 window = support.window  # the fixture
 
 Key = QtCore.Qt.Key
-
-
-def test_clicking_a_cell_pulses_its_tactor_and_shift_holds_it(window, qtbot):
-    before = window.state.scene
-    sent = record_sent(window)  # the pulse lasts 0.3 s: every frame, not the newest one
-    window.tune.heatmap.cell_clicked.emit(3, 4, False)
-    scene = window.state.scene
-    assert scene.shape == tc.Line((3.5, 4.5), (3.5, 4.5)) and scene.method == "CT"
-    qtbot.waitUntil(lambda: any(lv[4 * 5 + 3] == 22 for lv in list(sent)), timeout=WAIT_MS)
-    qtbot.waitUntil(lambda: window.state.scene.shape == before.shape, timeout=WAIT_MS)  # back
-    window.tune.heatmap.cell_clicked.emit(1, 1, True)  # Shift: held
-    held = window.state.scene
-    assert held.shape == tc.Line((1.5, 1.5), (1.5, 1.5))
-    # held: a trace that repeats, and nothing timed to end it as the pulse's timer ends a pulse
-    assert held.repeat and not window.tune.gestures._pulse_timer.isActive()
-    qtbot.waitUntil(lambda: window.device.sent_levels()[1, 1] == 22, timeout=WAIT_MS)
-    window.tune.heatmap.cell_clicked.emit(1, 1, False)  # a click releases it
-    assert window.state.scene.shape == before.shape
 
 
 def test_dragging_the_cursor_holds_and_shows_that_moment(window, qtbot):

@@ -3,6 +3,7 @@ never scroll sideways, titles and problems stay inside their panels, a saved siz
 the screen is fitted, docs come back from the View menu, choices come back with the next
 start, and --screenshot writes the size asked or refuses a path before starting."""
 
+import itertools
 import os
 import subprocess
 import sys
@@ -79,6 +80,52 @@ def test_the_curve_title_and_hint_fit_their_panel(window, qtbot, size):
     assert "drag the dashed cursor" in hint.toolTip()
 
 
+def _title_shown_whole(view) -> bool:
+    """Whether a plot view's title lies inside it, and its plot too (pyqtgraph widens a plot
+    to its title's width, pushing the plot and the title's ends out of the view)."""
+    item = view.plotItem.titleLabel.item
+    shown = view.mapFromScene(item.mapRectToScene(item.boundingRect())).boundingRect()
+    plot = view.plotItem.geometry()
+    inside = shown.left() >= 0 and shown.right() <= view.viewport().width()
+    return inside and plot.right() <= view.viewport().width() + 1
+
+
+@pytest.mark.parametrize("size", [(1280, 720), (1400, 900), (1600, 1000)])
+def test_the_felt_views_curve_title_is_shown_whole_with_its_values(window, qtbot, size):
+    # At 1400 px it read "IM felt (motor lag and response), motor-aware drive, mu 0.33, gamma"
+    window.state.update(method="IM", mu=0.33, gamma=0.7, compensate_motors=True)
+    window.state.set_view_mode("felt")
+    window.resize(*size)
+    settle()
+    window.tune.fit_heatmap()
+    settle()
+    window.tune.refresh()
+    settle()
+    curves = window.tune.curves
+    text = curves.plotItem.titleLabel.text
+    assert "IM felt" in text and "motor-aware" in text and text.endswith("mu 0.33, gamma 0.70")
+    assert _title_shown_whole(curves)
+
+
+@pytest.mark.parametrize("n", [4, 5, 6])
+@pytest.mark.parametrize("size", [(1280, 720), (1600, 1000)])
+def test_compare_titles_say_each_columns_correction_inside_it(window, qtbot, size, n):
+    # With 5 or 6 methods the titles were left out (a title had widened its plot past the
+    # column); shown, they did so again once the column had its width.
+    methods = ["CT", "MM", "AS", "IM", "EN", "VRCH"][:n]
+    window.resize(*size)
+    window.tabs.setCurrentWidget(window.compare)
+    assert window.compare.chooser.apply(methods)
+    settle()
+    for spec, view in window.compare.curves.items():
+        qtbot.waitUntil(lambda v=view: _title_shown_whole(v), timeout=WAIT_MS)
+        text = view.plotItem.titleLabel.text
+        assert text.startswith(spec), text  # the method, at least
+        if n <= 5:  # and how it is corrected, on one line or two
+            said = {"EN": "no correction", "VRCH": "threshold only"}.get(spec, "set correction")
+            assert said in text, text
+
+
 @pytest.mark.parametrize("width", [1280, 1400, 1600])
 def test_a_refused_method_set_is_shown_inside_the_window(window, qtbot, width):
     window.resize(width, 720)
@@ -94,6 +141,29 @@ def test_a_refused_method_set_is_shown_inside_the_window(window, qtbot, width):
         lines = max(1, problem.height() // problem.fontMetrics().lineSpacing())
         assert problem.fontMetrics().horizontalAdvance(problem.text()) <= problem.width() * lines
         assert chooser.pick.width() >= chooser.pick.sizeHint().width()  # "pick" not clipped
+
+
+def test_serving_keeps_the_window_at_1280_with_the_lsl_state_on_a_line_of_its_own(window, qtbot):
+    # Serving at 1280 x 720 made the window 1320 px wide, and "LSL markers: off" sat squeezed
+    # at the end of the counters' line.
+    window.serve.port = 0  # any free port
+    assert window.serve.set_serving(True)
+    qtbot.waitUntil(lambda: window.serve.serving == "on", timeout=WAIT_MS)
+    box = window.serve_panel
+    qtbot.waitUntil(lambda: box.counters.text().startswith("malformed"), timeout=WAIT_MS)
+    window.resize(1280, 720)
+    settle()
+    assert window.width() <= 1280 and window.minimumSizeHint().width() <= 1280
+    lines = (box.toggle, box.traffic, box.counters, box.lsl_label)
+    for above, below in itertools.pairwise(lines):  # one under the other, none beside another
+        assert above.geometry().bottom() < below.geometry().top()
+    assert box.lsl_label.text() == "LSL markers: off"
+    for label in (box.traffic, box.counters, box.lsl_label):
+        assert _right_edge(label, window) <= window.width()
+        needed = label.fontMetrics().horizontalAdvance(label.text())
+        lines = max(1, label.height() // label.fontMetrics().lineSpacing())
+        assert needed <= label.width() * lines  # shown whole (wrapped, if need be)
+    assert window.serve.set_serving(False)
 
 
 def test_felt_amplitude_keeps_the_plots_inside_a_1280_window(window, qtbot):

@@ -237,5 +237,10 @@ def test_a_senders_mu_marks_the_scene_modified_in_the_title(qtbot, clients):
         qtbot.waitUntil(lambda: math.isclose(win.state.scene.mu, 0.25, abs_tol=1e-6),
                         timeout=WAIT_MS)  # fmt: skip
         assert "Experiment 1 line * - AS, mu 0.25" in win.windowTitle()
+        osc.send_message("/tactile/gamma", 0.142)  # the status said 0.14, the title 0.142
+        qtbot.waitUntil(lambda: "the sender set gamma" in win.statusBar().currentMessage(),
+                        timeout=WAIT_MS)  # fmt: skip
+        assert win.statusBar().currentMessage() == "the sender set gamma 0.142"
+        assert win.windowTitle().endswith("mu 0.25, gamma 0.142")
     finally:
         win.close()

@@ -116,3 +116,17 @@ def test_connect_is_disabled_for_the_port_in_use(window, qtbot, emulator_thread)
     assert not errors and window.device.url == path
     panel.port_combo.lineEdit().setText("sim")
     assert panel.connect_button.isEnabled()
+
+
+def test_a_failed_connect_leaves_the_box_on_the_link_in_use(window, qtbot):
+    # The box kept "/dev/ttyUSB9" while the simulated array played on.
+    panel = window.device_panel
+    edit = panel.port_combo.lineEdit()
+    edit.selectAll()
+    qtbot.keyClicks(edit, "/dev/ttyUSB9")
+    assert panel.connect_button.isEnabled()
+    qtbot.mouseClick(panel.connect_button, QtCore.Qt.MouseButton.LeftButton)
+    assert "/dev/ttyUSB9" in window.last_error  # the message names the link refused
+    assert window.device.simulated and panel.port_combo.currentText() == "sim"
+    assert panel.link_label.text() == "<b>simulated array</b>"
+    assert not panel.connect_button.isEnabled()  # the link in use: nothing to connect

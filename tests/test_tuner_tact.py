@@ -8,22 +8,12 @@ from tactile_core.files.tact import load_pattern, read_tact
 from tactile_core.rendering.shapes import TimedPath
 
 from . import tact_support as ts
+from . import tuner_support as support
 
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 
-@pytest.fixture
-def window(qtbot):
-    from tactile_tuner.window import MainWindow
-
-    win = MainWindow(restore=False, process=False)
-    qtbot.addWidget(win)
-    win.show()
-    qtbot.waitExposed(win)
-    qtbot.waitUntil(lambda: win.device.stats.frames > 5, timeout=10000)
-    yield win
-    win.confirm = lambda title, text: True
-    win.close()
+window = support.window  # the fixture
 
 
 def test_the_file_menu_offers_the_tact_actions(window):
@@ -188,6 +178,34 @@ def test_export_tact_proposes_a_new_name_and_never_overwrites_the_imported_file(
     assert "it is the .tact file this session imported" in window.last_error
     assert source.read_bytes() == before
     assert window.files.export_tact_file(tmp_path / "sweep-export-2.tact")
+
+
+def test_keeping_the_drawing_is_offered_only_in_draw_mode_with_a_drawing(window, tmp_path):
+    # It was enabled outside draw mode, and after a drawing, a .tact import and a built-in
+    # preset it replaced the preset's scene with the old drawing.
+    from tactile_core.files.presets import builtin_presets
+
+    menu = next(a.menu() for a in window.menuBar().actions() if a.text() == "&File")
+    keep = next(a for a in menu.actions() if a.text() == "Keep the drawing as the shape")
+    assert not keep.isEnabled()  # no draw mode
+    window.controls.playback.draw_check.setChecked(True)
+    assert not keep.isEnabled()  # draw mode, nothing drawn yet
+    heatmap = window.tune.heatmap
+    for x in (0.5, 1.5, 2.5):
+        heatmap.point_drawn.emit(x, 2.5)
+    heatmap.draw_released.emit()
+    assert keep.isEnabled()
+    points = [ts.point(0, 1, 0.5, 0), ts.point(1, 0, 1.0, 800)]
+    data = ts.document(ts.effect({"VestFront": ts.path_mode(points)}))
+    assert window.files.import_tact_file(ts.write(tmp_path, data, "sweep.tact"))
+    assert not heatmap.drawing and not keep.isEnabled()  # the import left draw mode
+    window.files.load_preset_file(builtin_presets()["exp3-circle"])
+    preset = window.state.scene
+    assert not keep.isEnabled()
+    assert not window.files.keep_drawing()  # (from a script: refused, saying why)
+    assert window.state.scene == preset and "draw a path first" in window.last_error
+    window.controls.playback.draw_check.setChecked(True)  # a new draw mode: a new drawing
+    assert not keep.isEnabled()
 
 
 def test_bhaptics_options_change_the_playing_pattern_and_are_remembered(window, tmp_path):

@@ -133,6 +133,33 @@ def test_the_gamma_box_and_the_title_show_the_gamma_in_use(window):
     assert correction.mu_spin.text() == "0.333"
 
 
+@pytest.mark.parametrize(("mu", "gamma", "shown"), [(0.33, 0.7, ("0.33", "0.70")),
+                                                     (0.77, 0.142, ("0.77", "0.142"))])  # fmt: skip
+def test_mu_and_gamma_read_the_same_in_the_boxes_and_the_titles(window, mu, gamma, shown):
+    # The boxes wrote 0.330 and 0.700 while both titles said 0.33 and 0.70.
+    window.state.update(mu=mu, gamma=gamma)
+    window.tune.refresh()
+    correction = window.controls.correction
+    assert (correction.mu_spin.text(), correction.gamma_spin.text()) == shown
+    said = f"mu {shown[0]}, gamma {shown[1]}"
+    assert window.windowTitle().endswith(f"AS, {said}")
+    assert said in window.tune.curves.plotItem.titleLabel.text  # (on one line or two)
+
+
+def test_the_direction_box_names_a_turn_only_for_circles_and_squares(window):
+    import tactile_core as tc
+
+    combo = window.controls.trace.direction_combo
+    items = lambda: [combo.itemText(i) for i in range(combo.count())]  # noqa: E731
+    assert isinstance(window.state.scene.shape, tc.Line)
+    assert items() == ["forward", "reverse"]  # a line has no turn
+    for shape in (tc.Circle((2.5, 3.0), 2.0), tc.Square((2.5, 3.0), 3.0)):
+        window.state.update(shape=shape)
+        assert items() == ["forward (counter-clockwise)", "reverse (clockwise)"]
+    window.state.update(shape=tc.Polyline([(0.5, 0.5), (2.5, 4.5), (4.5, 0.5)]))
+    assert items() == ["forward", "reverse"]
+
+
 @pytest.mark.parametrize("width", [1280, 1400, 1600])
 def test_the_curves_hint_is_shown_whole(window, qtbot, width):
     # At 1280 and 1400 px it read "drag the cursor to scrub; hove...".

@@ -4,10 +4,21 @@ from __future__ import annotations
 
 from PySide6 import QtWidgets
 
+from ..texts import value3
 
-def spin_box(lo, hi, step, decimals, suffix="") -> QtWidgets.QDoubleSpinBox:
-    """A spin box over ``lo..hi`` that commits on Enter or focus loss, not on every keystroke."""
-    box = QtWidgets.QDoubleSpinBox()
+
+class CorrectionSpinBox(QtWidgets.QDoubleSpinBox):
+    """A spin box for mu or gamma that writes its value as the titles and the status line do
+    (:func:`~app.texts.value3`: ``0.70``, ``0.142``), not always to three decimals."""
+
+    def textFromValue(self, value: float) -> str:  # Qt override
+        return value3(value)
+
+
+def spin_box(lo, hi, step, decimals, suffix="", kind=QtWidgets.QDoubleSpinBox):
+    """A spin box (a ``kind``) over ``lo..hi`` that commits on Enter or focus loss, not on
+    every keystroke."""
+    box = kind()
     box.setRange(lo, hi)
     box.setSingleStep(step)
     box.setDecimals(decimals)

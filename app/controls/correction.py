@@ -8,7 +8,7 @@ import math
 from PySide6 import QtCore, QtWidgets
 
 from ..texts import tip
-from ._common import SceneGroupWidget, spin_box
+from ._common import CorrectionSpinBox, SceneGroupWidget, spin_box
 
 GAMMA_MIN, GAMMA_MAX = 0.1, 10.0
 _GAMMA_STEPS = 1000
@@ -36,10 +36,10 @@ class CorrectionWidget(SceneGroupWidget):
         self.mu_slider.setRange(0, 100)
         # Three decimals, as the gamma slider steps (it set 0.143 while the box showed 0.14)
         # and as a preset or another program may set them.
-        self.mu_spin = spin_box(0.0, 1.0, 0.01, 3)
+        self.mu_spin = spin_box(0.0, 1.0, 0.01, 3, kind=CorrectionSpinBox)
         self.gamma_slider = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
         self.gamma_slider.setRange(0, _GAMMA_STEPS)
-        self.gamma_spin = spin_box(GAMMA_MIN, GAMMA_MAX, 0.01, 3)
+        self.gamma_spin = spin_box(GAMMA_MIN, GAMMA_MAX, 0.01, 3, kind=CorrectionSpinBox)
         mu_tip = tip(
             "Threshold mu, 0-1 of full drive (paper 2.6): the least a lit tactor gets, "
             "(1 - mu) I^gamma + mu. The paper uses 0.33."

@@ -4,10 +4,22 @@ from __future__ import annotations
 
 from PySide6 import QtWidgets
 
+import tactile_core as tc
+
 from ..texts import tip
 from ._common import SceneGroupWidget, spin_box
 
 DIRECTIONS = ("forward", "reverse")
+TURNS = (" (counter-clockwise)", " (clockwise)")
+"""Which way forward and reverse turn, said for the shapes that turn one way (a circle, a
+square); a line or a path has no turn to name."""
+
+
+def direction_texts(shape) -> list[str]:
+    """The direction box's items for ``shape``: ``forward (counter-clockwise)`` for a circle or
+    a square, plain ``forward`` for any other shape (or a pattern, None)."""
+    turns = isinstance(shape, (tc.Circle, tc.Square))
+    return [d + (t if turns else "") for d, t in zip(DIRECTIONS, TURNS)]
 
 
 class TraceWidget(SceneGroupWidget):
@@ -20,7 +32,7 @@ class TraceWidget(SceneGroupWidget):
         self.duration_spin = spin_box(0.1, 60.0, 0.1, 2, " s")
         self.pause_spin = spin_box(0.0, 30.0, 0.1, 2, " s")
         self.direction_combo = QtWidgets.QComboBox()
-        self.direction_combo.addItems(["forward (counter-clockwise)", "reverse (clockwise)"])
+        self.direction_combo.addItems(direction_texts(state.scene.shape))
         self.rate_spin = spin_box(10.0, 1000.0, 10.0, 0, " Hz")
         self.filter_combo = QtWidgets.QComboBox()
         self.filter_combo.addItems(["point", "box"])
@@ -81,6 +93,8 @@ class TraceWidget(SceneGroupWidget):
     def _show(self, scene) -> None:
         self.duration_spin.setValue(scene.duration_s)
         self.pause_spin.setValue(scene.pause_s)
+        for i, text in enumerate(direction_texts(scene.shape)):
+            self.direction_combo.setItemText(i, text)
         self.direction_combo.setCurrentIndex(0 if scene.direction == "forward" else 1)
         self.rate_spin.setValue(scene.rate_hz)
         self.filter_combo.setCurrentText(scene.filter)

@@ -15,6 +15,7 @@ from tactile_core.rendering.scene import Scene
 
 from .. import dialogs
 from ..state import TunerState
+from ..texts import value3
 from .analysis import AnalysisWidget
 from .guided import keep_correction, tuning_intro
 from .participant import ParticipantWindow
@@ -355,9 +356,10 @@ class ExperimentsPanel(QtWidgets.QWidget):
                 self.error_raised.emit(error)
             self.last_calibration = runner.calibration()
             self.analysis.save_profile_button.setEnabled(True)
-            self.log_event(f"correction: mu {result.mu:.3f}, gamma {result.gamma:.3f} "
-                           f"({result.trials} trials); saved {preset}")  # fmt: skip
-            self.run_label.setText(f"Finished: mu {result.mu:.3f}, gamma {result.gamma:.3f}.")
+            mu, gamma = value3(result.mu), value3(result.gamma)
+            self.log_event(f"correction: mu {mu}, gamma {gamma} ({result.trials} trials); "
+                           f"saved {preset}")  # fmt: skip
+            self.run_label.setText(f"Finished: mu {mu}, gamma {gamma}.")
         else:
             self.log_event(f"no correction: {result.message}")
             self.run_label.setText("Finished without a correction (see the log).")

@@ -14,6 +14,8 @@ from tactile_core.device.profile import default_profile
 from tactile_core.experiments import TuningPlan, save_correction
 from tactile_core.experiments.tuning import default_layout
 
+from ..texts import value3
+
 
 def planned_trials(plan: TuningPlan | None = None, grid=None) -> int:
     """How many trials tuning by feel presents: its two introductions, the threshold trials
@@ -124,5 +126,5 @@ class GuidedTuning(QtCore.QObject):
     def apply(self, mu: float, gamma: float) -> None:
         """Set the tuner's mu and gamma (a measured correction)."""
         self.state.update(mu=mu, gamma=gamma)
-        self.message_posted.emit(f"applied the measured correction: mu {mu:.3f}, "
-                                 f"gamma {gamma:.3f}", 8000)  # fmt: skip
+        self.message_posted.emit(f"applied the measured correction: mu {value3(mu)}, "
+                                 f"gamma {value3(gamma)}", 8000)  # fmt: skip

@@ -22,10 +22,10 @@ class FrameDisplay(QtCore.QObject):
     that instant on the heatmap (in the state's view mode) and as the curves' cursor.
 
     The output thread (or process) never touches a widget; this timer's rate is independent of
-    the stream's frame rate. While another program drives the array (the OSC server) there is no
-    trace to evaluate: every view but *felt* shows the levels sent, with the first driven point
-    (the shape's outline stays: the curves beside are of that shape, with the same method and
-    correction).
+    the stream's frame rate. While another program drives the array (the OSC server) or a
+    tactor is pulsed from the heatmap, the array plays no trace of the state's: every view but
+    *felt* shows the levels sent, with the first driven point (the shape's outline stays: the
+    curves beside are of the tuning, its shape, method and correction).
 
     Parameters
     ----------
@@ -90,8 +90,8 @@ class FrameDisplay(QtCore.QObject):
             self._last = (start, phase)
         elif trace is not None and not scene.playing and self._last is not None:
             start, phase = self._last  # paused (Space, Esc): where it was, the array off
-        if heatmap.drawing or tune.gestures.pulsing:
-            phase = None  # a free point or a pulse: no trace, so no time cursor
+        if heatmap.drawing:
+            phase = None  # a free point: no trace, so no time cursor
         rate_hz = stream_rate(scene, self.device.stats)
         values, labels = self._values(scene, start, rate_hz)
         if values is None:
@@ -107,7 +107,8 @@ class FrameDisplay(QtCore.QObject):
             self.frame_shown.emit(scene, start, rate_hz, phase)
 
     def _show_driven(self) -> bool:
-        """Another program's points, as the stream sends them (True), or not driven (False)."""
+        """Another program's points or a pulsed tactor, as the stream sends them (True); False
+        while the array plays the state's scene."""
         driven = self.device.divert is not None
         tune = self.tune
         if not driven or tune.method_hidden:

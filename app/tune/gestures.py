@@ -15,7 +15,10 @@ class HeatmapGestures(QtCore.QObject):
     """Clicks and drags on the heatmap and the curves, turned into scenes.
 
     - A click on a cell (a disc on a layout) pulses its tactor alone (0.3 s), Shift+click holds
-      it; the scene before comes back afterwards.
+      it. The pulse goes to the array beside the state (:meth:`DeviceController.play_apart`):
+      the controls, the titles and the curves keep showing the tuning, and a change to the
+      tuning meanwhile (a key, a slider) releases the tactor and plays at once; otherwise the
+      tuning plays again, from its beginning, when the pulse ends.
     - Draw mode: dragging on the heatmap moves a free point (the methods that need no shape);
       leaving it puts back the whole scene it changed. Round a wrap the point is taken into
       one turn, so a path drawn across the seam goes on at the other end.
@@ -27,25 +30,29 @@ class HeatmapGestures(QtCore.QObject):
     state : TunerState
     heatmap : HeatmapView
     curves : CurvesView
+    device : DeviceController
+        Plays the pulses (the array), beside the state.
     """
 
     draw_mode_changed = QtCore.Signal(bool)
     message_posted = QtCore.Signal(str, int)
     """A status line and how long to show it (ms)."""
 
-    def __init__(self, state, heatmap, curves, parent=None):
+    def __init__(self, state, heatmap, curves, device, parent=None):
         super().__init__(parent)
         self.state = state
         self.heatmap = heatmap
         self.curves = curves
+        self.device = device
         self.can_pulse = lambda: True
         """Whether a click may pulse now (the window says no during a run or blind A/B)."""
-        self._pulse = None  # (scene before, held) while a tactor is pulsed from the heatmap
+        self._pulse = None  # (what is pulsed, held) while a tactor is pulsed from the heatmap
         self._draw_backup = None
         self._draw_method = None
         self._pulse_timer = QtCore.QTimer(self)
         self._pulse_timer.setSingleShot(True)
-        self._pulse_timer.timeout.connect(lambda: self.end_pulse(restore=True))
+        self._pulse_timer.timeout.connect(self.end_pulse)
+        device.connection_changed.connect(lambda _: self.end_pulse())  # a new stream: the tuning
         heatmap.point_drawn.connect(self._on_heatmap_point_drawn)
         heatmap.draw_released.connect(self._on_heatmap_draw_released)
         heatmap.cell_clicked.connect(self.pulse_cell)
@@ -66,7 +73,8 @@ class HeatmapGestures(QtCore.QObject):
 
     def pulse_cell(self, col: int, row: int, hold: bool = False) -> None:
         """Play one tactor alone at full drive: a 0.3 s pulse, or held (Shift+click) until the
-        next click, Space or Esc. The scene before it comes back afterwards."""
+        next click, Space, Esc or a change to the tuning. The state's scene stays as it is: the
+        tuning plays again afterwards."""
         self._pulse_at((col + 0.5, row + 0.5), "CT", f"tactor ({col},{row})", hold)
 
     def pulse_actuator(self, index: int, hold: bool = False) -> None:
@@ -79,32 +87,46 @@ class HeatmapGestures(QtCore.QObject):
         if not self.can_pulse() or self.heatmap.drawing:
             return
         held = self._pulse is not None and self._pulse[1]
-        self.end_pulse(restore=True)
+        self.end_pulse()
         if held:
             return  # a click releases a held tactor
-        backup = self.state.scene
-        self._pulse = (backup, hold)
-        self.state.set_scene(backup.replace(
-            shape=tc.Line(centre, centre), method=method, mu=0.0, gamma=1.0, gain=1.0,
-            duration_s=0.3, pause_s=0.0, repeat=hold, playing=True, epoch=backup.epoch + 1,
-            hold_s=None,
-        ))  # fmt: skip
+        tuning = self.state.scene
+        pulse = tuning.replace(
+            shape=tc.Line(centre, centre), source=None, method=method, mu=0.0, gamma=1.0,
+            gain=1.0, duration_s=0.3, pause_s=0.0, repeat=hold, playing=True, hold_s=None,
+            epoch=tuning.epoch + 1, marker="",
+        )  # fmt: skip
+        self._pulse = (name, hold)
+        self.device.play_apart(pulse, self._on_tuning_changed)
         what = "holding" if hold else "pulsing"
         self.message_posted.emit(
-            f"{what} {name}" + (": click again or press Esc to release" if hold else ""), 4000
-        )
+            f"{what} {name}"
+            + (": click again, press Space or Esc, or change the tuning to release" if hold
+               else ""),
+            4000,
+        )  # fmt: skip
         if not hold:
             self._pulse_timer.start(400)
 
-    def end_pulse(self, restore: bool) -> None:
-        """Stop a pulse or a held tactor; ``restore`` puts the scene before it back."""
+    def _on_tuning_changed(self, _scene) -> None:
+        """The tuning changed while a tactor was pulsed (a key, a slider, a preset): the
+        tactor is let go and the tuning, with the change, plays at once."""
+        name, held = self._pulse
+        self.end_pulse()
+        if held:
+            self.message_posted.emit(f"released {name}: the tuning changed and plays", 4000)
+
+    def end_pulse(self, restore: bool = True) -> None:
+        """Stop a pulse or a held tactor; ``restore``: the tuning (the state's scene) goes to
+        the array again at once (False: the caller sends something else, such as all off)."""
         if self._pulse is None:
             return
-        backup, _ = self._pulse
         self._pulse = None
         self._pulse_timer.stop()
-        if restore:
-            self.state.set_scene(backup.replace(epoch=self.state.scene.epoch + 1))
+        if self.device.divert == self._on_tuning_changed:  # (not the OSC server's, started since)
+            self.device.divert = None
+            if restore:
+                self.device.resume()
 
     # --- scrubbing -----------------------------------------------------------------------------
 
@@ -124,7 +146,7 @@ class HeatmapGestures(QtCore.QObject):
         if on == self.heatmap.drawing:
             return
         if on:
-            self.end_pulse(restore=True)
+            self.end_pulse()
             self._draw_backup = self.state.scene
             changes = {"pause_s": 0.0, "playing": False}
             if get_method(self.state.scene.method).needs_shape:

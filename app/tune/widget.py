@@ -10,7 +10,7 @@ from tactile_core.rendering.curves import activation_curves
 from tactile_core.rendering.percept import REFERENCE, predict, predict_range
 
 from ..texts import value3
-from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors, set_title
+from ..views import CorrectionView, CurvesView, HeatmapView, cell_colors
 from ..widgets import WrappedLabel
 from .display import FrameDisplay
 from .gestures import HeatmapGestures
@@ -36,11 +36,19 @@ def curve_samples(duration_s: float, rate_hz: float) -> int:
     return min(max(round(duration_s * rate_hz), 1), MAX_CURVE_INTERVALS) + 1
 
 
+def plotted_effects(pattern) -> int:
+    """How many paths and dots a pattern's curves and outlines draw: an imported ``.tact``
+    pattern counts them (``effects``); a pattern file holds its effects, each counted by its
+    path points and dots."""
+    effects = pattern.effects
+    return effects if isinstance(effects, int) else sum(e.points() for e in effects)
+
+
 def pattern_outlines(pattern, target) -> list | None:
     """The outline of each of a ``.tact`` pattern's paths on ``target``, for the heatmap; None
     when there are more than :data:`MAX_PLOTTED_EFFECTS` effects or
     :data:`MAX_OUTLINE_POINTS` points."""
-    if pattern.effects > MAX_PLOTTED_EFFECTS:
+    if plotted_effects(pattern) > MAX_PLOTTED_EFFECTS:
         return None
     outlines = [path.outline() for path in pattern.paths(target)]
     return outlines if sum(map(len, outlines)) <= MAX_OUTLINE_POINTS else None
@@ -100,7 +108,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self.addWidget(self.split)
         self.addWidget(self.hidden_label)
 
-        self.gestures = HeatmapGestures(state, self.heatmap, self.curves, self)
+        self.gestures = HeatmapGestures(state, self.heatmap, self.curves, device, self)
         self.display = FrameDisplay(self, self)
         self.display.error_raised.connect(self.error_raised)
         # Scene changes arrive up to ~100 times a second while a slider is dragged: the array
@@ -205,7 +213,7 @@ class TuneWidget(QtWidgets.QStackedWidget):
         """Another device layout: draw mode and a pulse end (their scenes were for the old
         one), the heatmap draws the new layout, the plots are redrawn."""
         self.gestures.set_draw_mode(False)
-        self.gestures.end_pulse(restore=True)
+        self.gestures.end_pulse()
         self.heatmap.set_layout(layout)
         self._caption()
         self.curves.clear_curves()
@@ -229,9 +237,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
                                    profile.drive_for if scene.felt_domain else None)  # fmt: skip
         heatmap = self.heatmap
         pattern = scene.source if scene.shape is None else None
-        if heatmap.drawing or self.gestures.pulsing:
-            # A free point or a pulsed tactor has no trace worth plotting: no curves, no frames
-            self._no_trace("a drawn point has no trace" if heatmap.drawing else "")
+        if heatmap.drawing:  # a free point has no trace worth plotting: no curves, no frames
+            self._no_trace("a drawn point has no trace")
             return
         if scene.shape is None and not hasattr(pattern, "curves"):
             self._no_trace("free points have no trace")  # (driven by another program)
@@ -250,8 +257,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         period = scene.duration_s + scene.pause_s
         try:
             if pattern is not None:
-                if pattern.effects > MAX_PLOTTED_EFFECTS:
-                    self._no_trace(f"{pattern.effects} paths and dots: too many to plot")
+                if plotted_effects(pattern) > MAX_PLOTTED_EFFECTS:
+                    self._no_trace(f"{plotted_effects(pattern)} paths and dots: too many to plot")
                     return
                 outline = pattern_outlines(pattern, self.state.layout)
                 # one sample a frame (the middle of each), as the stream takes them
@@ -290,8 +297,14 @@ class TuneWidget(QtWidgets.QStackedWidget):
             what = (f"felt (motor lag and response, {profile.motor.source})" if felt_view
                     else "activation")  # fmt: skip
             what = f"{what}, motor-aware drive" if aware is not None else what
-            title = f"{scene.method} {what}, mu {value3(scene.mu)}, gamma {value3(scene.gamma)}"
-            set_title(self.curves.plotItem, title)
+            short = "felt" if felt_view else "activation"
+            short = f"{short}, motor-aware" if aware is not None else short
+            values = f"mu {value3(scene.mu)}, gamma {value3(scene.gamma)}"
+            # One line where it fits; else two (at 1400 px the felt view's lost its gamma)
+            self.curves.set_titles(f"{scene.method} {what}, {values}",
+                                   f"{scene.method} {what}<br>{values}",
+                                   (f"{scene.method} {what}<br>{values}", "9pt"),
+                                   (f"{scene.method} {short}<br>{values}", "9pt"))  # fmt: skip
 
     def _no_trace(self, why: str) -> None:
         """No curves, no tactor frames, no outline; ``why`` in the curves' title."""
@@ -301,7 +314,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         self.heatmap.set_outline(None)
         self.heatmap.set_path(None)
         if why and not self.method_hidden:
-            set_title(self.curves.plotItem, f"{self.state.scene.method}: {why}")
+            self.curves.set_titles(f"{self.state.scene.method}: {why}",
+                                   (f"{self.state.scene.method}: {why}", "9pt"))  # fmt: skip
 
     def _show_predicted(self, scene) -> None:
         """The predicted view, from what is sent (the scene's rate, the device's levels, its
@@ -336,4 +350,4 @@ class TuneWidget(QtWidgets.QStackedWidget):
                 f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f})<br>ripple "
                 f"{band.span(stage)} over {len(band.participants)} participants{motors}"
             )
-            set_title(self.curves.plotItem, title, size="9pt")
+            self.curves.set_titles((title, "9pt"))

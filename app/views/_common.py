@@ -48,7 +48,29 @@ class PaletteMixin:
 def set_title(plot: pg.PlotItem, text: str, **args) -> None:
     """Set a plot's title without letting it widen the plot: pyqtgraph gives a title a minimum
     width as wide as its text, which pushed the plot past its view (the felt-amplitude key at
-    1280 x 720); here a long title is clipped by the view instead."""
+    1280 x 720); here a long title is clipped by the view instead.
+
+    pyqtgraph sets that width again whenever the title is resized or its text set (its
+    ``LabelItem.updateMin``): the title's own ``updateMin`` puts it back to 0 each time (a
+    Compare column's title had widened its plot past the column once the column was shown)."""
+    label = plot.titleLabel
+    if not getattr(label, "_kept_narrow", False):
+        widen = label.updateMin
+
+        def update_min():
+            widen()
+            label.setMinimumWidth(0)
+            label.setPreferredWidth(0)
+
+        label.updateMin = update_min  # pyqtgraph calls self.updateMin(): this one
+        label._kept_narrow = True
+        option = label.item.document().defaultTextOption()  # lines centred under one another
+        option.setAlignment(QtCore.Qt.AlignmentFlag.AlignHCenter)
+        label.item.document().setDefaultTextOption(option)
+    label.item.setTextWidth(-1)  # as wide as its widest line...
     plot.setTitle(text, **args)
-    plot.titleLabel.setMinimumWidth(0)
-    plot.titleLabel.setPreferredWidth(0)
+    if "<br>" in text:  # ...and that width fixed, so that its lines can be centred
+        label.item.setTextWidth(label.item.document().idealWidth())
+        label.resizeEvent(None)  # (pyqtgraph's: the title centred again)
+    label.setMinimumWidth(0)
+    label.setPreferredWidth(0)

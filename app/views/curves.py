@@ -7,7 +7,10 @@ import pyqtgraph as pg
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from ..theme import plot_colors
-from ._common import PaletteMixin, cell_label, style_plot
+from ._common import PaletteMixin, cell_label, set_title, style_plot
+
+TITLE_SIZE = "11pt"
+"""The curves' title's type size (pyqtgraph's); a choice may ask for a smaller one."""
 
 
 class CurvesView(PaletteMixin, pg.PlotWidget):
@@ -19,7 +22,8 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
     sit at 1, can be read). Corrected intensities are solid, raw ones dashed; the pause after the
     trace is shaded. The time cursor is dashed, in the text colour (no curve's colour); dragging
     it scrubs the trace (:attr:`scrubbed`). Hovering a curve highlights it and emits
-    :attr:`curve_hovered` with its tactor.
+    :attr:`curve_hovered` with its tactor. The title is the first of a few wordings that fits
+    the plot's width (:meth:`set_titles`), chosen again when the view is resized: never cut off.
     """
 
     scrubbed = QtCore.Signal(float)
@@ -29,7 +33,13 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
 
     def __init__(self, parent=None, *, title: str = "Activation curves"):
         super().__init__(parent=parent)
-        self.plotItem.setTitle(title)
+        self._titles: tuple = ()
+        self._title_timer = QtCore.QTimer(self)  # a resize: fitted once the plot has its width
+        self._title_timer.setSingleShot(True)
+        self._title_timer.timeout.connect(self._fit_title)
+        # the title's width is the plot box's, settled after the view's own resize
+        self.plotItem.titleLabel.geometryChanged.connect(lambda: self._title_timer.start(0))
+        self.set_titles(title)
         self.setLabel("bottom", "time", units="s")
         self.setLabel("left", "intensity")
         self.setMouseEnabled(False, False)
@@ -55,6 +65,40 @@ class CurvesView(PaletteMixin, pg.PlotWidget):
         self.scene().sigMouseMoved.connect(self._on_mouse_moved)
         self.apply_palette()
         self._ready = True
+
+    def set_titles(self, *choices) -> None:
+        """Title the plot with the first of ``choices`` that fits its width, else the last.
+
+        Parameters
+        ----------
+        *choices : str or (str, str)
+            A text, or ``(text, size)`` with a type size such as ``"9pt"`` (:data:`TITLE_SIZE`
+            otherwise); ``<br>`` breaks a text into lines, and a text fits when its widest line
+            does. The longest wording first, the shortest last.
+        """
+        self._titles = tuple((c, TITLE_SIZE) if isinstance(c, str) else tuple(c) for c in choices)
+        self._fit_title()
+
+    def _fit_title(self) -> None:
+        if not self._titles:
+            return
+        label = self.plotItem.titleLabel
+        # The title spans the plot's box, less its text's margins; wider, it is cut off.
+        margins = 2 * label.item.document().documentMargin()
+        room = (label.width() if label.width() > 0 else self.width() - 50) - margins
+        font = QtGui.QFont(label.item.font())
+        for text, size in self._titles:
+            font.setPointSizeF(float(size.removesuffix("pt")))
+            metrics = QtGui.QFontMetricsF(font)
+            if max(metrics.horizontalAdvance(line) for line in text.split("<br>")) <= room:
+                break
+        if (text, size) != (label.text, label.opts.get("size")):
+            set_title(self.plotItem, text, size=size)
+
+    def resizeEvent(self, event) -> None:  # Qt override
+        super().resizeEvent(event)
+        if self._ready:  # (pyqtgraph resizes the view while it is being made)
+            self._title_timer.start(0)
 
     def apply_palette(self) -> None:
         """Take the background and text colours from the application palette."""

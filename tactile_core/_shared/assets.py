@@ -1,4 +1,5 @@
-"""Bundled files: device profiles (``assets/devices``) and presets (``assets/presets``).
+"""Bundled files: device profiles (``assets/devices``), presets (``assets/presets``) and example
+patterns (``assets/patterns``).
 
 The files live in the repository's top-level ``assets/`` folder. A wheel installs them as
 ``tactile_core/_assets``; a source checkout or editable install reads them in place.
@@ -13,7 +14,7 @@ _ROOTS = (_PACKAGE / "_assets", _PACKAGE.parent / "assets")
 
 
 def assets_dir() -> Path:
-    """The folder holding ``devices/`` and ``presets/``."""
+    """The folder holding ``devices/``, ``presets/`` and ``patterns/``."""
     for root in _ROOTS:
         if root.is_dir():
             return root

@@ -67,6 +67,9 @@ def shown(value) -> str:
 
 def is_number(value) -> bool:
     """True for real numbers (Python or numpy), False for booleans, strings and the rest."""
+    kind = type(value)
+    if kind is float or kind is int:  # the common case, without the ABC checks (a bool is not)
+        return True
     return not isinstance(value, (bool, np.bool_)) and isinstance(
         value, (numbers.Real, np.integer, np.floating)
     )

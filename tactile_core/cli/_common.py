@@ -48,11 +48,15 @@ DEVICE_HELP = (
 
 TACT_FORM = "tact:FILE.tact"
 """The ``--shape`` form of a bHaptics file (render and stream)."""
+PATTERN_PREFIX = "pattern:"
+PATTERN_FORM = "pattern:FILE.json"
+"""The ``--shape`` form of a pattern file (render, stream, export-tact)."""
+FILE_FORMS = f"{TACT_FORM} | {PATTERN_FORM}"
 SHAPE_HELP = (
-    " | ".join(SHAPE_FORMS) + f" | {TACT_FORM}: one word, in grid units; a polygon closes; "
+    " | ".join(SHAPE_FORMS) + f" | {FILE_FORMS}: one word, in grid units; a polygon closes; "
     "timed: each point's time (s) and intensity, OPTION speed (one speed) or tdm (at the "
     "points' times, the default), fade-in, fade-out or fade-in-out (;speed;fade-in for two); "
-    "tact: a bHaptics file"
+    "tact: a bHaptics file; pattern: a pattern file (docs/patterns.md)"
 )
 """``--shape``: every form the parser takes."""
 
@@ -114,8 +118,9 @@ def motors_to_compensate(args, profile):
 
 def _scene(args):
     """Validate the shared scene arguments; ValueError names what is wrong. The shape is None
-    for ``--shape tact:FILE`` (a pattern, loaded by the command)."""
-    shape = None if args.shape.startswith("tact:") else _parse_shape_arg(args.shape)
+    for ``--shape tact:FILE`` and ``--shape pattern:FILE`` (loaded by the command)."""
+    from_file = args.shape.startswith(("tact:", PATTERN_PREFIX))
+    shape = None if from_file else _parse_shape_arg(args.shape)
     method = get_method(args.method).spec
     mu, gamma = check_correction(args.mu, args.gamma)
     if args.duration is None:  # a timed path plays at its own pace (its times are the point)
@@ -130,21 +135,21 @@ def _scene(args):
 
 def _parse_shape_arg(text: str):
     """:func:`parse_shape`; a text that names no shape kind is told the command line's forms,
-    ``tact:`` included."""
+    ``tact:`` and ``pattern:`` included."""
     try:
         return parse_shape(text)
     except ValueError:
         kind = text.partition(":")[0].strip().lower() if ":" in text else None
         if kind in SHAPE_KINDS:  # a kind's own numbers were wrong: its message says which
             raise
-        forms = f"{' | '.join(SHAPE_FORMS)} | {TACT_FORM}"
+        forms = f"{' | '.join(SHAPE_FORMS)} | {FILE_FORMS}"
         if kind is None:
             raise ValueError(
                 f"shape must be one word such as circle:2.5,3,2, one of {forms}; "
                 f"got {_validate.shown(text)}"
             ) from None
         raise ValueError(
-            f"shape kind must be one of {', '.join(SHAPE_KINDS)}, tact ({forms}), "
+            f"shape kind must be one of {', '.join(SHAPE_KINDS)}, tact, pattern ({forms}), "
             f"got {_validate.shown(kind)}"
         ) from None
 
@@ -158,7 +163,7 @@ def unknown_arguments_hint(args, extra) -> str:
     numbers = [a for a in extra if _validate.DECIMAL.fullmatch(a)]
     meant = f"{shape}:{','.join(numbers)}" if numbers else f"{shape}:..."
     return (f" (a shape is one word: --shape {meant}; the forms: {' | '.join(SHAPE_FORMS)} | "
-            f"{TACT_FORM})")  # fmt: skip
+            f"{FILE_FORMS})")  # fmt: skip
 
 
 def _seconds(value, name="seconds"):

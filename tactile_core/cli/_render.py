@@ -25,6 +25,7 @@ from ._common import (
     motors_to_compensate,
     write_failed,
 )
+from ._pattern import describe, load_pattern_arg, say_playing
 from ._tact import load_tact_arg, not_played, warn_of_notes
 
 MAX_RENDER_FRAMES = 1_000_000
@@ -104,15 +105,19 @@ def cmd_render(args) -> int:
         names = list(profile.layout.names)
     motor = _motor_of(args, profile)
     pattern = load_tact_arg(args)
+    composed = load_pattern_arg(args, grid, method)  # a pattern file
     _validate.rate("rate", args.rate, 1e-3, _validate.MAX_RATE_HZ)
+    if composed is not None:
+        pattern, what, left_out = composed, describe(args, composed), ""
+    elif pattern is not None:
+        what = f"{pattern.describe(grid)} of {args.shape[len('tact:') :]}"
+        left_out = not_played(pattern, grid)
+        warn_of_notes("render", pattern)
     if pattern is not None:  # frame k samples the middle of [k / rate, (k + 1) / rate)
         duration = pattern.duration_on(grid)
         n = int(np.ceil(duration * args.rate - 1e-9))
         _check_render_size(n, grid.size, duration, args.rate)
         time_s, frames = pattern.frames(method, grid, rate_hz=args.rate, mu=mu, gamma=gamma)
-        what = f"{pattern.describe(grid)} of {args.shape[len('tact:') :]}"
-        left_out = not_played(pattern, grid)
-        warn_of_notes("render", pattern)
     else:
         n = int(np.floor(args.duration * args.rate + 1e-9)) + 1
         _check_render_size(n, grid.size, args.duration, args.rate)
@@ -211,7 +216,8 @@ def _tabulate(scene, profile) -> None:
     (:meth:`TactPattern.live` gives it the same frames). Computed as it plays, a frame of many
     effects at once can cost more than a frame lasts, and a table built in the background
     meanwhile takes the output thread's turns: 400 paths at once made 197 of 285 frames late.
-    A pattern longer than the table holds plays as before (frame by frame)."""
+    A pattern longer than the table holds plays as before (frame by frame); a pattern file
+    (``--shape pattern:FILE``) is tabulated the same way."""
     live = scene.live(profile.layout, scene.rate_hz)
     if live.n_frames > MAX_TABLE_FRAMES:
         return
@@ -239,7 +245,11 @@ def cmd_stream(args) -> int:
         raise UsageError(str(exc)) from None
     check_renders(method, profile.layout)
     pattern = load_tact_arg(args)
-    if pattern is not None:
+    composed = load_pattern_arg(args, profile.layout, method)  # a pattern file
+    if composed is not None:
+        pattern = composed
+        say_playing(args, pattern)
+    elif pattern is not None:
         print(f"playing {pattern.describe(profile.layout)} of {args.shape[len('tact:') :]}"
               f"{not_played(pattern, profile.layout)}", file=sys.stderr, flush=True)  # fmt: skip
         warn_of_notes("stream", pattern)

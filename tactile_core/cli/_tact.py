@@ -19,6 +19,7 @@ from ..files.tact import (
     write_tact,
 )
 from ._common import UsageError, number, whole, write_failed
+from ._pattern import export_pattern, is_pattern
 
 PREFIX = "tact:"
 
@@ -105,7 +106,8 @@ def add_export_parser(sub) -> None:
     p = sub.add_parser("export-tact", help="write a shape's trace or a preset's as a bHaptics "
                        ".tact file")  # fmt: skip
     source = p.add_mutually_exclusive_group(required=True)
-    source.add_argument("--shape", metavar="SHAPE", help="line:..., circle:..., timed:...")
+    source.add_argument("--shape", metavar="SHAPE",
+                        help="line:..., circle:..., timed:..., pattern:FILE.json")  # fmt: skip
     source.add_argument("--preset", metavar="FILE", help="a preset (its shape and timing)")
     p.add_argument(
         "--duration",
@@ -121,6 +123,10 @@ def add_export_parser(sub) -> None:
     p.add_argument("--rows", type=whole, default=None)
     p.add_argument("--position", choices=tuple(POSITIONS), default="VestFront",
                    help="the bHaptics device position (default VestFront)")  # fmt: skip
+    p.add_argument("--group", action="append", metavar="GROUP=POSITION",
+                   help="with --shape pattern:FILE, write the effects of a layout group to this "
+                   "device position, in 0..1 of the group's actuators (front=VestFront); "
+                   "repeat for each group")  # fmt: skip
     p.add_argument("--name", default=None, help="the project's name (default: the file's stem)")
     p.add_argument("--compiled", action="store_true",
                    help="also write bHaptics' compiled form: the trace's motor values every 20 "
@@ -153,6 +159,12 @@ def cmd_export_tact(args) -> int:
                 target = find_profile(preset.device_profile).layout
             except ProfileError as exc:
                 raise UsageError(f"{exc} (name the array with --profile)") from None
+    elif is_pattern(args.shape):
+        scene = None  # its effects, written by export_pattern
+        for option in ("duration", "direction"):
+            if getattr(args, option) is not None:
+                raise UsageError(f"--{option} does not apply to a pattern (its effects keep "
+                                 "theirs)")  # fmt: skip
     else:
         shape = parse_shape(args.shape)
         duration = shape.duration_s if isinstance(shape, TimedPath) else 2.0
@@ -164,7 +176,7 @@ def cmd_export_tact(args) -> int:
             raise UsageError("--duration does not apply to a timed path (it keeps its times)")
     if args.direction is not None:
         changes["direction"] = args.direction
-    scene = scene.replace(**changes)
+    scene = scene.replace(**changes) if scene is not None else None
     if args.cols is not None or args.rows is not None:
         if profile_name is not None:
             raise UsageError("--profile and --cols/--rows name the array twice: give one")
@@ -178,8 +190,12 @@ def cmd_export_tact(args) -> int:
             target = load_profile(profile_name).layout
         except ProfileError as exc:
             raise UsageError(str(exc)) from None
-    path = path_of_scene(scene)
     name = args.name if args.name is not None else out.stem[:MAX_NAME_CHARS]
+    if is_pattern(args.shape):
+        return export_pattern(args, out, target, name)
+    if args.group:
+        raise UsageError("--group applies to --shape pattern:FILE only")
+    path = path_of_scene(scene)
     compiled, frames = None, ""
     if args.compiled:
         compiled = _compiled_method(args, scene, target)
