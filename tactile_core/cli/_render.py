@@ -239,6 +239,7 @@ def cmd_stream(args) -> int:
     from ..stream.streamer import Streamer
 
     shape, method, mu, gamma, _ = _scene(args)
+    _validate.rate("--rate", args.rate, 1.0, 10_000.0)  # as the stream's scene takes it
     try:
         profile = load_profile(args.profile)
     except ProfileError as exc:

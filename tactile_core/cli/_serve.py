@@ -10,6 +10,7 @@ import math
 import sys
 import time
 
+from .._shared import validate as _validate
 from .._shared.jsonfile import write_json_atomic
 from .._shared.outfile import check_output
 from ..rendering.correction import check_correction
@@ -243,6 +244,7 @@ def _check(args):
     method = free_method(args.method).spec
     check_renders(method, profile.layout)
     mu, gamma = check_correction(args.mu, args.gamma)
+    _validate.rate("--rate", args.rate, 1.0, 10_000.0)  # as the stream's scene takes it
     compensate = motors_to_compensate(args, profile) is not None
     scene = Scene(
         method=method, mu=mu, gamma=gamma, rate_hz=args.rate, compensate_motors=compensate
