@@ -94,6 +94,8 @@ class FileActions(QtCore.QObject, KeepsDrawing):
         self.blocked = lambda: ""
         """Why presets and curve exports are refused now ("" when they are not): they would
         name the method Blind A/B hides."""
+        self.confirm = lambda title, text: dialogs.confirm(parent, title, text)
+        """Asks yes or no before a file is replaced (tests answer it)."""
         self.profile_blocked = lambda: ""
         """Why the device profile may not change now ("" when it may): a blind session or a
         run depends on its layout."""
@@ -413,8 +415,11 @@ class FileActions(QtCore.QObject, KeepsDrawing):
         # Never the imported file's own name: a new one beside it.
         name = dialogs.unused_name("tact", f"{self.preset_name or 'trace'}-export.tact")
         path = dialogs.save_path(self.parent(), "tact", "Export bHaptics .tact", name,
-                                 ["bHaptics (*.tact)"])  # fmt: skip
-        if path:
+                                 ["bHaptics (*.tact)"], confirm_overwrite=False)  # fmt: skip
+        # The file this session imported is refused before anything is asked (Qt asked to
+        # replace it, and the export then refused); another file is replaced once confirmed.
+        if path and (path.resolve() in self._imported or not path.exists() or self.confirm(
+                "Export bHaptics .tact", f"{path}\nalready exists.\n\nReplace it?")):  # fmt: skip
             self.export_tact_file(path)
 
     # --- device profiles -------------------------------------------------------------------------
