@@ -144,3 +144,22 @@ def test_an_example_pattern_does_not_switch_while_the_profile_may_not_change(win
         "unsaved"
     )
     assert window.device.profile.name == "palm-5x6"
+
+
+def test_a_pattern_shows_its_own_duration_and_its_timing_is_not_editable(window):
+    # The duration box read 1.00 s (the scene's) and stayed editable while the letter A, 2.1 s,
+    # played: a pattern's effects set its timing.
+    trace = window.controls.trace
+    letter = Pattern.load(example_patterns()["letter-a"])
+    end_s = max(e.start_s + e.duration_s * e.repeat for e in letter.effects)  # the last play
+    assert window.files.open_pattern_file(example_patterns()["letter-a"])
+    assert trace.duration_spin.value() == pytest.approx(end_s) == pytest.approx(2.1)
+    assert trace.duration_spin.text() == "2.10 s"
+    for box in (trace.duration_spin, trace.pause_spin, trace.direction_combo,
+                trace.emphasis_spin):  # fmt: skip
+        assert not box.isEnabled()
+        assert "The pattern sets its own timing" in box.toolTip()
+    assert trace.rate_spin.isEnabled()  # its frames are the scene's: rate, filter, dithering
+    window.controls.shape.shape_combo.setCurrentIndex(0)  # a line again: its own trace
+    assert trace.duration_spin.isEnabled() and "The pattern" not in trace.duration_spin.toolTip()
+    assert trace.duration_spin.value() == window.state.scene.duration_s

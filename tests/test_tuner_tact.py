@@ -279,3 +279,11 @@ def test_export_to_a_new_file_asks_nothing(window, tmp_path, monkeypatch):
     window.files.confirm = lambda title, text: pytest.fail(f"asked {text!r}")
     window.files.ask_export_tact()
     assert read_tact(new)
+
+
+def test_a_tact_pattern_shows_its_own_duration_with_bhaptics_scale(window, tmp_path):
+    trace = window.controls.trace
+    assert window.files.import_tact_file(ts.write(tmp_path, ts.simple()))  # a path over 1 s
+    assert trace.duration_spin.text() == "1.00 s" and not trace.duration_spin.isEnabled()
+    window.controls.shape.tact_fields["duration"].setValue(2.0)  # twice as slow
+    assert trace.duration_spin.text() == "2.00 s" and not trace.duration_spin.isEnabled()
