@@ -18,6 +18,8 @@ from .widgets import MethodSetWidget
 
 NOT_RATED = -1
 """A rating spin box's value while its rating is not given (shown as "not rated")."""
+FELT_TICK_MS = 200
+"""How often the *felt* column is redrawn while a key plays (a tenth of a second shown)."""
 
 
 def default_autosave_dir() -> Path:
@@ -111,6 +113,9 @@ class BlindPanel(QtWidgets.QWidget):
         self.method_labels: list = []
         self.rating_spins: list = []
         self.felt_labels: list = []
+        self._felt_timer = QtCore.QTimer(self)  # the felt column counts while a key plays
+        self._felt_timer.setInterval(FELT_TICK_MS)
+        self._felt_timer.timeout.connect(self._show_felt)
         self.start_button.clicked.connect(lambda: self.start())
         self.reveal_button.clicked.connect(self.reveal)
         self.save_button.clicked.connect(self._on_save_clicked)
@@ -167,6 +172,7 @@ class BlindPanel(QtWidgets.QWidget):
                           epoch=self.state.scene.epoch + 1)  # fmt: skip
         session.set_playing(self.state.scene.playing)  # (a refused method does not play)
         self._say(f"playing key {key}" + (f" ({method})" if session.revealed else ""))
+        self._follow_felt()
 
     def reveal(self) -> bool:
         """Show which method was behind each key (once every felt key is rated)."""
@@ -234,7 +240,32 @@ class BlindPanel(QtWidgets.QWidget):
             self.chooser.refuse(str(exc), keep=self.session.methods)
 
     def _on_state_playing_changed(self, playing: bool) -> None:
-        self.session.set_playing(playing and self.session.current_key is not None)
+        session = self.session
+        key = session.current_key
+        session.set_playing(playing and key is not None)
+        if session.mapping and key is not None:  # Space: the status line says so
+            method = f" ({session.mapping[key - 1]})" if session.revealed else ""
+            self._say(f"playing key {key}{method}" if playing else
+                      f"key {key}{method} paused: Space plays it again")  # fmt: skip
+        self._follow_felt()
+
+    def _follow_felt(self) -> None:
+        """Count the felt column up on the display while a key is felt (the session's clock
+        runs; its labels changed only with the session)."""
+        session = self.session
+        felt = session.active and session.current_key is not None and self.state.scene.playing
+        if felt and not self._felt_timer.isActive():
+            self._felt_timer.start()
+        elif not felt:
+            self._felt_timer.stop()
+        self._show_felt()
+
+    def _show_felt(self) -> None:
+        session = self.session
+        felt_s = session.felt_s if session.mapping else ()
+        for k, label in enumerate(self.felt_labels):
+            shown = k < len(felt_s) and felt_s[k] > 0.0
+            label.setText(f"{felt_s[k]:.1f} s" if shown else "-")
 
     def _on_state_scene_changed(self, scene) -> None:
         self.session.scene = scene
@@ -287,9 +318,8 @@ class BlindPanel(QtWidgets.QWidget):
         if len(self.key_buttons) != len(session.methods):
             self._build_rows()
         on, dealt = session.active, bool(session.mapping)
-        felt_s = session.felt_s if dealt else ()
-        for k, (button, label, spins, felt) in enumerate(
-            zip(self.key_buttons, self.method_labels, self.rating_spins, self.felt_labels)
+        for k, (button, label, spins) in enumerate(
+            zip(self.key_buttons, self.method_labels, self.rating_spins)
         ):
             button.setEnabled(dealt)
             button.setChecked(session.current_key == k + 1)
@@ -301,7 +331,7 @@ class BlindPanel(QtWidgets.QWidget):
                 spin.setValue(NOT_RATED if value is None else value)
                 spin.blockSignals(False)
                 spin.setEnabled(dealt)
-            felt.setText(f"{felt_s[k]:.1f} s" if dealt and felt_s[k] > 0.0 else "-")
+        self._follow_felt()
         self.reveal_button.setEnabled(on)
         self.save_button.setEnabled(dealt)
         self.cancel_button.setEnabled(dealt)

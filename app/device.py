@@ -85,6 +85,7 @@ class DeviceController(QtCore.QObject):
         self._status_from_thread.connect(self.status_changed.emit)
         self._service_from_thread.connect(self.service_event.emit)
         self._generation = 0
+        self._apart = (None, "")  # (divert, what plays) of play_apart
         self.divert = None
         """While something else than the state's scene plays on the array (another program's
         points, a pulsed tactor): a callable that takes the state's scenes instead of the
@@ -201,13 +202,22 @@ class DeviceController(QtCore.QObject):
         else:
             self.streamer.set_scene(outgoing(scene))
 
-    def play_apart(self, scene, divert) -> None:
+    def play_apart(self, scene, divert, what: str = "") -> None:
         """Play ``scene`` on the array instead of the state's, which stays as it is (a tactor
         pulsed from the heatmap: the controls and the views keep showing the tuning). The
         state's scenes go to ``divert`` (:attr:`divert`) until that is None again and
-        :meth:`resume` hands the state's scene back to the stream."""
+        :meth:`resume` hands the state's scene back to the stream. ``what``: what plays, in a
+        user's words, for the status line (:attr:`playing_apart`)."""
         self.divert = divert
+        self._apart = (divert, what)
         self.streamer.set_scene(outgoing(scene))
+
+    @property
+    def playing_apart(self) -> str:
+        """What :meth:`play_apart` plays while it does (``pulsing tactor (2,3) (CT)``), else
+        "" (the state's scene plays, or another program's points)."""
+        divert, what = self._apart
+        return what if divert is not None and self.divert is divert else ""
 
     def resume(self) -> None:
         """Hand the state's scene to the stream again (after another program or a pulse

@@ -4,6 +4,7 @@ stream's status line."""
 from __future__ import annotations
 
 import html
+import re
 
 from PySide6 import QtCore, QtWidgets
 from serial.tools import list_ports
@@ -241,11 +242,15 @@ class DevicePanel(QtWidgets.QWidget):
         return shown, named[1]
 
     def show_stats(self, stats) -> None:
-        """Status line: state, achieved rate, interval error, errors; and how frames are timed
+        """Status line: state, what plays (the stream's method, or a pulse: ``pulsing tactor
+        (2,3) (CT) at 300 Hz``), achieved rate, interval error, errors; and how frames are timed
         (also the lead box's status tip)."""
         self.lead_spin.setStatusTip(stats.schedule)
+        status, apart = stats.status, self.device.playing_apart
+        if apart:  # a pulse: what plays in words, not its method ("streaming CT" under MM)
+            status = re.sub(r"^streaming \S+", apart, status)
         self.status_label.setText(
-            f"[{stats.state}] {stats.status} | achieved {stats.achieved_rate_hz:.0f} Hz, "
+            f"[{stats.state}] {status} | achieved {stats.achieved_rate_hz:.0f} Hz, "
             f"interval error p99 {stats.interval_error_p99_ms:.2f} ms, late {stats.late}, "
             f"errors {stats.errors}, {stats.frames} frames"
             + (f" | timed {stats.lead_ms:g} ms ahead" if stats.scheduled else " | frames for now")

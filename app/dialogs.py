@@ -71,10 +71,15 @@ def unused_name(kind: str, name: str) -> str:
     return name
 
 
-def save_path(parent, kind: str, title: str, name: str, filters: list[str]) -> Path | None:
-    """Ask where to save; the chosen path (extension added), or None if cancelled."""
+def save_path(parent, kind: str, title: str, name: str, filters: list[str], *,
+              confirm_overwrite: bool = True) -> Path | None:  # fmt: skip
+    """Ask where to save; the chosen path (extension added), or None if cancelled.
+    ``confirm_overwrite=False``: the dialog does not ask before an existing file is chosen (the
+    caller checks the path first, and asks only when the write would replace a file)."""
     start = str(Path(_folder(kind)) / name)
-    path, selected = QtWidgets.QFileDialog.getSaveFileName(parent, title, start, ";;".join(filters))
+    dialog = QtWidgets.QFileDialog
+    options = dialog.Option(0) if confirm_overwrite else dialog.Option.DontConfirmOverwrite
+    path, selected = dialog.getSaveFileName(parent, title, start, ";;".join(filters), "", options)
     if not path:
         return None
     path = with_filter_extension(path, selected or filters[0], filters)

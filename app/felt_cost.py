@@ -6,6 +6,11 @@ the scene's frame rate, filter, dithering and motor-aware drive, the profile's l
 and the stream's lead, beside the best of the array. It takes a tenth of a second on the palm
 array, so it runs in a thread of its own a moment after the last change, and each result is
 kept per setting: going back to a setting shows it at once.
+
+The model follows a point along a shape's trace. Where the array plays something else it says
+*not predicted* and why, without computing: a pattern or another live source, a point that does
+not move (draw mode's free point, dragged by hand), another program's free points (OSC: the
+shell's :attr:`FeltCost.live`), nothing at all.
 """
 
 from __future__ import annotations
@@ -13,6 +18,8 @@ from __future__ import annotations
 import threading
 
 from PySide6 import QtCore
+
+import tactile_core as tc
 
 from .texts import tip
 
@@ -41,6 +48,10 @@ class FeltCost(QtCore.QObject):
         super().__init__(parent)
         self.device = device
         self.enabled = True
+        self.live = lambda: ""
+        """Why the array plays something other than the scene now ("" when it plays the scene):
+        another program's points (the OSC server sets it). The read-out then says *not
+        predicted* and why."""
         self._cache: dict = {}
         self._busy = False
         self._timer = QtCore.QTimer(self)
@@ -72,7 +83,26 @@ class FeltCost(QtCore.QObject):
         if self.enabled:
             self._timer.start()
 
+    def unpredicted(self) -> str:
+        """Why the model does not describe what plays ("" when it does, as far as the scene
+        says: actuators that are not a grid and long traces are the model's to refuse)."""
+        scene = self.device.state.scene
+        shape = scene.shape
+        if self.live():
+            return self.live()
+        if scene.source is not None:
+            return "a pattern plays: the model follows a point along a shape"
+        if shape is None:
+            return "nothing plays"
+        if isinstance(shape, tc.Line) and shape.p0 == shape.p1:
+            return "draw mode's free point, moved by hand: no trace to follow"
+        return ""
+
     def _start(self) -> None:
+        why = self.unpredicted()
+        if why:
+            self._show(f"felt: not predicted ({why})")
+            return
         key = self.key()
         if key in self._cache:
             self._show(self._cache[key])

@@ -4,24 +4,54 @@ play it), and device profiles (load one, save a calibrated one)."""
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 from PySide6 import QtCore
 
-from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_names
+from tactile_core.device.profile import (
+    DEFAULT_PROFILE,
+    ProfileError,
+    find_profile,
+    load_profile,
+    profile_names,
+)
 from tactile_core.files import export, tact
 from tactile_core.files.pattern import Pattern, PatternError
 from tactile_core.files.presets import MAX_NAME_CHARS, Preset, PresetError, load_preset, save_preset
 from tactile_core.files.tact import TactError, load_pattern, path_of_scene, write_tact
-from tactile_core.rendering.shapes import TimedPath, path_from_samples
+from tactile_core.rendering.shapes import TimedPath
 
 from . import dialogs
+from .drawing import KeepsDrawing
 from .texts import count, value3
 from .views import cell_colors
 
 
-class FileActions(QtCore.QObject):
+def profiles_playing(pattern) -> list[str]:
+    """The known device profiles (the bundled ones and the user's, by name) whose layout
+    ``pattern`` plays on with the layout's own method: the default profile first, then in name
+    order (``vest-front-back`` for the vest sweep, whose groups are ``front`` and ``back``)."""
+    names = []
+    for name, path in profile_names().items():
+        try:
+            pattern.check(load_profile(path).layout)
+        except (ProfileError, ValueError):  # a user's broken profile: not one to offer
+            continue
+        names.append(name)
+    return sorted(names, key=lambda name: name != DEFAULT_PROFILE)
+
+
+def _plays_on(names, blocked: str) -> str:
+    """What a refusal adds to say where a pattern plays: the profiles and how to choose one
+    (or why the profile may not change now); nothing when it plays on none."""
+    if not names:
+        return ""
+    how = blocked or ("choose it in the device dock's profile box (or the Array menu's Device "
+                      "profile), then open the pattern again")  # fmt: skip
+    return f". It plays on the device profile {' or '.join(names)}: {how}"
+
+
+class FileActions(QtCore.QObject, KeepsDrawing):
     """Reads and writes the tuner's files; the File menu and the device panel call it.
 
     It remembers which preset the scene came from (:attr:`preset_name`, :attr:`preset_notes`,
@@ -64,6 +94,8 @@ class FileActions(QtCore.QObject):
         self.blocked = lambda: ""
         """Why presets and curve exports are refused now ("" when they are not): they would
         name the method Blind A/B hides."""
+        self.confirm = lambda title, text: dialogs.confirm(parent, title, text)
+        """Asks yes or no before a file is replaced (tests answer it)."""
         self.profile_blocked = lambda: ""
         """Why the device profile may not change now ("" when it may): a blind session or a
         run depends on its layout."""
@@ -71,11 +103,7 @@ class FileActions(QtCore.QObject):
         """The ``.tact`` files imported in this session (an export never overwrites one)."""
         self._pattern_file = (None, None)
         """The pattern imported last and where it came from (its file and position)."""
-        self._stroke: list = []
-        """The last drawing in draw mode: ``(seconds, x, y)`` per point drawn (none outside
-        draw mode)."""
-        self._stroke_done = True
-        self._drawing = False  # in draw mode
+        self.init_drawing()
 
     def _refused(self) -> bool:
         reason = self.blocked()
@@ -284,23 +312,43 @@ class FileActions(QtCore.QObject):
 
     # --- patterns ---------------------------------------------------------------------------------
 
-    def open_pattern_file(self, path) -> bool:
+    def open_pattern_file(self, path, *, example: bool = False) -> bool:
         """Open a pattern file (``docs/patterns.md``) and play it as the scene's frame source,
         from its start: checked against the current array (the groups it names, its dots'
-        actuators) and method first; on any problem show it and change nothing."""
+        actuators) and method first; on any problem show it and change nothing.
+
+        A pattern that does not play on the array's profile but on other known profiles: an
+        ``example`` (File -> Example patterns) switches to the first of them, the default
+        profile first, as a preset switches to its own, and says so; for another file the
+        message names them and how to choose one (a pattern does not say which array it is for,
+        and the array connected is the user's)."""
         if self._refused():
             return False
         try:
             pattern = Pattern.load(path)
             if not pattern.effects:
                 raise PatternError(f"{path}: the pattern has no effects to play")
-            pattern.check(self.device.profile.layout, self.state.scene.method)
         except PatternError as exc:
             self.error_raised.emit(str(exc))
             return False
+        here, switched = self.device.profile.name, ""
+        try:
+            pattern.check(self.device.profile.layout, self.state.scene.method)
         except ValueError as exc:  # what does not play on this array, by field
-            self.error_raised.emit(f"{path}: {exc}")
-            return False
+            elsewhere = [name for name in profiles_playing(pattern) if name != here]
+            blocked = self.profile_blocked()
+            if not elsewhere or not example or blocked:
+                self.error_raised.emit(f"{path}: {exc}" + _plays_on(elsewhere, blocked))
+                return False
+            self.before_load()
+            self.state.last_message = ""
+            self.device.set_profile(find_profile(elsewhere[0]))
+            switched = f" on the device profile {elsewhere[0]} (it does not play on {here})"
+            try:
+                pattern.check(self.device.profile.layout, self.state.scene.method)
+            except ValueError as exc:
+                self.error_raised.emit(f"{path}: {exc}")
+                return False
         self.before_load()
         scene = self.state.scene.replace(shape=None, source=pattern, playing=True,
                                          epoch=self.state.scene.epoch + 1)  # fmt: skip
@@ -310,8 +358,8 @@ class FileActions(QtCore.QObject):
         self.preset_notes, self.preset_scene = pattern.notes, scene
         self.preset_changed.emit()
         what = f"{count(len(pattern.effects), 'effect')} over {pattern.duration_s:g} s"
-        self.message_posted.emit(f"opened the pattern {Path(path).name}: {what} (Restart "
-                                 "replays it)", 10_000)  # fmt: skip
+        self.message_posted.emit(f"opened the pattern {Path(path).name}{switched}: {what} "
+                                 f"(Restart replays it){self._changes()}", 10_000)  # fmt: skip
         return True
 
     def ask_open_pattern(self) -> None:
@@ -367,65 +415,12 @@ class FileActions(QtCore.QObject):
         # Never the imported file's own name: a new one beside it.
         name = dialogs.unused_name("tact", f"{self.preset_name or 'trace'}-export.tact")
         path = dialogs.save_path(self.parent(), "tact", "Export bHaptics .tact", name,
-                                 ["bHaptics (*.tact)"])  # fmt: skip
-        if path:
+                                 ["bHaptics (*.tact)"], confirm_overwrite=False)  # fmt: skip
+        # The file this session imported is refused before anything is asked (Qt asked to
+        # replace it, and the export then refused); another file is replaced once confirmed.
+        if path and (path.resolve() in self._imported or not path.exists() or self.confirm(
+                "Export bHaptics .tact", f"{path}\nalready exists.\n\nReplace it?")):  # fmt: skip
             self.export_tact_file(path)
-
-    def follow_drawing(self, gestures) -> None:
-        """Record what is drawn in ``gestures``' draw mode (a
-        :class:`~app.tune.gestures.HeatmapGestures`), for :meth:`keep_drawing`."""
-        gestures.heatmap.point_drawn.connect(self.record_drawn_point)
-        gestures.heatmap.draw_released.connect(self.end_drawn_stroke)
-        gestures.draw_mode_changed.connect(self.set_draw_mode)
-
-    @property
-    def can_keep_drawing(self) -> bool:
-        """In draw mode with a path drawn (two points or more): :meth:`keep_drawing` keeps it."""
-        return self._drawing and len(self._stroke) >= 2
-
-    def set_draw_mode(self, on: bool) -> None:
-        """Draw mode began or ended: either way, no drawing yet (one from an earlier draw mode
-        would replace whatever scene plays since: a preset, a ``.tact`` file)."""
-        self._drawing = bool(on)
-        self._stroke, self._stroke_done = [], True
-        self.drawing_changed.emit(self.can_keep_drawing)
-
-    def record_drawn_point(self, x: float, y: float) -> None:
-        """Draw mode moved the point to ``(x, y)``: add it to the drawing (a new drawing starts
-        after the pointer was released)."""
-        if not self._drawing:
-            return
-        before = self.can_keep_drawing
-        if self._stroke_done:
-            self._stroke, self._stroke_done = [], False
-        self._stroke.append((time.perf_counter(), float(x), float(y)))
-        if self.can_keep_drawing != before:
-            self.drawing_changed.emit(self.can_keep_drawing)
-
-    def end_drawn_stroke(self) -> None:
-        """The pointer was released: the drawing is complete."""
-        self._stroke_done = True
-
-    def keep_drawing(self) -> bool:
-        """Leave draw mode with the last drawing as the scene's shape: a time-keyed path that
-        replays it at the pace it was drawn (save it as a preset, export it as ``.tact``).
-        Only in draw mode, with a path drawn (:attr:`can_keep_drawing`)."""
-        if not self._drawing:
-            self.error_raised.emit("draw a path first: turn on draw mode and drag on the heatmap")
-            return False
-        try:
-            shape = path_from_samples([s for s, _, _ in self._stroke],
-                                      [(x, y) for _, x, y in self._stroke])  # fmt: skip
-        except ValueError:
-            self.error_raised.emit("draw a path first: turn on draw mode and drag on the heatmap")
-            return False
-        self.before_load()
-        scene = self.state.scene
-        self.state.set_scene(scene.replace(shape=shape, duration_s=shape.duration_s, source=None,
-                                           epoch=scene.epoch + 1, playing=True))  # fmt: skip
-        self.message_posted.emit(f"the drawing is the shape: {len(shape.points)} points over "
-                                 f"{shape.duration_s:.2f} s", 10_000)  # fmt: skip
-        return True
 
     # --- device profiles -------------------------------------------------------------------------
 

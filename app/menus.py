@@ -48,7 +48,7 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     menu.addAction("Open pattern...", files.ask_open_pattern)
     examples = menu.addMenu("Example patterns")
     for stem, path in example_patterns().items():
-        examples.addAction(stem, lambda p=path: files.open_pattern_file(p))
+        examples.addAction(stem, lambda p=path: files.open_pattern_file(p, example=True))
     menu.addAction("Import .tact...", files.ask_import_tact)
     menu.addAction("Export .tact...", files.ask_export_tact)
     keep = menu.addAction("Keep the drawing as the shape", files.keep_drawing)

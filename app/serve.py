@@ -21,6 +21,9 @@ off, and it cannot be turned on while they last.
 
 from __future__ import annotations
 
+import math
+import time
+
 from PySide6 import QtCore
 
 from tactile_core.rendering import placement
@@ -31,6 +34,8 @@ from tactile_core.serve import DEFAULT_PORT
 from .texts import value3
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
+SENDER_SAID_MS = 5000
+"""How long the status line says what the sender set; what it sets meanwhile is added."""
 
 
 class ServeController(QtCore.QObject):
@@ -84,6 +89,10 @@ class ServeController(QtCore.QObject):
         self.lsl_status = "off"
         self.blocked = lambda: ""
         self._paused_before = False
+        self.clock = time.monotonic
+        """Seconds, for how long a sender's changes are told together (tests may set it)."""
+        self._said: dict = {}  # what the sender set, as the status line says it
+        self._said_at = -math.inf
         state.method_guard = self._method_guard
         device.service_event.connect(self._on_device_service_event)
         device.connection_changed.connect(self._on_device_connection_changed)
@@ -161,6 +170,21 @@ class ServeController(QtCore.QObject):
             return
         self.device.services.set_osc_scene(scene)
 
+    def _sender_set(self, changed: dict) -> str:
+        """Every field the sender set while the line saying so is on show, with the value in
+        use (``method AS, mu 0.50, gamma 50.00``): a sender's ``/tactile/mu`` followed by its
+        ``/tactile/gamma`` said only the gamma. A field changed since by someone else (a
+        slider) is left out."""
+        now = self.clock()
+        if now - self._said_at > SENDER_SAID_MS / 1000:
+            self._said = {}
+        self._said_at = now
+        self._said.update(changed)
+        scene = self.state.scene
+        self._said = {k: v for k, v in self._said.items() if getattr(scene, k) == v}
+        return ", ".join(f"{k} {v}" if k == "method" else f"{k} {value3(v)}"
+                         for k, v in self._said.items())  # fmt: skip
+
     def _method_guard(self, name: str) -> str:
         if self.serving == "off":
             return ""
@@ -211,9 +235,7 @@ class ServeController(QtCore.QObject):
             return
         elif kind == "osc-scene" and self.serving != "off":
             if self.state.update(**payload):  # only what the sender changed
-                said = ", ".join(f"{k} {value3(v)}" if k != "method" else str(v)
-                                 for k, v in payload.items())  # fmt: skip
-                self._post(f"the sender set {said}", 5000)
+                self._post(f"the sender set {self._sender_set(payload)}", SENDER_SAID_MS)
         elif kind in ("osc-refused", "osc-warning"):
             self._post(str(payload))
         elif kind == "lsl-opened":

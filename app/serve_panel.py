@@ -214,6 +214,9 @@ def install_serve(window) -> ServeController:
         window.controls.method.set_free_only(free_only if serving else "")
 
     serve.changed.connect(on_changed)
+    felt = window.device_panel.felt_cost  # the sender's points are not the scene's trace
+    felt.live = lambda: "another program drives free points" if serve.serving != "off" else ""
+    serve.changed.connect(felt.schedule)
     window.serve_panel = ServePanel(serve)
     window.device_panel.layout().addWidget(window.serve_panel, 0, 5, 4, 1)  # its four rows
     add_serve_actions(window, serve)

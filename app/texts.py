@@ -34,7 +34,12 @@ PROFILE_BLOCKED = "The device profile cannot change {}: it is for this array's l
 def value3(x: float) -> str:
     """A correction value (mu, gamma) as the tuner writes it everywhere (the boxes, the titles,
     the status line, file names), to the 0.001 the gamma slider steps in: three decimals where
-    the value needs them, else two (``0.143``, ``0.70``, ``0.33``, ``1.00``)."""
+    the value needs them, else two (``0.143``, ``0.70``, ``0.33``, ``1.00``, ``50.00``). Below
+    0.1 and from a million up (a preset's, another program's, the gamma box stepped down) it
+    keeps three significant digits, so that no value in use reads as another (``0.05``,
+    ``0.0099``, ``1.23e-05``, ``2.5e+06``)."""
+    if x != 0 and not 0.1 <= abs(x) < 1e6:
+        return f"{x:.3g}"
     text = f"{x:.3f}"
     return text[:-1] if text.endswith("0") else text
 

@@ -39,6 +39,7 @@ from .texts import (
     RUN_FILES,
     value3,
 )
+from .titles import scene_name
 from .tune import TuneWidget
 
 
@@ -416,15 +417,15 @@ class MainWindow(QtWidgets.QMainWindow):
         self.controls.preset.show_preset(self.files.preset_name, self.files.preset_notes)
 
     def _update_title(self) -> None:
-        """``tactile-tuner - preset[*] - method, mu, gamma``: current, with a star once the
-        scene differs from the preset it came from."""
+        """``tactile-tuner - name[*] - method, mu, gamma``: what plays (:func:`.titles.scene_name`),
+        with a star once the scene differs from the preset it came from."""
         if self.blind.session.active:  # the method, and whether it is the preset's, stay hidden
             self.setWindowTitle("tactile-tuner - Blind A/B (the method is hidden)")
             return
         scene, files = self.state.scene, self.files
         came_from = files.preset_scene
         modified = came_from is not None and not _same_tuning(scene, came_from)
-        name = files.preset_name + (" *" if modified else "")
+        name = scene_name(scene, came_from, files.preset_name) + (" *" if modified else "")
         self.setWindowTitle(
             f"tactile-tuner - {name} - {scene.method}, mu {value3(scene.mu)}, "
             f"gamma {value3(scene.gamma)}"

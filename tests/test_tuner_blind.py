@@ -203,6 +203,36 @@ def test_pausing_the_tuner_stops_the_felt_time(window, clock):
     assert blind.session.felt_s[0] == pytest.approx(0.5)
 
 
+def test_the_felt_column_counts_while_a_key_plays(window, qtbot, clock):
+    # It said "-" (or 0.0 s) after key 1 had played 1.5 s, until another key was pressed.
+    blind = window.blind
+    blind.start(seed=4)
+    qtbot.keyClick(window.blind, Key.Key_1)
+    clock.advance(1.5)
+    qtbot.waitUntil(lambda: blind.felt_labels[0].text() == "1.5 s", timeout=5000)  # on a timer
+    clock.advance(0.75)
+    qtbot.waitUntil(lambda: blind.felt_labels[0].text() == "2.2 s", timeout=5000)  # 2.25 s
+
+
+def test_space_pauses_the_key_and_the_session_line_says_so(window, qtbot, clock):
+    # After key 3 and Space the play button read "Play (Space)" but the session line still
+    # said "playing key 3".
+    blind = window.blind
+    blind.start(seed=4)
+    qtbot.keyClick(window.blind, Key.Key_3)
+    assert blind.status.text() == "playing key 3"
+    clock.advance(1.0)
+    qtbot.keyClick(window.blind, Key.Key_Space)
+    assert not window.state.scene.playing
+    assert blind.status.text() == "key 3 paused: Space plays it again"
+    assert blind.felt_labels[2].text() == "1.0 s"
+    clock.advance(10.0)  # paused: not felt, and the column stays
+    QtWidgets.QApplication.processEvents()
+    assert blind.felt_labels[2].text() == "1.0 s"
+    qtbot.keyClick(window.blind, Key.Key_Space)
+    assert blind.status.text() == "playing key 3"
+
+
 # --- the window stays blind ---------------------------------------------------------------------
 
 

@@ -70,3 +70,39 @@ def test_the_read_out_assumes_the_profiles_motors_and_needs_a_grid():
     assert (palm.motor_label, lra.motor_label) == ("30/60 ms", "8/10 ms")
     assert lra.lag_mm < palm.lag_mm - 0.5 and lra.setting.levels == 64
     assert felt_readout(scene, find_profile("belt-8")) is None  # actuators anywhere
+
+
+def _numbers_shown(qtbot, label):
+    qtbot.waitUntil(lambda: label.text().startswith("felt ripple"), timeout=10_000)
+
+
+def test_draw_mode_is_not_predicted(window, qtbot):
+    # Draw mode's free point is a zero-length line: the read-out gave its ripple, lag and onset.
+    label = window.device_panel.felt_label
+    _numbers_shown(qtbot, label)
+    window.tune.gestures.set_draw_mode(True)
+    qtbot.waitUntil(lambda: label.text() == "felt: not predicted (draw mode's free point, moved "
+                    "by hand: no trace to follow)", timeout=10_000)  # fmt: skip
+    window.tune.gestures.set_draw_mode(False)  # the scene from before: its numbers again
+    _numbers_shown(qtbot, label)
+
+
+def test_another_programs_points_are_not_predicted(window, qtbot):
+    label = window.device_panel.felt_label
+    _numbers_shown(qtbot, label)
+    window.serve_panel.port_spin.setValue(0)
+    window.serve_panel.toggle.click()
+    qtbot.waitUntil(lambda: window.serve.serving == "on", timeout=10_000)
+    qtbot.waitUntil(lambda: label.text() == "felt: not predicted (another program drives free "
+                    "points)", timeout=10_000)  # fmt: skip
+    window.serve_panel.toggle.click()
+    _numbers_shown(qtbot, label)
+
+
+def test_a_pattern_is_not_predicted_and_says_so(window, qtbot):
+    from tactile_core.files.pattern import example_patterns
+
+    label = window.device_panel.felt_label
+    assert window.files.open_pattern_file(example_patterns()["taps"])
+    qtbot.waitUntil(lambda: label.text() == "felt: not predicted (a pattern plays: the model "
+                    "follows a point along a shape)", timeout=10_000)  # fmt: skip

@@ -102,3 +102,25 @@ def test_esc_while_a_tactor_is_held_turns_everything_off(window, qtbot):
     qtbot.keyClick(window.tabs, Key.Key_Escape)
     assert not window.tune.gestures.pulsing and not window.state.scene.playing
     qtbot.waitUntil(lambda: not window.device.sent_levels().any(), timeout=WAIT_MS)
+
+
+def test_the_device_status_says_a_tactor_is_pulsed_then_the_tuning_again(window, qtbot):
+    # While (2,3) was held under MM the status read "streaming CT at 300 Hz", the pulse's own
+    # method: a user tuning MM could not tell what played.
+    _tune(window, method="MM")
+    status = window.device_panel.status_label
+    window.tune.heatmap.cell_clicked.emit(2, 3, True)  # held: as long as the test needs
+    qtbot.waitUntil(lambda: "holding tactor (2,3) (CT) at 300 Hz" in status.text(),
+                    timeout=WAIT_MS)  # fmt: skip
+    assert "streaming CT" not in status.text()
+    window.tune.heatmap.cell_clicked.emit(2, 3, False)  # released: the tuning plays
+    qtbot.waitUntil(lambda: "streaming MM at 300 Hz" in status.text(), timeout=WAIT_MS)
+    assert "tactor" not in status.text()
+
+
+def test_a_short_pulse_is_named_in_the_device_status_while_it_plays(window, qtbot):
+    status = window.device_panel.status_label
+    window.tune.heatmap.cell_clicked.emit(4, 0, False)
+    qtbot.waitUntil(lambda: "pulsing tactor (4,0) (CT) at 300 Hz" in status.text(),
+                    timeout=WAIT_MS)  # fmt: skip
+    qtbot.waitUntil(lambda: "streaming AS at 300 Hz" in status.text(), timeout=WAIT_MS)

@@ -238,9 +238,31 @@ def test_a_senders_mu_marks_the_scene_modified_in_the_title(qtbot, clients):
                         timeout=WAIT_MS)  # fmt: skip
         assert "Experiment 1 line * - AS, mu 0.25" in win.windowTitle()
         osc.send_message("/tactile/gamma", 0.142)  # the status said 0.14, the title 0.142
-        qtbot.waitUntil(lambda: "the sender set gamma" in win.statusBar().currentMessage(),
-                        timeout=WAIT_MS)  # fmt: skip
-        assert win.statusBar().currentMessage() == "the sender set gamma 0.142"
+        qtbot.waitUntil(lambda: "gamma" in win.statusBar().currentMessage(), timeout=WAIT_MS)
+        assert win.statusBar().currentMessage() == "the sender set mu 0.25, gamma 0.142"
         assert win.windowTitle().endswith("mu 0.25, gamma 0.142")
+    finally:
+        win.close()
+
+
+def test_the_status_line_names_every_field_the_sender_set_and_the_boxes_show_them(qtbot,
+                                                                                 clients):  # fmt: skip
+    # /tactile/mu 0.5 then /tactile/gamma 50: the status line said only "gamma 50.00" (the mu
+    # went unsaid), and the gamma box read 10.00, the end of its range, while gamma 50 played.
+    win = make_window(qtbot, process=False)
+    try:
+        osc, _ = serve(qtbot, win, clients)
+        osc.send_message("/tactile/mu", 0.5)
+        osc.send_message("/tactile/gamma", 50.0)
+        osc.send_message("/tactile/method", "CT")
+        qtbot.waitUntil(lambda: "CT" in win.statusBar().currentMessage(), timeout=WAIT_MS)
+        assert win.statusBar().currentMessage() == (
+            "the sender set mu 0.50, gamma 50.00, method CT"
+        )
+        correction = win.controls.correction
+        assert (win.state.scene.mu, win.state.scene.gamma) == (0.5, 50.0)
+        assert (correction.mu_spin.text(), correction.gamma_spin.text()) == ("0.50", "50.00")
+        assert correction.gamma_slider.value() == correction.gamma_slider.maximum()
+        assert win.windowTitle().endswith("CT, mu 0.50, gamma 50.00")
     finally:
         win.close()

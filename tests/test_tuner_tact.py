@@ -59,7 +59,7 @@ def test_a_bad_file_changes_nothing_and_says_why(window, tmp_path):
 def test_a_drawing_is_kept_as_a_time_keyed_path(window, qtbot, tmp_path, monkeypatch):
     import types
 
-    import tactile_tuner.files
+    import tactile_tuner.drawing
 
     assert not window.files.keep_drawing()
     assert "draw a path first" in window.last_error
@@ -67,7 +67,7 @@ def test_a_drawing_is_kept_as_a_time_keyed_path(window, qtbot, tmp_path, monkeyp
     heatmap = window.tune.heatmap
     drawn_at = iter([100.0, 100.1, 100.25, 100.3])  # the clock the drawing is timed on
     fake_time = types.SimpleNamespace(perf_counter=lambda: next(drawn_at))
-    monkeypatch.setattr(tactile_tuner.files, "time", fake_time)
+    monkeypatch.setattr(tactile_tuner.drawing, "time", fake_time)
     for x in (0.5, 1.5, 2.5, 3.5):
         heatmap.point_drawn.emit(x, 2.5)
     monkeypatch.undo()
@@ -168,7 +168,7 @@ def test_export_tact_proposes_a_new_name_and_never_overwrites_the_imported_file(
     QtCore.QSettings().setValue("folders/tact", str(tmp_path))
     assert window.files.import_tact_file(source)
     proposed = []
-    monkeypatch.setattr(dialogs, "save_path", lambda parent, kind, title, name, filters:
+    monkeypatch.setattr(dialogs, "save_path", lambda parent, kind, title, name, filters, **_:
                         proposed.append((kind, name)))  # fmt: skip
     window.files.ask_export_tact()
     (tmp_path / "sweep-export.tact").write_text("{}")
@@ -224,3 +224,66 @@ def test_bhaptics_options_change_the_playing_pattern_and_are_remembered(window, 
     assert window.files.pattern_file(source)["scale"] == [1.0, 2.0]
     box.shape_combo.setCurrentIndex(1)  # a shape: no options to show
     assert not box.tact_options.isVisibleTo(box)
+
+
+def _choose_in_save_dialog(monkeypatch, path):
+    """The save dialog answers ``path``; returns what it was asked with (its options)."""
+    from PySide6 import QtWidgets
+
+    asked = {}
+
+    def chosen(parent, title, start, filters, selected="", options=None):
+        asked["options"] = options
+        return str(path), "bHaptics (*.tact)"
+
+    monkeypatch.setattr(QtWidgets.QFileDialog, "getSaveFileName", chosen)
+    return asked
+
+
+def test_export_onto_the_imported_file_is_refused_before_anything_is_asked(window, tmp_path,
+                                                                           monkeypatch):  # fmt: skip
+    # Qt asked "already exists. Do you want to replace it?" and after Yes the export refused.
+    from PySide6 import QtWidgets
+
+    imported = ts.write(tmp_path, ts.simple(), "heart.tact")
+    before = imported.read_bytes()
+    assert window.files.import_tact_file(imported)
+    asked = _choose_in_save_dialog(monkeypatch, imported)
+    questions = []
+    window.files.confirm = lambda title, text: questions.append(text) or True
+    window.files.ask_export_tact()
+    assert asked["options"] & QtWidgets.QFileDialog.Option.DontConfirmOverwrite
+    assert questions == []
+    assert "it is the .tact file this session imported" in window.last_error
+    assert imported.read_bytes() == before
+
+
+@pytest.mark.parametrize("replace", [False, True])
+def test_export_onto_another_file_asks_before_replacing_it(window, tmp_path, monkeypatch,
+                                                           replace):  # fmt: skip
+    other = tmp_path / "other.tact"
+    other.write_text("not yet a .tact file")
+    _choose_in_save_dialog(monkeypatch, other)
+    questions = []
+    window.files.confirm = lambda title, text: questions.append(text) or replace
+    window.files.ask_export_tact()
+    assert questions == [f"{other}\nalready exists.\n\nReplace it?"]
+    assert (other.read_text() == "not yet a .tact file") != replace
+    if replace:
+        assert read_tact(other)  # the scene's trace, written whole
+
+
+def test_export_to_a_new_file_asks_nothing(window, tmp_path, monkeypatch):
+    new = tmp_path / "new.tact"
+    _choose_in_save_dialog(monkeypatch, new)
+    window.files.confirm = lambda title, text: pytest.fail(f"asked {text!r}")
+    window.files.ask_export_tact()
+    assert read_tact(new)
+
+
+def test_a_tact_pattern_shows_its_own_duration_with_bhaptics_scale(window, tmp_path):
+    trace = window.controls.trace
+    assert window.files.import_tact_file(ts.write(tmp_path, ts.simple()))  # a path over 1 s
+    assert trace.duration_spin.text() == "1.00 s" and not trace.duration_spin.isEnabled()
+    window.controls.shape.tact_fields["duration"].setValue(2.0)  # twice as slow
+    assert trace.duration_spin.text() == "2.00 s" and not trace.duration_spin.isEnabled()

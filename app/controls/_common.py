@@ -2,17 +2,82 @@
 
 from __future__ import annotations
 
-from PySide6 import QtWidgets
+import math
+import re
+
+from PySide6 import QtCore, QtGui, QtWidgets
 
 from ..texts import value3
 
 
 class CorrectionSpinBox(QtWidgets.QDoubleSpinBox):
-    """A spin box for mu or gamma that writes its value as the titles and the status line do
-    (:func:`~app.texts.value3`: ``0.70``, ``0.142``), not always to three decimals."""
+    """A spin box for mu or gamma that holds the value in use exactly and writes it as the
+    titles and the status line do (:func:`~app.texts.value3`: ``0.70``, ``0.142``, ``50.00``,
+    ``1e-05``).
+
+    Its range is every value the core accepts (``lo`` to ``hi``; gamma: any finite value above
+    0), so a preset's or another program's gamma of 50 or 0.05 shows as itself, never as the
+    end of a narrower range (the box read 10.00 while gamma 50 played). Nothing is rounded to
+    the box's decimals: a value set from outside stays as it is when the box is left or Enter
+    pressed without typing (the text shown reads back as the value it shows); a typed number
+    is taken as typed.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The values accepted, inclusive.
+    relative : bool
+        Step (the arrows, the wheel once clicked) by one in the value's second significant digit
+        (0.70 -> 0.71, 1.0 -> 1.1, 50 -> 51, 0.05 -> 0.051), which never reaches 0 (gamma);
+        else by 0.01 (mu).
+    """
+
+    def __init__(self, lo: float, hi: float, relative: bool = False, parent=None):
+        super().__init__(parent)
+        self.setDecimals(_EXACT_DECIMALS)
+        self.setRange(lo, hi)
+        self.setSingleStep(0.01)
+        if relative:
+            self.setStepType(QtWidgets.QAbstractSpinBox.StepType.AdaptiveDecimalStepType)
+        self.setKeyboardTracking(False)
 
     def textFromValue(self, value: float) -> str:  # Qt override
         return value3(value)
+
+    def valueFromText(self, text: str) -> float:  # Qt override
+        if text.strip() == value3(self.value()):
+            return self.value()  # what it shows of the value in use: that value, not rounded
+        return float(text)
+
+    def validate(self, text: str, pos: int):  # Qt override
+        state = QtGui.QValidator.State
+        body = text.strip()
+        try:
+            value = float(body)
+        except ValueError:
+            return state.Intermediate if _PARTIAL_NUMBER.fullmatch(body) else state.Invalid
+        if math.isfinite(value) and self.minimum() <= value <= self.maximum():
+            return state.Acceptable
+        return state.Intermediate
+
+    def sizeHint(self) -> QtCore.QSize:  # Qt override: as wide as a usual value, not 1e+308
+        return self._sized(super().sizeHint())
+
+    def minimumSizeHint(self) -> QtCore.QSize:  # Qt override
+        return self._sized(super().minimumSizeHint())
+
+    def _sized(self, hint: QtCore.QSize) -> QtCore.QSize:
+        widest = max(value3(self.minimum()), value3(self.maximum()), key=len)
+        extra = self.fontMetrics().horizontalAdvance(widest)
+        hint.setWidth(hint.width() - extra + self.fontMetrics().horizontalAdvance("10.000"))
+        return hint
+
+
+_EXACT_DECIMALS = 323
+"""QDoubleSpinBox's most decimals (``DBL_MAX_10_EXP + DBL_DIG``): it rounds what it holds to its
+decimals, and at this many a double keeps its own value."""
+_PARTIAL_NUMBER = re.compile(r"[+-]?\d*\.?\d*(?:[eE][+-]?\d*)?")
+"""What may become a number as one types it (``1e-``, ``.``)."""
 
 
 def spin_box(lo, hi, step, decimals, suffix="", kind=QtWidgets.QDoubleSpinBox):

@@ -4,18 +4,22 @@ motor-aware drive after it."""
 from __future__ import annotations
 
 import math
+import sys
 
 from PySide6 import QtCore, QtWidgets
 
 from ..texts import tip
-from ._common import CorrectionSpinBox, SceneGroupWidget, spin_box
+from ._common import CorrectionSpinBox, SceneGroupWidget
 
 GAMMA_MIN, GAMMA_MAX = 0.1, 10.0
+"""The gamma slider's ends (log scale); the box takes any gamma the core accepts."""
 _GAMMA_STEPS = 1000
+GAMMA_BOX = (math.ulp(0.0), sys.float_info.max)
+"""The gamma box's range: every finite gamma above 0 (a preset's, another program's)."""
 
 
 def gamma_to_slider(gamma: float) -> int:
-    """Slider position (0..1000, log scale) of ``gamma`` in [0.1, 10]."""
+    """Slider position (0..1000, log scale) of ``gamma`` in [0.1, 10]; the end beyond them."""
     gamma = min(max(gamma, GAMMA_MIN), GAMMA_MAX)
     return round((math.log10(gamma) + 1.0) / 2.0 * _GAMMA_STEPS)
 
@@ -34,19 +38,20 @@ class CorrectionWidget(SceneGroupWidget):
         form = QtWidgets.QGridLayout(self)
         self.mu_slider = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
         self.mu_slider.setRange(0, 100)
-        # Three decimals, as the gamma slider steps (it set 0.143 while the box showed 0.14)
-        # and as a preset or another program may set them.
-        self.mu_spin = spin_box(0.0, 1.0, 0.01, 3, kind=CorrectionSpinBox)
+        # The value in use, written to the 0.001 the gamma slider steps in (it set 0.143 while
+        # the box showed 0.14), over every value a preset or another program may set.
+        self.mu_spin = CorrectionSpinBox(0.0, 1.0)
         self.gamma_slider = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
         self.gamma_slider.setRange(0, _GAMMA_STEPS)
-        self.gamma_spin = spin_box(GAMMA_MIN, GAMMA_MAX, 0.01, 3, kind=CorrectionSpinBox)
+        self.gamma_spin = CorrectionSpinBox(*GAMMA_BOX, relative=True)
         mu_tip = tip(
             "Threshold mu, 0-1 of full drive (paper 2.6): the least a lit tactor gets, "
             "(1 - mu) I^gamma + mu. The paper uses 0.33."
         )
         gamma_tip = tip(
-            "Gamma, 0.1-10, no unit (paper 2.6): below 1 raises weak intensities, above 1 lowers "
-            "them. The paper uses 0.7 (1.4 in two stages of Experiment 2)."
+            "Gamma, above 0, no unit (paper 2.6): below 1 raises weak intensities, above 1 lowers "
+            "them. The paper uses 0.7 (1.4 in two stages of Experiment 2). The slider spans "
+            "0.1-10 on a log scale (at its end beyond); the box takes any value."
         )
         for widget in (self.mu_slider, self.mu_spin):
             widget.setToolTip(mu_tip)

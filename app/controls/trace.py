@@ -9,6 +9,12 @@ import tactile_core as tc
 from ..texts import tip
 from ._common import SceneGroupWidget, spin_box
 
+DURATION_RANGE_S = (0.1, 60.0)
+"""What the duration box sets (a pattern's own duration is shown whatever it is)."""
+OWN_TIMING = (
+    "The pattern sets its own timing (each effect's start, duration and repeats): duration, "
+    "pause, direction and corner emphasis are a shape's trace. Pick a shape to set them."
+)
 DIRECTIONS = ("forward", "reverse")
 TURNS = (" (counter-clockwise)", " (clockwise)")
 """Which way forward and reverse turn, said for the shapes that turn one way (a circle, a
@@ -29,7 +35,7 @@ class TraceWidget(SceneGroupWidget):
     def __init__(self, state, parent=None):
         super().__init__("Trace and frames", state, parent)
         form = QtWidgets.QFormLayout(self)
-        self.duration_spin = spin_box(0.1, 60.0, 0.1, 2, " s")
+        self.duration_spin = spin_box(*DURATION_RANGE_S, 0.1, 2, " s")
         self.pause_spin = spin_box(0.0, 30.0, 0.1, 2, " s")
         self.direction_combo = QtWidgets.QComboBox()
         self.direction_combo.addItems(direction_texts(state.scene.shape))
@@ -55,13 +61,18 @@ class TraceWidget(SceneGroupWidget):
             self.dither_check: "Error feedback per tactor, so averages finer than the device's "
             "23 levels go out; off: plain rounding (the paper's pipeline).",
         }
-        for widget, text in tips.items():
-            widget.setToolTip(tip(text))
         self.emphasis_spin = spin_box(0.0, 0.9, 0.1, 2)
-        self.emphasis_spin.setToolTip(tip(
+        tips[self.emphasis_spin] = (
             "Corner emphasis 0-0.9 (beyond the paper; its 4.3 suggests it): the point slows near "
             "corners; 0.5 doubles the dwell; 0 = constant speed"
-        ))  # fmt: skip
+        )
+        for widget, text in tips.items():
+            widget.setToolTip(tip(text))
+        self._timing_tips = {
+            w: tips[w]
+            for w in (self.duration_spin, self.pause_spin, self.direction_combo, self.emphasis_spin)
+        }
+        """The trace's timing boxes and their tooltips: a pattern's own timing replaces them."""
         self.gain_spin = spin_box(0.0, 1.0, 0.05, 2)
         self.gain_spin.setToolTip(tip(
             "Master intensity 0-1 (beyond the paper): scales the part above the threshold, "
@@ -91,7 +102,18 @@ class TraceWidget(SceneGroupWidget):
         self.refresh()
 
     def _show(self, scene) -> None:
-        self.duration_spin.setValue(scene.duration_s)
+        own = scene.source is not None and hasattr(scene.source, "duration_on")
+        for widget, text in self._timing_tips.items():  # a pattern: its own timing, not these
+            widget.setEnabled(not own)
+            widget.setToolTip(tip(OWN_TIMING if own else text))
+        if own:
+            duration_s = scene.source.duration_on(self.state.layout)
+            lo, hi = DURATION_RANGE_S
+            self.duration_spin.setRange(min(lo, duration_s), max(hi, duration_s))
+            self.duration_spin.setValue(duration_s)
+        else:
+            self.duration_spin.setRange(*DURATION_RANGE_S)
+            self.duration_spin.setValue(scene.duration_s)
         self.pause_spin.setValue(scene.pause_s)
         for i, text in enumerate(direction_texts(scene.shape)):
             self.direction_combo.setItemText(i, text)

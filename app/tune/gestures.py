@@ -97,8 +97,8 @@ class HeatmapGestures(QtCore.QObject):
             epoch=tuning.epoch + 1, marker="",
         )  # fmt: skip
         self._pulse = (name, hold)
-        self.device.play_apart(pulse, self._on_tuning_changed)
         what = "holding" if hold else "pulsing"
+        self.device.play_apart(pulse, self._on_tuning_changed, f"{what} {name} ({method})")
         self.message_posted.emit(
             f"{what} {name}"
             + (": click again, press Space or Esc, or change the tuning to release" if hold
