@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6 import QtWidgets
 
 from ..texts import value3
+from ..widgets import spin_box  # noqa: F401 (the boxes' spin box, shared with the editor)
 
 
 class CorrectionSpinBox(QtWidgets.QDoubleSpinBox):
@@ -13,19 +14,6 @@ class CorrectionSpinBox(QtWidgets.QDoubleSpinBox):
 
     def textFromValue(self, value: float) -> str:  # Qt override
         return value3(value)
-
-
-def spin_box(lo, hi, step, decimals, suffix="", kind=QtWidgets.QDoubleSpinBox):
-    """A spin box (a ``kind``) over ``lo..hi`` that commits on Enter or focus loss, not on
-    every keystroke."""
-    box = kind()
-    box.setRange(lo, hi)
-    box.setSingleStep(step)
-    box.setDecimals(decimals)
-    box.setKeyboardTracking(False)
-    if suffix:
-        box.setSuffix(suffix)
-    return box
 
 
 class SceneGroupWidget(QtWidgets.QGroupBox):
