@@ -143,12 +143,19 @@ class TimelinePanel(QtWidgets.QWidget):
         playing = self.editor.owns_scene() and scene.playing and not self.editor.state.held
         self.play_button.setText("Pause (Space)" if playing else "Play (Space)")
 
-    def title(self) -> str:
-        """The dock's title: the pattern's name (or file), a star while it has unsaved edits."""
+    def title(self, clean: bool | None = None) -> str:
+        """The dock's title: the pattern's name (or file), a star while it has unsaved edits
+        (``clean``: whether it has none, if known)."""
         model = self.model
         name = model.pattern.name or (model.path.name if model.path else "untitled")
-        star = "" if self.editor.undo_stack.isClean() else " *"
-        return f"Pattern editor - {name}{star}"
+        clean = self.editor.undo_stack.isClean() if clean is None else clean
+        return f"Pattern editor - {name}{'' if clean else ' *'}"
+
+    def retitle(self, clean=None) -> None:
+        """Title the dock (the pattern changed, its file, or whether it is saved)."""
+        dock = self.parentWidget()
+        if isinstance(dock, QtWidgets.QDockWidget):
+            dock.setWindowTitle(self.title(clean if isinstance(clean, bool) else None))
 
 
 def install_timeline(window) -> TimelineEditor:
@@ -172,12 +179,9 @@ def install_timeline(window) -> TimelineEditor:
     dock.hide()
     editor.dock, editor.panel = dock, panel
 
-    def retitle(*_) -> None:
-        dock.setWindowTitle(panel.title())
-
     for event in ("pattern", "path"):
-        editor.model.connect(event, retitle)
-    editor.undo_stack.cleanChanged.connect(retitle)
+        editor.model.connect(event, panel.retitle)
+    editor.undo_stack.cleanChanged.connect(panel.retitle)  # (gone with the panel)
     toggle = dock.toggleViewAction()
     toggle.setText("Pattern editor panel")
     toggle.setShortcut(QtGui.QKeySequence("Ctrl+E"))

@@ -32,7 +32,9 @@ def pattern_of(source) -> Pattern | None:
 
 class EditCommand(QtGui.QUndoCommand):
     """One edit on the undo stack: the model's pattern, selection (and, for another pattern
-    opened, its file) after it, and before it for the undo."""
+    opened, its file) after it, and before it for the undo. Edits of one key held down are
+    merged into one command by :meth:`TimelineEditor.push` (Qt's own ``mergeWith``, which
+    deletes the merged command under PySide's wrapper, crashed the interpreter)."""
 
     def __init__(self, model: TimelineModel, edit):
         super().__init__(edit.text)
@@ -46,15 +48,6 @@ class EditCommand(QtGui.QUndoCommand):
 
     def undo(self) -> None:  # Qt override
         self.model.apply(*self.before)
-
-    def id(self) -> int:  # Qt override: edits with a merge key may merge
-        return 1 if self.key is not None else -1
-
-    def mergeWith(self, other) -> bool:  # Qt override
-        if other.key != self.key:
-            return False
-        self.after = other.after
-        return True
 
 
 class TimelineEditor(QtCore.QObject):
@@ -125,7 +118,19 @@ class TimelineEditor(QtCore.QObject):
             self.refused.emit(str(exc))
             self.message_posted.emit(f"not changed: {exc}", 10_000)
             return False
-        self.undo_stack.push(EditCommand(self.model, edit))
+        stack = self.undo_stack
+        top = stack.command(stack.index() - 1) if stack.index() > 0 else None
+        if (
+            edit.merge is not None
+            and isinstance(top, EditCommand)
+            and top.key == edit.merge
+            and stack.index() == stack.count()
+            and stack.cleanIndex() != stack.index()
+        ):
+            top.after = (edit.pattern, edit.selected, edit.path)  # one more step of a held key
+            self.model.apply(*top.after)
+            return True
+        stack.push(EditCommand(self.model, edit))
         return True
 
     def _check(self, pattern: Pattern) -> None:

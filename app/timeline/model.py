@@ -12,12 +12,13 @@ immutable values, so an undo restores exactly the pattern there was.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass
 
 from tactile_core._shared import validate as _validate
-from tactile_core.files.pattern import MAX_TRACKS, Effect, Pattern
+from tactile_core.files.pattern import MAX_TRACKS, Dots, Effect, Pattern
 
 SNAP_S = 0.01
 """The time grid of the editor: starts and durations snap to 10 ms."""
@@ -63,6 +64,24 @@ def resized(effect: Effect, duration_s: float) -> Effect:
     scale = duration_s / effect.duration_s
     envelope = tuple((min(t * scale, duration_s), g) for t, g in effect.envelope)
     return effect.replace(duration_s=duration_s, envelope=envelope)
+
+
+def with_dot_length(effect: Effect, dot_s: float) -> Effect:
+    """A set of dots whose every dot lasts ``dot_s`` seconds (a tap; what plays past the end
+    of a play is cut); ``ValueError`` for an effect that plays no set of dots."""
+    if not isinstance(effect.content, Dots):
+        raise ValueError(f"dot_s applies to a set of dots, not to a {describe(effect)}")
+    dot_s = _validate.duration("dot_s", dot_s)
+    dots = [dataclasses.replace(d, duration_s=dot_s) for d in effect.content.dots]
+    return effect.replace(content=Dots(dots))
+
+
+def dot_length(effect: Effect) -> float | None:
+    """How long the dots of a set last, if they all last as long (else None)."""
+    if not isinstance(effect.content, Dots):
+        return None
+    lengths = {d.duration_s for d in effect.content.dots}
+    return lengths.pop() if len(lengths) == 1 else None
 
 
 ENVELOPE_PAIR = re.compile(r"\s*([^\s:,;]+)\s*:\s*([^\s:,;]+)\s*")
@@ -160,16 +179,20 @@ class TimelineModel:
         changed = pattern is not self.pattern
         if path != KEEP:
             self.set_path(path)
-        self.pattern = pattern
+        if selected is not None:
+            selected = _validate.integer("selected", selected, 0, len(pattern.effects) - 1)
+        moved = selected != self.selected
+        self.pattern, self.selected = pattern, selected  # both before anyone hears of either
         if changed:
             self._emit("pattern")
-        self.select(selected, force=changed)
+        if moved or changed:
+            self._emit("selection")
 
-    def select(self, index: int | None, force: bool = False) -> None:
+    def select(self, index: int | None) -> None:
         """Select effect ``index`` (None: none)."""
         if index is not None:
             index = _validate.integer("index", index, 0, len(self.pattern.effects) - 1)
-        if index != self.selected or force:
+        if index != self.selected:
             self.selected = index
             self._emit("selection")
 
@@ -225,10 +248,11 @@ class TimelineModel:
 
     def nudge(self, index: int, step_s: float = 0.0, tracks: int = 0) -> Edit:
         """Effect ``index`` moved by ``step_s`` seconds and ``tracks`` tracks (the arrow
-        keys); held down, the moves of one effect undo as one."""
+        keys); a key held down (the same step again and again) undoes as one edit."""
         effect = self.pattern.effects[index]
         track = min(max(effect.track + tracks, 0), MAX_TRACKS - 1)
-        return self.move(index, effect.start_s + step_s, track, merge=("move", index))
+        merge = ("move", index, step_s, tracks)
+        return self.move(index, effect.start_s + step_s, track, merge=merge)
 
     def resize(self, index: int, duration_s: float, merge=None) -> Edit:
         """Effect ``index`` with one play lasting ``duration_s`` (snapped, at least one grid
@@ -238,23 +262,27 @@ class TimelineModel:
         return self._with(index, resized(effect, duration), f"Resize effect {index + 1}", merge)
 
     def stretch(self, index: int, step_s: float) -> Edit:
-        """Effect ``index``'s play ``step_s`` seconds longer (shorter when negative)."""
+        """Effect ``index``'s play ``step_s`` seconds longer (shorter when negative); a key held
+        down undoes as one edit."""
         effect = self.pattern.effects[index]
-        return self.resize(index, effect.duration_s + step_s, merge=("resize", index))
+        return self.resize(index, effect.duration_s + step_s, merge=("resize", index, step_s))
 
     def change(self, index: int, **fields) -> Edit:
         """Effect ``index`` with ``fields`` changed (the property panel): any of
-        :class:`Effect`'s, ``duration_s`` stretching the envelope (:func:`resized`) and
-        ``intensity`` scaling it (:func:`with_intensity`); the effect's ``ValueError`` when
-        one is refused."""
+        :class:`Effect`'s, ``duration_s`` stretching the envelope (:func:`resized`),
+        ``intensity`` scaling it (:func:`with_intensity`) and ``dot_s`` the length of every
+        dot of a set (:func:`with_dot_length`); the effect's ``ValueError`` when one is
+        refused."""
         effect = self.pattern.effects[index]
+        if "dot_s" in fields:
+            effect = with_dot_length(effect, fields.pop("dot_s"))
         if "duration_s" in fields:
             effect = resized(effect, fields.pop("duration_s"))
         if "intensity" in fields:
             effect = with_intensity(effect, fields.pop("intensity"))
         if fields:
             effect = effect.replace(**fields)
-        names = ", ".join(fields) or "duration_s, intensity"
+        names = ", ".join(fields) or "its timing"
         return self._with(index, effect, f"Change effect {index + 1}: {names}")
 
     def change_pattern(self, **fields) -> Edit:

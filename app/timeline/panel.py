@@ -12,7 +12,7 @@ from tactile_core.rendering.methods import method_names
 
 from ..texts import tip
 from ..widgets import WrappedLabel, guard_wheel, spin_box
-from .model import describe, envelope_text, parse_envelope, peak_gain
+from .model import describe, dot_length, envelope_text, parse_envelope, peak_gain
 
 SCENE_METHOD = "the scene's"
 EVERY_ACTUATOR = "every actuator"
@@ -20,8 +20,9 @@ EVERY_ACTUATOR = "every actuator"
 
 class EffectPanel(QtWidgets.QWidget):
     """The selected effect's kind, start, duration, repeat, track, method (or the scene's),
-    group (the layout's), intensity, envelope keyframes and name; with none selected, the
-    pattern's name and how overlapping effects combine.
+    group (the layout's), intensity, envelope keyframes and name (and for a set of dots, how
+    long each lasts); with none selected, the pattern's name and how overlapping effects
+    combine.
 
     Parameters
     ----------
@@ -100,6 +101,8 @@ class EffectPanel(QtWidgets.QWidget):
         self.method_combo.setInsertPolicy(QtWidgets.QComboBox.InsertPolicy.NoInsert)
         self.group_combo = QtWidgets.QComboBox()
         self.intensity_spin = spin_box(0.0, 1.0, 0.05, 2)
+        self.dot_spin = spin_box(0.001, 3600.0, 0.01, 3, " s")
+        self.dot_label = QtWidgets.QLabel("dots last")
         self.envelope_edit = QtWidgets.QLineEdit()
         self.envelope_edit.setPlaceholderText("none: gain 1 throughout")
         tips = {
@@ -115,6 +118,8 @@ class EffectPanel(QtWidgets.QWidget):
             self.intensity_spin: "Its highest envelope gain: the keyframes are scaled to it",
             self.envelope_edit: "Keyframes time_s:gain over one play, comma-separated, e.g. "
             "0:0.4, 0.08:1 (gains 0 to 1, times increasing within the duration)",
+            self.dot_spin: "How long each dot of the set lasts, in seconds: a dot shorter "
+            "than the play is a tap and a pause (what plays past the play's end is cut)",
         }
         for widget, text in tips.items():
             widget.setToolTip(tip(text))
@@ -128,6 +133,8 @@ class EffectPanel(QtWidgets.QWidget):
             grid.addWidget(wa, r, 1)
             grid.addWidget(QtWidgets.QLabel(b), r, 2)
             grid.addWidget(wb, r, 3)
+        grid.addWidget(self.dot_label, len(rows), 0)
+        grid.addWidget(self.dot_spin, len(rows), 1)
         grid.setColumnStretch(1, 1)
         grid.setColumnStretch(3, 1)
         self.name_edit.editingFinished.connect(lambda: self._change(name=self.name_edit.text()))
@@ -139,6 +146,7 @@ class EffectPanel(QtWidgets.QWidget):
         self.method_combo.lineEdit().editingFinished.connect(self._on_method_combo_activated)
         self.group_combo.activated.connect(self._on_group_combo_activated)
         self.intensity_spin.valueChanged.connect(lambda v: self._change(intensity=v))
+        self.dot_spin.valueChanged.connect(lambda v: self._change(dot_s=v))
         self.envelope_edit.editingFinished.connect(self._on_envelope_edit_finished)
         return page
 
@@ -220,6 +228,10 @@ class EffectPanel(QtWidgets.QWidget):
         self.track_spin.setValue(effect.track + 1)
         self.intensity_spin.setValue(peak_gain(effect))
         self.envelope_edit.setText(envelope_text(effect.envelope))
+        length = dot_length(effect)
+        for widget in (self.dot_label, self.dot_spin):
+            widget.setVisible(effect.kind == "dots")
+        self.dot_spin.setValue(length if length is not None else 0.0)
         layout = self.state.layout
         combo = self.method_combo
         combo.clear()

@@ -102,8 +102,10 @@ class PatternCue:
         return min(when, self.pattern.duration_s)
 
     def played(self) -> PatternCue:
-        """This cue playing on from its moment (not held)."""
-        return dataclasses.replace(self, hold=False)
+        """This cue playing on from its moment (not held); from the pattern's start when its
+        moment is the pattern's end (a player's Play at the end plays it again)."""
+        start = 0.0 if self.start_s >= self.pattern.duration_s else self.start_s
+        return dataclasses.replace(self, start_s=start, hold=False)
 
     def live(self, method, target, sampling, mu, gamma, gain=1.0) -> CueFrames:
         """The frame source a scene plays (the ``Scene.source`` protocol): the pattern's
