@@ -97,8 +97,11 @@ def test_a_three_stroke_letter(window, qtbot, tmp_path):
     # the .tact file gives the same frames back (docs/patterns.md: to 1e-15)
     layout = window.state.layout
     again = Pattern.from_tact(tmp_path / "letter-a.tact")
-    np.testing.assert_allclose(again.frames("AS", layout, rate_hz=100.0)[1],
-                               letter.frames("AS", layout, rate_hz=100.0)[1], atol=1e-12)
+    np.testing.assert_allclose(
+        again.frames("AS", layout, rate_hz=100.0)[1],
+        letter.frames("AS", layout, rate_hz=100.0)[1],
+        atol=1e-12,
+    )
 
 
 def test_a_front_to_back_sweep_on_the_vest(window, qtbot, tmp_path):

@@ -113,7 +113,8 @@ def test_the_next_start_brings_the_editors_pattern_back(qtbot, qt_settings, tmp_
     try:
         model = second.timeline.model
         assert model.pattern == mixed().replace(
-            effects=(mixed().effects[0].replace(start_s=0.1), *mixed().effects[1:]))
+            effects=(mixed().effects[0].replace(start_s=0.1), *mixed().effects[1:])
+        )
         assert not second.timeline.undo_stack.isClean()  # still unsaved
         assert isinstance(second.state.scene.source, PatternCue)  # and it plays again
         assert second.state.scene.source.pattern is model.pattern

@@ -34,7 +34,9 @@ def record_shown(window):
     shown = []
     window.tune.display.frame_shown.connect(
         lambda scene, start, rate, phase: shown.append(
-            (scene, start, rate, phase, np.array(window.tune.heatmap.values, copy=True))))
+            (scene, start, rate, phase, np.array(window.tune.heatmap.values, copy=True))
+        )
+    )
     return shown
 
 
@@ -48,7 +50,7 @@ def test_an_opened_pattern_plays_on_the_heatmap_frame_by_frame(window, qtbot):
                     timeout=WAIT_MS)  # fmt: skip
     playing = [s for s in shown if s[1] is not None and s[0].source is pattern]
     frames = pattern_frames(window, pattern, playing[0][2])
-    for scene, start, rate, phase, values in playing:
+    for _, start, rate, phase, values in playing:
         k = round(start * rate)
         expected = frames[k] if k < len(frames) else np.zeros_like(frames[0])
         np.testing.assert_allclose(values, expected, atol=1e-9)
