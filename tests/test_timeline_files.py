@@ -105,6 +105,7 @@ def test_the_next_start_brings_the_editors_pattern_back(qtbot, qt_settings, tmp_
     editor = first.timeline
     editor.open_pattern(mixed(), None, "Open")
     editor.push(lambda: editor.model.move(0, 0.1, 0))
+    editor.model.set_playhead(0.5)
     assert editor.play()
     first.confirm = lambda title, text: True
     first.close()
@@ -116,8 +117,10 @@ def test_the_next_start_brings_the_editors_pattern_back(qtbot, qt_settings, tmp_
             effects=(mixed().effects[0].replace(start_s=0.1), *mixed().effects[1:])
         )
         assert not second.timeline.undo_stack.isClean()  # still unsaved
+        assert model.selected == 0  # as it was left
         assert isinstance(second.state.scene.source, PatternCue)  # and it plays again
         assert second.state.scene.source.pattern is model.pattern
+        assert second.state.scene.source.start_s >= 0.5  # from where the playhead was
         assert "from the pattern editor" in second.statusBar().currentMessage()
     finally:
         second.confirm = lambda title, text: True

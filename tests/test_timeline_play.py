@@ -120,3 +120,25 @@ def test_the_curves_cursor_scrubs_a_pattern_and_space_plays_on_from_there(window
     window.toggle_play()  # Space
     assert window.state.scene.source == PatternCue(pattern, 0.55) and window.state.scene.playing
     assert window.files.pattern_file(window.state.scene.source)["kind"] == "pattern"
+
+
+def test_an_imported_tact_pattern_plays_on_the_heatmap_too(window, qtbot, tmp_path):
+    from tactile_core.files.tact import load_pattern
+
+    from . import tact_support
+
+    path = tact_support.write(tmp_path, tact_support.crossing_paths_and_a_dot())
+    assert window.files.import_tact_file(path)
+    source = window.state.scene.source
+    shown = record_shown(window)
+    qtbot.waitUntil(lambda: sum(s[1] is not None and s[0].source is source for s in shown) >= 10,
+                    timeout=WAIT_MS)  # fmt: skip
+    playing = [s for s in shown if s[1] is not None and s[0].source is source]
+    scene = window.state.scene
+    _, frames = load_pattern(path).frames(scene.method, window.state.layout,
+                                          rate_hz=playing[0][2], mu=scene.mu,
+                                          gamma=scene.gamma)  # fmt: skip
+    for _, start, rate, _, values in playing:
+        k = round(start * rate)
+        expected = frames[k] if k < len(frames) else np.zeros_like(frames[0])
+        np.testing.assert_allclose(values, expected, atol=1e-9)

@@ -378,17 +378,19 @@ class TimelineEditor(QtCore.QObject):
 
 def save_session(editor, settings) -> None:
     """Remember ``editor``'s pattern (its JSON, up to :data:`MAX_SESSION_CHARS`), its file,
-    whether it has unsaved edits, and whether the scene plays it, for the next start."""
+    whether it has unsaved edits, the playhead and the effect selected, for the next start."""
     model = editor.model
     text = json.dumps(model.pattern.to_dict())
     settings.setValue("editor_pattern", text if len(text) <= MAX_SESSION_CHARS else "")
     settings.setValue("editor_path", str(model.path) if model.path is not None else "")
     settings.setValue("editor_modified", not editor.undo_stack.isClean())
+    settings.setValue("editor_at", json.dumps([model.playhead_s, model.selected]))
 
 
 def restore_session(editor, settings) -> str:
     """Put back the last session's pattern in ``editor`` (not as an undoable step; with its
-    unsaved edits still unsaved); returns what the status line says of it ("" for none)."""
+    unsaved edits still unsaved), its playhead and selection; returns what the status line
+    says of it ("" for none)."""
     text = str(settings.value("editor_pattern", "") or "")
     path = str(settings.value("editor_path", "") or "") or None
     try:
@@ -402,6 +404,12 @@ def restore_session(editor, settings) -> str:
         return f"the pattern editor starts empty: {exc}"
     editor.model.apply(pattern, None, None if path is None else Path(path))
     editor.undo_stack.clear()
+    try:  # where it was: the playhead, the effect selected
+        playhead, selected = json.loads(str(settings.value("editor_at", "") or "[0, null]"))
+        editor.model.set_playhead(playhead)
+        editor.model.select(selected)
+    except (ValueError, TypeError):
+        pass  # (damaged: at the start, nothing selected)
     if str(settings.value("editor_modified", "false")).lower() == "true":
         editor.undo_stack.resetClean()  # its edits are still not saved
     return ""
