@@ -22,6 +22,7 @@ from tactile_core.files.presets import (
 
 from .state import DEFAULT_SCENE
 from .timeline.editor import restore_session as restore_editor
+from .timeline.editor import resume_session as resume_editor
 from .timeline.editor import save_session as save_editor
 
 START_PRESET = "exp1-line"
@@ -75,8 +76,8 @@ def reopen_pattern(window) -> None:
     if last is not None and last.get("kind") == "editor":  # the pattern editor's
         name = window.timeline.model.pattern.name or "untitled"
         said = (f"the last session's pattern again: {name}, from the pattern editor"
-                if window.timeline.play() else f"the pattern editor's {name} does not play "
-                f"here: {kept}")  # fmt: skip
+                if resume_editor(window.timeline, settings) else f"the pattern editor's {name} "
+                f"does not play here: {kept}")  # fmt: skip
     elif last is not None and last.get("kind") == "pattern":  # a pattern file
         opened = path.is_file() and window.files.open_pattern_file(path)
         said = (f"the last session's pattern again: {path}" if opened else
@@ -150,7 +151,7 @@ def save_window(window) -> None:
     files = window.files
     pattern = files.pattern_file(scene.source) if scene.shape is None else None
     if pattern is None and window.timeline.owns_scene() and scene is window.state.scene:
-        pattern = {"kind": "editor"}  # the editor's pattern, kept below
+        pattern = {"kind": "editor"}  # the editor's pattern (kept below), and how it played
     if scene.shape is None:  # a pattern (or points another program drove): a preset holds a
         scene = scene.replace(shape=DEFAULT_SCENE.shape, source=None)  # shape; the tuning stays
     preset = Preset(scene, files.preset_name, files.preset_notes, window.device.profile.name,

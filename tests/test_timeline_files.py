@@ -122,6 +122,17 @@ def test_the_next_start_brings_the_editors_pattern_back(qtbot, qt_settings, tmp_
         assert second.state.scene.source.pattern is model.pattern
         assert second.state.scene.source.start_s >= 0.5  # from where the playhead was
         assert "from the pattern editor" in second.statusBar().currentMessage()
+        second.timeline.seek(0.4)  # scrubbed, then paused (Esc): so it comes back
+        second.state.update(playing=False)
     finally:
         second.confirm = lambda title, text: True
         second.close()
+    third = MainWindow(restore=True, process=False)
+    qtbot.addWidget(third)
+    try:
+        pattern = third.timeline.model.pattern
+        assert third.state.scene.source == PatternCue(pattern, 0.4, hold=True)
+        assert not third.state.scene.playing
+    finally:
+        third.confirm = lambda title, text: True
+        third.close()

@@ -103,6 +103,10 @@ class TimelinePanel(QtWidgets.QWidget):
         self.split.setStretchFactor(0, 3)
         self.split.setStretchFactor(1, 2)
         self.split.setCollapsible(0, False)
+        self.split.setCollapsible(1, False)
+        self.side = side
+        self._split_moved = False  # by the user: then the split stays theirs
+        self.split.splitterMoved.connect(lambda *_: setattr(self, "_split_moved", True))
         column = QtWidgets.QVBoxLayout(self)
         column.setContentsMargins(4, 2, 4, 2)
         column.addLayout(bar)
@@ -112,6 +116,14 @@ class TimelinePanel(QtWidgets.QWidget):
         editor.state.scene_changed.connect(self._on_state_scene_changed)
         self._show_time()
         self._on_state_scene_changed(editor.state.scene)
+
+    def resizeEvent(self, event) -> None:  # Qt override
+        super().resizeEvent(event)
+        width = self.split.width()
+        if not self._split_moved and width > 0:  # the properties whole, the rest: the time
+            least = self.panel.minimumSizeHint().width() + 16
+            side = min(max(least, round(width * 0.3)), max(least, 460))
+            self.split.setSizes([max(width - side, 200), side])
 
     def _button(self, text: str, slot, hint: str) -> QtWidgets.QPushButton:
         button = QtWidgets.QPushButton(text)

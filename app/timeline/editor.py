@@ -362,7 +362,10 @@ class TimelineEditor(QtCore.QObject):
         if scene.shape is not None and not self.heatmap.drawing:
             self.shape_scene = scene
         source = scene.source
-        if isinstance(source, Pattern) and source is not self.model.pattern:  # File > Open
+        if isinstance(source, Pattern) and source == self.model.pattern:
+            if source is not self.model.pattern:  # the same pattern again: this one's object
+                self.model.apply(source, self.model.selected)
+        elif isinstance(source, Pattern):  # File > Open pattern...
             path = (self.file_of(source) or {}).get("path")
             self.open_pattern(source, None if path is None else Path(path),
                               f"Open {source.name or 'the pattern'}")  # fmt: skip
@@ -385,6 +388,8 @@ def save_session(editor, settings) -> None:
     settings.setValue("editor_path", str(model.path) if model.path is not None else "")
     settings.setValue("editor_modified", not editor.undo_stack.isClean())
     settings.setValue("editor_at", json.dumps([model.playhead_s, model.selected]))
+    scene = editor.state.scene
+    settings.setValue("editor_scene", json.dumps([editor.state.held, scene.playing]))
 
 
 def restore_session(editor, settings) -> str:
@@ -413,6 +418,22 @@ def restore_session(editor, settings) -> str:
     if str(settings.value("editor_modified", "false")).lower() == "true":
         editor.undo_stack.resetClean()  # its edits are still not saved
     return ""
+
+
+def resume_session(editor, settings) -> bool:
+    """The last session ended with the scene playing the editor's pattern: the scene plays it
+    again as it was left (held at the playhead, paused there, or playing from it); False if
+    it does not play on this array."""
+    try:
+        held, playing = json.loads(str(settings.value("editor_scene", "") or "[false, true]"))
+    except (ValueError, TypeError):
+        held, playing = False, True
+    if not held and playing:
+        return editor.play()
+    if not editor._playable():
+        return False
+    cue = PatternCue(editor.model.pattern, editor.model.playhead_s, hold=True)
+    return editor._take(cue, bool(playing))
 
 
 def _plays(pattern: Pattern, layout, method) -> bool:

@@ -104,7 +104,7 @@ class EffectPanel(QtWidgets.QWidget):
         self.dot_spin = spin_box(0.001, 3600.0, 0.01, 3, " s")
         self.dot_label = QtWidgets.QLabel("dots last")
         self.envelope_edit = QtWidgets.QLineEdit()
-        self.envelope_edit.setPlaceholderText("none: gain 1 throughout")
+        self.envelope_edit.setPlaceholderText("none (gain 1)")
         tips = {
             self.name_edit: "A label for the effect (shown on its block)",
             self.start_spin: "When it starts, in seconds from the pattern's start",

@@ -175,9 +175,9 @@ class TimelineView(QtWidgets.QGraphicsView):
         for i, (item, effect) in enumerate(zip(self._blocks, effects)):
             item.show(i, effect, self.block_rect(effect), i == self.model.selected)
         tracks = max((e.track for e in effects), default=-1) + 2  # and an empty one to drag to
-        end = max(self.model.pattern.duration_s + 1.0, self._span_s)
+        end = max(self.model.pattern.duration_s, self._span_s)  # (fitted: no scroll bar)
         height = RULER_PX + max(tracks, 3) * TRACK_PX
-        scene.setSceneRect(0, 0, self.x_of(end), height)
+        scene.setSceneRect(0, 0, self.x_of(end) + 8, height)
         self.viewport().update()
 
     def resizeEvent(self, event) -> None:  # Qt override
