@@ -23,6 +23,13 @@ MAX_SESSION_CHARS = 1_000_000
 a longer one comes back from its file, if it has one."""
 
 
+def _tactor_name(layout, index: int) -> str:
+    """A tactor as the heatmap names it: ``(col,row)`` on a grid, its name on a layout."""
+    if layout.is_grid:
+        return f"({index % layout.cols},{index // layout.cols})"
+    return layout.names[index]
+
+
 def pattern_of(source) -> Pattern | None:
     """The pattern a scene's source plays (a pattern, or a moment of one), or None."""
     if isinstance(source, PatternCue):
@@ -277,7 +284,7 @@ class TimelineEditor(QtCore.QObject):
             self.picked.remove(index)
         else:
             self.picked.append(index)
-        names = ", ".join(self.state.layout.names[i] for i in self.picked) or "none"
+        names = ", ".join(_tactor_name(self.state.layout, i) for i in self.picked) or "none"
         self.message_posted.emit(f"tactors picked: {names}", 10_000)
 
     # --- playing -------------------------------------------------------------------------------
