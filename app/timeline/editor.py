@@ -105,6 +105,7 @@ class TimelineEditor(QtCore.QObject):
         self.shape_scene = scene if scene.shape is not None else None
         """The last scene that played a shape (what *Add from the scene* adds)."""
         self._before = self.model.pattern
+        self._why: dict = {}  # (pattern, why it does not play) by (id, layout, method)
         self.model.connect("pattern", self._on_model_pattern)
         state.scene_changed.connect(self._on_state_scene_changed)
         heatmap.point_drawn.connect(self._on_heatmap_point_drawn)
@@ -140,17 +141,31 @@ class TimelineEditor(QtCore.QObject):
         stack.push(EditCommand(self.model, edit))
         return True
 
+    def why_not(self, pattern: Pattern) -> str:
+        """Why ``pattern`` does not play on the array with the scene's method ("" when it does:
+        :meth:`Pattern.check`); the last few answers are kept, as an edit asks of the pattern
+        before it and after it (a check of 10,000 effects takes a quarter of a second)."""
+        key = (id(pattern), self.state.layout, self.state.scene.method)
+        kept = self._why.get(key)
+        if kept is not None and kept[0] is pattern:
+            return kept[1]
+        try:
+            pattern.check(self.state.layout, self.state.scene.method)
+            why = ""
+        except ValueError as exc:
+            why = str(exc)
+        if len(self._why) >= 4:
+            self._why.pop(next(iter(self._why)))
+        self._why[key] = (pattern, why)
+        return why
+
     def _check(self, pattern: Pattern) -> None:
         """``ValueError`` if ``pattern`` does not play on the array while the edited one did."""
         if not pattern.effects:
             return
-        layout, method = self.state.layout, self.state.scene.method
-        try:
-            pattern.check(layout, method)
-        except ValueError:
-            if self.model.pattern.effects and not _plays(self.model.pattern, layout, method):
-                return  # it did not play here before either (a vest's pattern on the palm)
-            raise
+        why = self.why_not(pattern)
+        if why and not (self.model.pattern.effects and self.why_not(self.model.pattern)):
+            raise ValueError(why)  # (a pattern that did not play here either may be edited)
 
     def _selected(self) -> int | None:
         if self.model.selected is None:
@@ -299,12 +314,10 @@ class TimelineEditor(QtCore.QObject):
         if not pattern.effects:
             self.refused.emit("the pattern has no effects to play: add one first")
             return False
-        try:
-            pattern.check(self.state.layout, self.state.scene.method)
-        except ValueError as exc:
-            self.refused.emit(f"the pattern does not play on this array: {exc}")
-            return False
-        return True
+        why = self.why_not(pattern)
+        if why:
+            self.refused.emit(f"the pattern does not play on this array: {why}")
+        return not why
 
     def _take(self, cue: PatternCue, playing: bool) -> bool:
         self.before_play()
@@ -344,7 +357,7 @@ class TimelineEditor(QtCore.QObject):
         if pattern_of(self.state.scene.source) is not before:
             return
         pattern, scene = self.model.pattern, self.state.scene
-        if not pattern.effects or not _plays(pattern, self.state.layout, scene.method):
+        if not pattern.effects or self.why_not(pattern):
             self.state.update(source=None, playing=False)
             return
         held = scene.source.hold if isinstance(scene.source, PatternCue) else False
@@ -441,11 +454,3 @@ def resume_session(editor, settings) -> bool:
         return False
     cue = PatternCue(editor.model.pattern, editor.model.playhead_s, hold=True)
     return editor._take(cue, bool(playing))
-
-
-def _plays(pattern: Pattern, layout, method) -> bool:
-    try:
-        pattern.check(layout, method)
-    except ValueError:
-        return False
-    return True

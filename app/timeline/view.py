@@ -65,10 +65,13 @@ class BlockItem(QtWidgets.QGraphicsRectItem):
 
     def paint(self, painter, option, widget=None) -> None:  # Qt override
         rect = self.rect()
-        palette = self.view.palette()
         color = QtGui.QColor(KIND_COLORS[kind_of(self.effect)])
         fill = QtGui.QColor(color)
         fill.setAlpha(200 if self.selected else 150)
+        if rect.width() < 2 * EDGE_PX and not self.selected:  # a sliver: no label, no edge
+            painter.fillRect(rect.adjusted(0, 1, 0, -1), fill)  # (10,000 blocks in view)
+            return
+        palette = self.view.palette()
         painter.setBrush(fill)
         edge = palette.color(QtGui.QPalette.ColorRole.Highlight) if self.selected else color
         painter.setPen(QtGui.QPen(edge.darker(130) if not self.selected else edge,
