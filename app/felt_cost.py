@@ -112,7 +112,8 @@ class FeltCost(QtCore.QObject):
         s = result.setting
         self.changed.emit(result.text, tip(
             f"What this setting costs in felt terms: the reference participant (threshold 0.2) "
-            f"through the profile's motors ({result.motor_label}), {s.rate_hz:.4g} frames a "
+            f"through the profile's motors ({result.motor_label}, {result.motor_source}), "
+            f"{s.rate_hz:.4g} frames a "
             f"second, {s.sampling.label}, {s.levels} levels, "
             f"{'dithered' if s.dither else 'rounded'}, lead {s.lead_ms:g} ms, "
             f"{'motor-aware' if s.compensate else 'plain'} drive. Best: the best of this "

@@ -9,6 +9,7 @@ from tactile_core.files.pattern import example_patterns
 from tactile_core.files.presets import builtin_presets
 
 from . import help as help_dialogs
+from .measure import show_measure_dialog
 
 
 def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, reset_layout,
@@ -69,6 +70,7 @@ def build_menus(window, files, *, toggle_play, all_off, restart, start_tuning, r
     _fill_profiles(profiles, files)
     menu.addSeparator()
     menu.addAction("Tune the correction by feel...", start_tuning)
+    menu.addAction("Measure the motors...", lambda: show_measure_dialog(window))
     view = bar.addMenu("&View")
     for dock in window.findChildren(QtWidgets.QDockWidget):
         action = dock.toggleViewAction()

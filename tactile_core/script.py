@@ -126,7 +126,8 @@ class Array:
 
     def __init__(self, link, profile: DeviceProfile, *, rate_hz: float, options: StreamOptions,
                  lsl: bool, lsl_levels: bool, point_timeout_s: float | None,
-                 compensate_motors: bool = False):  # fmt: skip
+                 compensate_motors: bool = False, validate=None,
+                 validate_log=None):  # fmt: skip
         self.link = link
         self.profile = profile
         self.rate_hz = _validate.rate("rate_hz", rate_hz, 1.0, 10_000.0)
@@ -151,6 +152,20 @@ class Array:
 
             self.lsl = LslOutlets(profile, rate_hz=self.rate_hz, levels=lsl_levels)
             self.lsl.attach(self.streamer)
+        self.validator = None
+        """The validator (``validate=``): the sensor's onset of each presentation, in
+        :attr:`Validator.rows <tactile_core.experiments.measure.Validator.rows>` and its CSV."""
+        if validate is not None:
+            from .experiments.measure import Validator
+
+            try:
+                self.validator = Validator(validate, log=validate_log, link=link,
+                                           profile=profile, lsl=lsl)  # fmt: skip
+                self.validator.attach(self.streamer)
+            except BaseException:
+                if self.lsl is not None:
+                    self.lsl.close()
+                raise
         self._keeper = threading.Thread(target=self._keep, name="tactile-script", daemon=True)
 
     def _start(self) -> Array:
@@ -275,6 +290,8 @@ class Array:
         finally:
             self._wake.set()
             self.streamer.stop()
+            if self.validator is not None:  # the last presentations' windows, then its log
+                self.validator.close()
             self.link.close()
             if self.lsl is not None:
                 self.lsl.close()
@@ -368,7 +385,8 @@ def _release_sigterm(array: Array) -> None:
 
 def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_ms: float = 0.0,
                lsl: bool = False, lsl_levels: bool = False, point_timeout_s: float | None = None,
-               compensate_motors: bool = False) -> Array:  # fmt: skip
+               compensate_motors: bool = False, validate=None,
+               validate_log=None) -> Array:  # fmt: skip
     """Open a device and start streaming to it (all off until something is played).
 
     Parameters
@@ -389,6 +407,14 @@ def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_m
         Motor-aware drive: pre-compensate each lit tactor's motor lag with the profile's
         motor constants (:mod:`tactile_core.rendering.motor_drive`); off, the paper's
         pipeline, by default. A profile without motor constants (``motor``) is refused.
+    validate : str or sensor, optional
+        A sensor on the array (``"audio:NAME?channel=N"``, ``"sim"`` on the simulated array, or
+        a sensor object): the onset it detects of each presentation is logged beside the
+        commanded time (:class:`~tactile_core.experiments.measure.Validator`), and sent on the
+        LSL stream ``tactile-validation`` with ``lsl=True``.
+    validate_log : path, optional
+        The validator's CSV, or a folder for ``validate-<date>.csv`` (a results folder);
+        beside the running script by default.
 
     Returns
     -------
@@ -411,11 +437,15 @@ def open_array(url: str = "sim", profile=None, *, rate_hz: float = 300.0, lead_m
         raise ValueError(f"compensate_motors needs the motors' time constants: profile "
                          f"{profile.name} has none ('motor')")  # fmt: skip
     link = open_link(url, profile)
+    array = None
     try:
         array = Array(link, profile, rate_hz=rate_hz, options=options, lsl=lsl,
                       lsl_levels=lsl_levels, point_timeout_s=point_timeout_s,
-                      compensate_motors=compensate_motors)  # fmt: skip
+                      compensate_motors=compensate_motors, validate=validate,
+                      validate_log=validate_log)  # fmt: skip
         return array._start()
     except BaseException:
+        if array is not None and array.validator is not None:
+            array.validator.close(timeout_s=0.5)
         link.close()
         raise

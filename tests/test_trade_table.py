@@ -39,7 +39,7 @@ def test_the_quick_table_has_a_row_per_setting_and_motor_and_every_figure_a_spre
     assert [r[0] for r in trade.rows[: len(settings)]] == ["30/60"] * len(settings)
     assert trade.rows[0][1].startswith("base: 300 Hz, point, 23 levels, rounded, lead 0")
     assert [r[0] for r in by_method.rows] == ["CT", "AS"]
-    assert "30/60 ms (the profile's)" in trade.notes
+    assert "30/60 ms (the profile's, estimate)" in trade.notes
 
 
 def test_the_base_row_is_the_papers_pipeline_at_the_devices_levels():

@@ -43,7 +43,8 @@ def test_tuner_lsl_marks_each_blind_ab_play_at_its_first_frames_send_time(qtbot,
     inlet, info = inlet_for(f"source_id='{sid}-markers'")
     assert (info.name(), info.type()) == ("tactile-markers", "Markers")
     offset = own_offset()
-    assert window.blind.start(seed=5)  # plays key 1
+    assert window.blind.start(seed=5)  # plays nothing until a key
+    window.blind.select_key(1)
     qtbot.waitUntil(lambda: len(ab_onsets(onsets)) == 1, timeout=WAIT_MS)
     window.blind.select_key(2)
     qtbot.waitUntil(lambda: len(ab_onsets(onsets)) == 2, timeout=WAIT_MS)
@@ -74,6 +75,7 @@ def test_tuner_scenes_carry_their_presentation_kind(qtbot, window):
     state, device = window.state, window.device
     assert state.scene.marker == "" and device.streamer.scene.marker == "tune"
     window.blind.start(seed=1)
+    window.blind.select_key(1)  # Start plays nothing: the rater's first key does
     assert state.scene.marker == "ab" and device.streamer.scene.marker == "ab"
     epoch = state.scene.epoch
     window.blind.select_key(2)

@@ -7,23 +7,13 @@ import pytest
 
 from tactile_core.files.pattern import Pattern, example_patterns
 
+from . import tuner_support as support
 from .helpers import record_sent
 
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 
-@pytest.fixture
-def window(qtbot):
-    from tactile_tuner.window import MainWindow
-
-    win = MainWindow(restore=False, process=False)
-    qtbot.addWidget(win)
-    win.show()
-    qtbot.waitExposed(win)
-    qtbot.waitUntil(lambda: win.device.stats.frames > 5, timeout=10000)
-    yield win
-    win.confirm = lambda title, text: True
-    win.close()
+window = support.window  # the fixture
 
 
 def test_the_file_menu_opens_patterns_and_lists_the_examples(window):
@@ -53,8 +43,9 @@ def test_open_pattern_plays_it_as_the_scenes_source(window, qtbot):
     qtbot.waitUntil(lambda: sum(f[17] > 0 for f in sent[before:]) >= 5, timeout=10000)
     lit = {int(i) for f in sent[before:] for i in np.flatnonzero(f)}
     assert lit == {17}
-    # the views redraw at most every 50 ms after a change: wait for them, not for a time
-    qtbot.waitUntil(lambda: getattr(window.tune.shown_curves, "cells", None) == ((2, 3),),
+    # the curves are redrawn at most every 50 ms after a scene changes: wait for them
+    shown = lambda: window.tune.shown_curves  # noqa: E731
+    qtbot.waitUntil(lambda: shown() is not None and list(shown().cells) == [(2, 3)],
                     timeout=10000)  # fmt: skip
 
 

@@ -8,22 +8,12 @@ from tactile_core.files.tact import load_pattern, read_tact
 from tactile_core.rendering.shapes import TimedPath
 
 from . import tact_support as ts
+from . import tuner_support as support
 
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 
-@pytest.fixture
-def window(qtbot):
-    from tactile_tuner.window import MainWindow
-
-    win = MainWindow(restore=False, process=False)
-    qtbot.addWidget(win)
-    win.show()
-    qtbot.waitExposed(win)
-    qtbot.waitUntil(lambda: win.device.stats.frames > 5, timeout=10000)
-    yield win
-    win.confirm = lambda title, text: True
-    win.close()
+window = support.window  # the fixture
 
 
 def test_the_file_menu_offers_the_tact_actions(window):

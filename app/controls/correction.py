@@ -92,13 +92,15 @@ class CorrectionWidget(SceneGroupWidget):
             else "Not available: the device profile has no motor response curve ('response')."
         ))  # fmt: skip
 
-    def set_motor_available(self, available: bool) -> None:
-        """Motor-aware drive needs the device profile's motor time constants."""
+    def set_motor_available(self, available: bool, motors: str = "") -> None:
+        """Motor-aware drive needs the device profile's motor time constants; ``motors`` says
+        which (:meth:`MotorResponse.describe <tactile_core.rendering.motor.MotorResponse.describe>`:
+        measured or estimates)."""
         self.motor_drive_check.setEnabled(available)
         self.motor_drive_check.setToolTip(tip(
             "After the correction, each lit tactor's drive makes up for its motor's lag (the "
-            "profile's time constants): full drive while it spins up, off while it runs down. "
-            "Off: plain drive, as the paper."
+            f"profile's time constants{': ' + motors if motors else ''}): full drive while it "
+            "spins up, off while it runs down. Off: plain drive, as the paper."
             if available
             else "Not available: the device profile has no motor time constants ('motor')."
         ))  # fmt: skip

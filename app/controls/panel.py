@@ -72,7 +72,8 @@ class ControlsPanel(QtWidgets.QWidget):
         """What the device profile knows of its motors: their response curve (the 'felt'
         view and domain), their time constants (motor-aware drive)."""
         self.set_felt_available(profile.response is not None)
-        self.correction.set_motor_available(profile.motor is not None)
+        motors = profile.motor.describe() if profile.motor is not None else ""
+        self.correction.set_motor_available(profile.motor is not None, motors)
 
     def set_draw_mode(self, on: bool) -> None:
         """Reflect draw mode: MM and IM are unavailable on free points, the shape is not

@@ -294,7 +294,8 @@ class TuneWidget(QtWidgets.QStackedWidget):
         heatmap.set_cell_frames(colors)
         heatmap.set_outline(outline)
         if not self.method_hidden:
-            what = "felt (motor lag and response)" if felt_view else "activation"
+            what = (f"felt (motor lag and response, {profile.motor.source})" if felt_view
+                    else "activation")  # fmt: skip
             what = f"{what}, motor-aware drive" if aware is not None else what
             short = "felt" if felt_view else "activation"
             short = f"{short}, motor-aware" if aware is not None else short
@@ -343,9 +344,10 @@ class TuneWidget(QtWidgets.QStackedWidget):
                                "felt intensity M")  # fmt: skip
         if not self.method_hidden:
             stage = "felt" if profile.motor is not None else "sent"
+            motors = f"; motors {profile.motor.source}" if profile.motor is not None else ""
             title = (  # two lines: on one it was cut off at both ends at 1600 x 1000
                 f"{scene.method}, {REFERENCE.label}: ripple {percept.ripple:.2f}, off "
                 f"{percept.mean_error_mm:.1f} mm (max {percept.max_error_mm:.1f})<br>ripple "
-                f"{band.span(stage)} over {len(band.participants)} participants"
+                f"{band.span(stage)} over {len(band.participants)} participants{motors}"
             )
             self.curves.set_titles((title, "9pt"))

@@ -75,7 +75,9 @@ def parse_json(data: bytes, source, error=ValueError, *, max_depth: int = MAX_JS
     try:
         value = json.loads(text, parse_constant=_no_constant)
     except json.JSONDecodeError as exc:
-        raise error(f"{source}: not valid JSON: {exc.msg} at line {exc.lineno}") from None
+        where = f"line {exc.lineno}, column {exc.colno}"  # ("… starting at" ends some messages)
+        at = where if exc.msg.endswith(" at") else f"at {where}"
+        raise error(f"{source}: not valid JSON: {exc.msg} {at}") from None
     except RecursionError:
         raise error(f"{source}: nested too deeply (more than {max_depth} levels of arrays and "
                     "objects; no file of this tool nests that deep)") from None  # fmt: skip

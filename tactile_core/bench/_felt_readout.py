@@ -36,6 +36,9 @@ class FeltReadout:
         The current setting as predicted (its rate capped by the link).
     motor_label : str
         The motor constants assumed (``"30/60 ms"``).
+    motor_source : str
+        Where they come from: ``"estimate"``, or ``"measured 2026-05-01"`` (``tactile
+        measure``).
     """
 
     ripple: float
@@ -44,6 +47,7 @@ class FeltReadout:
     best: tuple
     setting: Setting
     motor_label: str
+    motor_source: str = "estimate"
 
     @property
     def text(self) -> str:
@@ -104,4 +108,4 @@ def felt_readout(scene, profile, lead_ms: float = 0.0, *, phases: int = 2, seed:
     table = np.array(figures)
     best = tuple(float(np.min(col[~np.isnan(col)])) if (~np.isnan(col)).any() else np.nan
                  for col in table.T)  # fmt: skip
-    return FeltReadout(*figures[0], best, current, target.motor_label)
+    return FeltReadout(*figures[0], best, current, target.motor_label, target.motor_source)

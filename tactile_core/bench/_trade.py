@@ -201,7 +201,7 @@ def trade_tables(target: Target, *, quick: bool = False, phases: int = 8, seed: 
     headers = ["motor tau up/down ms", "setting (from the base row)", "felt ripple",
                "felt centroid lag mm", "onset error at the skin ms", "drive energy error %",
                "cost us/frame, min / median", "link bytes/s"]  # fmt: skip
-    note_motor = ("the profile's" if target.motor_from_profile else
+    note_motor = (f"the profile's, {target.motor_source}" if target.motor_from_profile else
                   "none in the profile, so the palm array's estimates")  # fmt: skip
     notes = (
         f"Device profile {target.name}: {target.levels} levels, {target.channels} channels, "

@@ -98,6 +98,12 @@ class Target:
         return f"{self.motor.tau_up_s * 1e3:g}/{self.motor.tau_down_s * 1e3:g} ms"
 
     @property
+    def motor_source(self) -> str:
+        """Where the constants come from: ``"measured 2026-05-01"`` (``tactile measure``) or
+        ``"estimate"`` (:meth:`~tactile_core.rendering.motor.MotorResponse.describe`)."""
+        return self.motor.describe().rpartition(" (")[2].rstrip(")")
+
+    @property
     def max_rate_hz(self) -> float:
         """Frames a second the link carries (frames for now; an audio frame must outlast its
         ramp)."""

@@ -1,10 +1,12 @@
-"""The ``tactile`` command: render, stream, emulate, analyze, simulate, tune-correction, bench.
+"""The ``tactile`` command: render, stream, emulate, analyze, simulate, tune-correction, bench,
+measure.
 
 Errors in arguments or files print ``tactile <command>: error: <what was wrong>`` on standard
 error and exit with status 2; no traceback for anything the user can fix.
 
 Inside: ``_parser`` builds the parser, ``_render`` holds render, stream and emulate,
-``_experiments`` analyze, simulate, tune-correction and bench, ``_common`` what they share;
+``_experiments`` analyze, simulate, tune-correction and bench, ``_measure`` measure,
+``_common`` what they share;
 :func:`main` runs one. ``python -m tactile_core.cli`` runs it too (``__main__``).
 """
 

@@ -15,6 +15,7 @@ from ._common import (
     whole,
 )
 from ._experiments import cmd_analyze, cmd_bench, cmd_simulate, cmd_tune_correction
+from ._measure import add_measure_parser
 from ._render import cmd_emulate, cmd_render, cmd_stream
 from ._serve import add_lsl_arguments, add_serve_parser
 from ._tact import add_export_parser, add_tact_option
@@ -230,4 +231,6 @@ def build_parser() -> argparse.ArgumentParser:
                    help=profile_help(" of --part trade: its motors, levels and link, and the "
                                      "setting recommended for it"))  # fmt: skip
     p.set_defaults(func=cmd_bench)
+
+    add_measure_parser(sub)
     return parser

@@ -132,7 +132,8 @@ def cmd_render(args) -> int:
     if motor is not None:  # after the correction, before any quantisation
         frames, _ = motor_drive(frames, motor, args.rate)
         taus = "/".join(f"{np.max(t) * 1e3:g}" for t in (motor.tau_up_s, motor.tau_down_s))
-        what = f"{what[:-1]}, motor-aware drive for {taus} ms motors)"
+        source = motor.describe().rpartition(" (")[2].rstrip(")")  # estimate, measured DATE
+        what = f"{what[:-1]}, motor-aware drive for {taus} ms motors ({source}))"
     if wav:
         return _write_wav(args, out, profile, frames, what)
     try:
@@ -236,6 +237,7 @@ def cmd_stream(args) -> int:
     from ..stream.streamer import Streamer
 
     shape, method, mu, gamma, _ = _scene(args)
+    _validate.rate("--rate", args.rate, 1.0, 10_000.0)  # as the stream's scene takes it
     try:
         profile = load_profile(args.profile)
     except ProfileError as exc:

@@ -10,6 +10,7 @@ import math
 import sys
 import time
 
+from .._shared import validate as _validate
 from .._shared.jsonfile import write_json_atomic
 from .._shared.outfile import check_output
 from ..rendering.correction import check_correction
@@ -141,7 +142,19 @@ def add_serve_parser(sub) -> None:
         "--realtime", action="store_true", help="real-time priority (Linux; rtprio or root)"
     )
     add_lsl_arguments(p)
+    add_validate_arguments(p)
     p.set_defaults(func=cmd_serve)
+
+
+def add_validate_arguments(p: argparse.ArgumentParser) -> None:
+    """``--validate`` and ``--validate-log``."""
+    p.add_argument("--validate", metavar="INPUT", default=None,
+                   help="a sensor on the array (audio:NAME?channel=N, or 'sim' on --device sim): "
+                   "log its onset of every presentation beside the commanded time, with the "
+                   "delay (and with --lsl, on the LSL stream tactile-validation)")  # fmt: skip
+    p.add_argument("--validate-log", metavar="PATH", default=None,
+                   help="the validator's CSV, or a folder for validate-<date>.csv (default: "
+                   "the current folder)")  # fmt: skip
 
 
 def lsl_outlets(args, profile, rate_hz: float):
@@ -231,6 +244,7 @@ def _check(args):
     method = free_method(args.method).spec
     check_renders(method, profile.layout)
     mu, gamma = check_correction(args.mu, args.gamma)
+    _validate.rate("--rate", args.rate, 1.0, 10_000.0)  # as the stream's scene takes it
     compensate = motors_to_compensate(args, profile) is not None
     scene = Scene(
         method=method, mu=mu, gamma=gamma, rate_hz=args.rate, compensate_motors=compensate
@@ -284,6 +298,12 @@ def cmd_serve(args) -> int:
     if opened is None:
         return 1
     lsl, link = opened
+    validator = _validator(args, link, profile, lsl)
+    if validator is False:
+        link.close()
+        if lsl is not None:
+            lsl.close()
+        return 1
     streamer = Streamer(
         link,
         profile,
@@ -307,6 +327,8 @@ def cmd_serve(args) -> int:
     try:
         if lsl is not None:
             lsl.attach(streamer)
+        if validator is not None:
+            validator.attach(streamer)
         streamer.start()
         try:
             server.start()
@@ -327,11 +349,15 @@ def cmd_serve(args) -> int:
     finally:
         served = server.stop()
         stats = streamer.stop()
+        if validator is not None:
+            validator.close()
         link.close()
         if lsl is not None:
             lsl.close()
     print(served.summary())
     print(stats.summary())
+    if validator is not None:
+        print(validator.summary_line())
     if args.json:
         try:
             write_json_atomic(
@@ -346,6 +372,24 @@ def cmd_serve(args) -> int:
         print(streamer.failure_traceback, file=sys.stderr, end="")
         return 70
     return 0 if stats.state != "refused" and stats.errors == 0 else 1
+
+
+def _validator(args, link, profile, lsl):
+    """The validator ``--validate`` asks for (None without it; False once it has said on
+    standard error why it cannot open)."""
+    if args.validate is None:
+        return None
+    from ..device.link import LinkError
+    from ..experiments.measure import Validator
+    from ..experiments.results import SessionError
+    from ..serve import LslError
+
+    try:
+        return Validator(args.validate, log=args.validate_log or ".", link=link, profile=profile,
+                         lsl=lsl is not None)  # fmt: skip
+    except (LinkError, LslError, SessionError, ValueError) as exc:
+        print(f"tactile {args.command}: --validate: {exc}", file=sys.stderr)
+        return False
 
 
 def _wait(args, stop, streamer, server) -> None:

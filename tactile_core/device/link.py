@@ -255,6 +255,9 @@ class SimulatedArray:
         self._lock = threading.Lock()
         self._replies = bytearray()
         self.closed = False
+        self.listeners: list = []
+        """Called as ``listener(time_s, levels)`` for every frame the array applies (its host
+        time, and its levels in channel order): what a simulated sensor on the array feels."""
 
     description = "simulated array"
 
@@ -267,8 +270,19 @@ class SimulatedArray:
         if self.closed:
             raise LinkError("simulated array closed")
         with self._lock:
-            replies, _ = self.model.receive(data, self._now())
+            now = self._now()
+            replies, frames = self.model.receive(data, now)
             self._replies += replies
+            if self.listeners and frames:
+                self._tell(frames, now)
+
+    def _tell(self, frames, now: float) -> None:
+        """(Under the lock.) The listeners get each frame applied: a timed one at the time it
+        was to play."""
+        times = {id(msg): t for t, msg, _ in self.model.onsets}
+        for frame in frames:
+            for listener in list(self.listeners):
+                listener(times.get(id(frame), now), frame.levels)
 
     def read(self) -> bytes:
         """What the array answered since the last read."""
@@ -311,7 +325,9 @@ class SimulatedArray:
         a grid), zero after the watchdog."""
         now = self._now() if now is None else now
         with self._lock:
-            self.model.advance(now)
+            played = self.model.advance(now)
+            if self.listeners and played:
+                self._tell(played, now)
             self.model.watchdog(now)
             channel_levels = np.frombuffer(self.model.levels, dtype=np.uint8)
         flat = np.zeros(self.profile.channels, dtype=np.uint8)

@@ -18,20 +18,14 @@ from __future__ import annotations
 
 import bisect
 import math
-import threading
-import time
 
 import numpy as np
 
-from .._shared import validate as _validate
-from ..rendering.correction import check_correction, correct, correct1
-from ..rendering.methods import get_method
-from ..rendering.rasterize import check_renders, check_target, render
+from ..rendering.rasterize import check_renders, render
 from ..rendering.shapes import FADES
-from ..rendering.trace import MAX_SAMPLES, Sampling, entry_table
 from ._pattern_parts import compile_parts
+from ._tabled import TabledFrames
 from ._tact_coords import fade1
-from .tact import MAX_TABLE_FRAMES
 
 BLOCK_SAMPLES = 256
 """Samples rendered together (a block of a table or of :meth:`PatternFrames.render`)."""
@@ -110,7 +104,7 @@ def gains(effect, phase: np.ndarray) -> np.ndarray:
     return np.where(phase > times[-1], values[-1], out)
 
 
-class PatternFrames:
+class PatternFrames(TabledFrames):
     """A pattern's frames on one array, served one at a time (the ``Scene.source`` protocol,
     as :class:`~tactile_core.files.tact.PatternFrames` of an imported ``.tact`` file).
 
@@ -130,14 +124,8 @@ class PatternFrames:
     """
 
     def __init__(self, pattern, method, target, sampling, mu, gamma, gain=1.0):
-        if not isinstance(sampling, Sampling):
-            raise ValueError(f"sampling must be a Sampling, got {_validate.shown(sampling)}")
+        self._setup(method, target, sampling, mu, gamma, gain)
         self.pattern = pattern
-        self.method = get_method(method)
-        self.grid = check_target(target)
-        self.sampling = sampling
-        self.mu, self.gamma = check_correction(mu, gamma)
-        self.gain = _validate.in_range("gain", gain, 0.0, 1.0)
         if any(e.method is None and e.kind != "dots" for e in pattern.effects):
             check_renders(self.method, self.grid)
         self._parts = compile_parts(pattern, self.method, self.grid)
@@ -149,73 +137,13 @@ class PatternFrames:
         self._dots = [k for k, p in enumerate(self._parts) if p.shape is None]
         self._first_dot = self._dots[0] if self._dots else len(self._parts)
         self._columns = _dot_columns([self._parts[k] for k in self._dots])
-        self._offsets = sampling.offsets_s().tolist()
-        self._table: list | None = None
 
-    @property
-    def precomputed(self) -> bool:
-        """True once the table is in use."""
-        return self._table is not None
+    FOREGROUND_CHUNK = BLOCK_SAMPLES
+    THREAD_NAME = "tactile-pattern-precompute"
 
-    def busiest_frame(self) -> int:
-        """The frame at which the most parts are on (the first such), 0 if none."""
-        if not self._parts:
-            return 0
-        edges = sorted([(p.lo, 1) for p in self._parts] + [(p.hi, -1) for p in self._parts])
-        on, most, when = 0, 0, 0.0
-        for t, step in edges:  # (an end sorts before a start at the same time)
-            on += step
-            if on > most:
-                most, when = on, t
-        return min(max(int(when * self.sampling.rate_hz), 0), max(self.n_frames - 1, 0))
-
-    def busiest_frame_s(self) -> float:
-        """Seconds the scalar path takes for :meth:`busiest_frame` (the best of two)."""
-        k, best = self.busiest_frame(), math.inf
-        for _ in range(2):
-            start = time.perf_counter()
-            self.compute(k)
-            best = min(best, time.perf_counter() - start)
-        return best
-
-    def precompute(self, background: bool = False) -> None:
-        """Tabulate every frame (no-op beyond ``MAX_TABLE_FRAMES``); with ``background=True``
-        in a daemon thread, frames coming from the scalar path meanwhile."""
-        if self._table is not None or self.n_frames > MAX_TABLE_FRAMES:
-            return
-        if background:
-            threading.Thread(target=self._build, args=(64,), name="tactile-pattern-precompute",
-                             daemon=True).start()  # fmt: skip
-            return
-        self._build(BLOCK_SAMPLES)
-
-    def _build(self, chunk: int) -> None:
-        table = []
-        for first in range(0, self.n_frames, chunk):
-            count = min(chunk, self.n_frames - first)
-            _, frames = self.render(first, count)
-            table.extend(entry_table(frames.reshape(count, self.grid.size)))
-            time.sleep(0)  # let a concurrent output thread run between chunks
-        self._table = table
-
-    def entries(self, k: int) -> tuple:
-        """Lit actuators of frame ``k`` (from the scene's start): ``((index, corrected value),
-        ...)``; empty after the pattern's end."""
-        if not 0 <= k < self.n_frames:
-            return ()
-        table = self._table
-        return table[k] if table is not None else self.compute(k)
-
-    def compute(self, k: int) -> tuple:
-        """Frame ``k`` by the scalar path, whether or not a table exists."""
-        start = k / self.sampling.rate_hz
-        mu, gamma, gain = self.mu, self.gamma, self.gain
-        acc: dict[int, float] = {}
-        for offset in self._offsets:
-            for i, v in self.raw1(start + offset).items():
-                acc[i] = acc.get(i, 0.0) + correct1(v, mu, gamma, gain)
-        scale = 1.0 / len(self._offsets)
-        return tuple((i, v * scale) for i, v in acc.items())
+    def spans(self) -> list:
+        """When each part is on: ``[(start_s, end_s), ...]``."""
+        return [(p.lo, p.hi) for p in self._parts]
 
     def raw1(self, when: float) -> dict:
         """Combined raw intensities at ``when`` seconds: ``{actuator: value}`` of the lit."""
@@ -248,37 +176,6 @@ class PatternFrames:
         if add:
             return {i: min(v, 1.0) for i, v in lit.items() if v > 0.0}
         return {i: v for i, v in lit.items() if v > 0.0}
-
-    def frame(self, k: int) -> np.ndarray:
-        """Frame ``k`` as a dense array: ``(rows, cols)`` on a grid, ``(size,)`` on a layout."""
-        out = np.zeros(self.grid.size)
-        for i, v in self.entries(k):
-            out[i] = v
-        return out.reshape(self.grid.frame_shape)
-
-    def render(self, first: int, count: int, *, corrected: bool = True):
-        """Frames ``first .. first + count - 1`` at once.
-
-        Returns
-        -------
-        time_s : ndarray of float64, shape (count,)
-            Start of each frame.
-        frames : ndarray of float64, shape ``(count, rows, cols)`` (``(count, size)`` on a layout)
-        """
-        count = _validate.integer("count", count, 0)
-        first = _validate.integer("first", first, 0)
-        s = len(self._offsets)
-        if count * s > MAX_SAMPLES:
-            raise ValueError(f"count x subsamples must be at most {MAX_SAMPLES:.0e}, got "
-                             f"{count} x {s}: render in chunks")  # fmt: skip
-        size = self.grid.size
-        start = (np.arange(count) + first) / self.sampling.rate_hz
-        when = (start[:, None] + self.sampling.offsets_s()[None, :]).reshape(-1)
-        raw = self.raw_at(when)
-        if corrected:
-            raw = correct(raw, self.mu, self.gamma, gain=self.gain)
-        frames = raw.reshape(count, s, size).mean(axis=1)
-        return start, frames.reshape((count, *self.grid.frame_shape))
 
     def raw_at(self, when_s: np.ndarray) -> np.ndarray:
         """Combined raw intensities at the ascending times ``when_s`` (seconds from the

@@ -30,10 +30,11 @@ from ..rendering.methods import get_method
 from ..rendering.rasterize import check_target
 from ..rendering.shapes import TimedPath
 from ..rendering.trace import Sampling
+from ._tabled import MAX_TABLE_FRAMES
 from ._tact_coords import layout_box, unit_to_layout
 from ._tact_options import RotationOption, ScaleOption, option, rotated, scaled
 from ._tact_place import placements
-from ._tact_play import MAX_TABLE_FRAMES, PatternFrames
+from ._tact_play import PatternFrames
 from ._tact_records import TactError, TactFile
 
 NOTHING_TO_PLAY = "no paths or dots to play (no enabled track holds any)"

@@ -16,28 +16,20 @@ from __future__ import annotations
 
 import bisect
 import math
-import threading
-import time
 
 import numpy as np
 
-from .._shared import validate as _validate
-from ..rendering.correction import check_correction, correct, correct1
-from ..rendering.methods import get_method, layout_sampler
+from ..rendering.methods import layout_sampler
 from ..rendering.rasterize import (
     check_renders,
-    check_target,
     layout_entries,
     point_entries,  # fmt: skip
     render,
 )
 from ..rendering.shapes import FADES
-from ..rendering.trace import MAX_SAMPLES, Sampling, entry_table
+from ._tabled import TabledFrames
 from ._tact_coords import fade1
 
-MAX_TABLE_FRAMES = 200_000
-"""Most frames :meth:`PatternFrames.precompute` tabulates (11 minutes at 300 Hz); longer
-patterns are computed frame by frame as they play."""
 _MARGIN_S = 1e-9
 """Widens the search for effects that may be on at a time by more than the rounding of
 ``time - longest`` (the exact test ``start <= time <= end`` follows)."""
@@ -65,7 +57,7 @@ def _dot_columns(dots) -> tuple:
     )
 
 
-class PatternFrames:
+class PatternFrames(TabledFrames):
     """A pattern's frames on one array, served one at a time (the ``Scene.source`` protocol).
 
     :meth:`entries` serves frame ``k`` from a table when :meth:`precompute` has built it (the
@@ -83,14 +75,8 @@ class PatternFrames:
     """
 
     def __init__(self, pattern, method, target, sampling, mu, gamma, gain=1.0):
-        if not isinstance(sampling, Sampling):
-            raise ValueError(f"sampling must be a Sampling, got {_validate.shown(sampling)}")
+        self._setup(method, target, sampling, mu, gamma, gain)
         self.pattern = pattern
-        self.method = get_method(method)
-        self.grid = check_target(target)
-        self.sampling = sampling
-        self.mu, self.gamma = check_correction(mu, gamma)
-        self.gain = _validate.in_range("gain", gain, 0.0, 1.0)
         placed = pattern.placed(self.grid)
         self._places = [place for place, _, _ in placed]
         for place in self._places:
@@ -108,8 +94,12 @@ class PatternFrames:
         # per path: a method timed by its trace (TB) plays each over the path's own duration
         self._path_entries = {id(p): self._entries_for(self.method.on_clock(e - s), k)
                               for s, e, p, k in paths}  # fmt: skip
-        self._offsets = sampling.offsets_s().tolist()
-        self._table: list | None = None
+
+    THREAD_NAME = "tactile-tact-precompute"
+
+    def spans(self) -> list:
+        """When each path and dot is on: ``[(start_s, end_s), ...]``."""
+        return [(s, e) for s, e, *_ in self._paths] + [(d[0], d[1]) for d in self._dots]
 
     def _entries_for(self, method, k: int):
         """``entries(shape, t)``: the raw ``((index, value), ...)`` of ``method`` on placement
@@ -127,74 +117,7 @@ class PatternFrames:
         index = place.index.tolist()
         return lambda shape, t: tuple((index[i], v) for i, v in found(shape, t))
 
-    @property
-    def precomputed(self) -> bool:
-        """True once the table is in use."""
-        return self._table is not None
-
-    def busiest_frame(self) -> int:
-        """The frame at which the most paths and dots are on (the first such), 0 if none."""
-        spans = [(s, e) for s, e, *_ in self._paths] + [(d[0], d[1]) for d in self._dots]
-        edges = sorted([(s, 1) for s, _ in spans] + [(e, -1) for _, e in spans])
-        on, most, when = 0, 0, 0.0
-        for t, step in edges:  # (an end sorts before a start at the same time)
-            on += step
-            if on > most:
-                most, when = on, t
-        return min(int(when * self.sampling.rate_hz), max(self.n_frames - 1, 0))
-
-    def busiest_frame_s(self) -> float:
-        """Seconds the scalar path takes for :meth:`busiest_frame`: what playing costs a frame
-        before the table is built (measured here, the best of two)."""
-        k = self.busiest_frame()
-        best = math.inf
-        for _ in range(2):
-            start = time.perf_counter()
-            self.compute(k)
-            best = min(best, time.perf_counter() - start)
-        return best
-
-    def precompute(self, background: bool = False) -> None:
-        """Tabulate every frame (no-op beyond :data:`MAX_TABLE_FRAMES`); with
-        ``background=True`` in a daemon thread, frames coming from the scalar path meanwhile."""
-        if self._table is not None or self.n_frames > MAX_TABLE_FRAMES:
-            return
-        if background:
-            threading.Thread(target=self._build, args=(64,), name="tactile-tact-precompute",
-                             daemon=True).start()  # fmt: skip
-            return
-        self._build(self.n_frames)
-
-    def _build(self, chunk: int) -> None:
-        table = []
-        for first in range(0, self.n_frames, max(chunk, 1)):
-            count = min(chunk, self.n_frames - first)
-            _, frames = self.render(first, count)
-            table.extend(entry_table(frames.reshape(count, self.grid.size)))
-            if chunk < self.n_frames:
-                time.sleep(0)  # let a concurrent output thread run between chunks
-        self._table = table
-
-    def entries(self, k: int) -> tuple:
-        """Lit actuators of frame ``k`` (from the scene's start): ``((index, corrected value),
-        ...)``; empty after the pattern's end."""
-        if not 0 <= k < self.n_frames:
-            return ()
-        table = self._table
-        return table[k] if table is not None else self.compute(k)
-
-    def compute(self, k: int) -> tuple:
-        """Frame ``k`` by the scalar path, whether or not a table exists."""
-        start = k / self.sampling.rate_hz
-        mu, gamma, gain = self.mu, self.gamma, self.gain
-        acc: dict[int, float] = {}
-        for offset in self._offsets:
-            for i, v in self._raw(start + offset).items():
-                acc[i] = acc.get(i, 0.0) + correct1(v, mu, gamma, gain)
-        scale = 1.0 / len(self._offsets)
-        return tuple((i, v * scale) for i, v in acc.items())
-
-    def _raw(self, when: float) -> dict:
+    def raw1(self, when: float) -> dict:
         """Combined raw intensities at ``when`` seconds: the paths' maximum per actuator and
         the dots' capped sum, the larger of the two."""
         lit: dict[int, float] = {}
@@ -272,28 +195,3 @@ class PatternFrames:
                     lit = full
                 raw[on] = np.maximum(raw[on], lit)
         return np.maximum(raw, self._render_dots(when))
-
-    def frame(self, k: int) -> np.ndarray:
-        """Frame ``k`` as a dense array: ``(rows, cols)`` on a grid, ``(size,)`` on a layout."""
-        out = np.zeros(self.grid.size)
-        for i, v in self.entries(k):
-            out[i] = v
-        return out.reshape(self.grid.frame_shape)
-
-    def render(self, first: int, count: int, *, corrected: bool = True):
-        """Frames ``first .. first + count - 1`` at once: ``(time_s, frames)`` as
-        :meth:`TactPattern.frames` returns them."""
-        count = _validate.integer("count", count, 0)
-        first = _validate.integer("first", first, 0)
-        s = len(self._offsets)
-        if count * s > MAX_SAMPLES:
-            raise ValueError(f"count x subsamples must be at most {MAX_SAMPLES:.0e}, got "
-                             f"{count} x {s}: render in chunks")  # fmt: skip
-        rate, size = self.sampling.rate_hz, self.grid.size
-        start = (np.arange(count) + first) / rate
-        when = (start[:, None] + self.sampling.offsets_s()[None, :]).reshape(-1)
-        raw = self.raw_at(when)
-        if corrected:
-            raw = correct(raw, self.mu, self.gamma, gain=self.gain)
-        frames = raw.reshape(count, s, size).mean(axis=1)
-        return start, frames.reshape((count, *self.grid.frame_shape))

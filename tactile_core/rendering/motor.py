@@ -70,6 +70,33 @@ class MotorResponse:
             value = float(arr[0]) if arr.size == 1 else tuple(arr.tolist())
             object.__setattr__(self, name, value)
 
+    @property
+    def measured(self) -> bool:
+        """True when the constants were measured (``tactile measure`` writes a note that starts
+        with "measured"); False for estimates."""
+        return self.note.strip().lower().startswith("measured")
+
+    @property
+    def source(self) -> str:
+        """``"measured"`` or ``"estimate"``: what the tables and views say of the constants."""
+        return "measured" if self.measured else "estimate"
+
+    def describe(self) -> str:
+        """``"spin-up 30 ms, run-down 60 ms (estimate)"``; per-tactor constants as their range
+        (``"spin-up 28-33 ms"``), measured ones with the date of their note."""
+
+        def ms(value) -> str:
+            v = np.atleast_1d(np.asarray(value, dtype=np.float64)) * 1e3
+            lo, hi = float(v.min()), float(v.max())
+            return f"{lo:.3g} ms" if hi - lo < 0.05 else f"{lo:.3g}-{hi:.3g} ms"
+
+        what = self.source
+        if self.measured:
+            words = self.note.split()
+            when = words[1] if len(words) > 1 and words[1][:1].isdigit() else ""
+            what = f"measured {when}".strip()
+        return f"spin-up {ms(self.tau_up_s)}, run-down {ms(self.tau_down_s)} ({what})"
+
     def taus(self, size: int) -> tuple[np.ndarray, np.ndarray]:
         """``(tau_up, tau_down)``, each of shape ``(size,)``, in seconds."""
         up = _taus("tau_up_s", self.tau_up_s, size)

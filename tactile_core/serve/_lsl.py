@@ -35,6 +35,7 @@ from ..device.profile import DeviceProfile, default_profile
 
 MARKERS_NAME = "tactile-markers"
 LEVELS_NAME = "tactile-levels"
+VALIDATION_NAME = "tactile-validation"
 
 
 MAX_SAME_ID = 99
@@ -326,3 +327,51 @@ class LslOutlets:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+class ValidationOutlet:
+    """The validator's marker stream ``tactile-validation`` (type ``Markers``, one string
+    channel): one JSON sample per presentation, stamped with the time the sensor detected its
+    first vibration (the commanded time when none was found).
+
+    Parameters
+    ----------
+    profile : DeviceProfile, optional
+        The array (its name goes into the stream's description and source id).
+
+    Raises
+    ------
+    LslError
+        When the outlet cannot be opened.
+    """
+
+    def __init__(self, profile: DeviceProfile | None = None):
+        pylsl = _pylsl()
+        self.profile = profile or default_profile()
+        wanted = f"tactile-{self.profile.name}-validation"
+        self.source_id, self._lock, _ = claim_source_id(wanted)
+        try:
+            self.offset_s = lsl_offset_s()
+            info = pylsl.StreamInfo(VALIDATION_NAME, "Markers", 1, pylsl.IRREGULAR_RATE,
+                                    pylsl.cf_string, self.source_id)  # fmt: skip
+            desc = info.desc()
+            desc.append_child_value("software", f"tactile-tuner {__version__}")
+            desc.append_child_value("device", self.profile.name)
+            self._outlet = pylsl.StreamOutlet(info)
+        except Exception as exc:
+            self.close()
+            raise LslError(f"Lab Streaming Layer: cannot open {VALIDATION_NAME}: {exc}") from None
+        self.sent = 0
+
+    def push(self, data: dict, time_s: float) -> None:
+        """Send ``data`` as JSON stamped ``time_s`` (``time.perf_counter`` seconds)."""
+        if self._outlet is not None:
+            self._outlet.push_sample([json.dumps(data, separators=(",", ":"))],
+                                     time_s + self.offset_s)  # fmt: skip
+            self.sent += 1
+
+    def close(self) -> None:
+        """Close the outlet and give up its source id."""
+        self._outlet = None
+        lock, self._lock = getattr(self, "_lock", None), None
+        release_source_id(lock)
