@@ -13,7 +13,8 @@ knows the state, the device controller and the core, never another part:
 - :mod:`.compare` - methods side by side; :mod:`.blind` - blind A/B on the array, the view of
   a :class:`tactile_core.experiments.BlindSession`.
 - :mod:`.experiments` - the experimenter's console, the participant's window, guided tuning.
-- :mod:`.controls` - the controls dock; :mod:`.device_panel` - the device dock.
+- :mod:`.controls` - the controls dock; :mod:`.device_panel` - the device dock;
+  :mod:`.timeline` - the pattern editor's dock (its state a Qt-free model).
 - :mod:`.files` - presets, exports, profiles; :mod:`.menus` - the menu bar; :mod:`.keys` - the
   application-wide keys.
 

@@ -16,7 +16,7 @@ from tactile_core.device.profile import (
     profile_names,
 )
 from tactile_core.files import export, tact
-from tactile_core.files.pattern import Pattern, PatternError
+from tactile_core.files.pattern import Pattern, PatternCue, PatternError
 from tactile_core.files.presets import MAX_NAME_CHARS, Preset, PresetError, load_preset, save_preset
 from tactile_core.files.tact import TactError, load_pattern, path_of_scene, write_tact
 from tactile_core.rendering.shapes import TimedPath
@@ -374,7 +374,8 @@ class FileActions(QtCore.QObject, KeepsDrawing):
         ``source`` was imported from (with the options it plays with), ``{"path", "kind":
         "pattern"}`` of a pattern file it was opened from, or None (neither)."""
         pattern, where = self._pattern_file
-        if isinstance(pattern, Pattern):  # a pattern file
+        if isinstance(pattern, Pattern):  # a pattern file (or a moment of it: a cue)
+            source = source.pattern if isinstance(source, PatternCue) else source
             return dict(where) if source is not None and source is pattern else None
         if source is None or pattern is None or getattr(source, "file", None) is not pattern.file:
             return None

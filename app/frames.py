@@ -30,11 +30,14 @@ class SceneFrames:
 
     def at(self, scene, target, rate_hz: float, start_s: float) -> tuple:
         """``((flat index, value), ...)`` of the lit tactors of the frame that starts
-        ``start_s`` seconds into ``scene``'s trace clock, rendered at ``rate_hz`` on ``target``
-        (a Grid or Layout)."""
+        ``start_s`` seconds into ``scene``'s trace clock (a pattern's: since the stream began to
+        play it), rendered at ``rate_hz`` on ``target`` (a Grid or Layout)."""
         key = self._key
         if key is None or key[0] is not scene or key[1] is not target or key[2] != rate_hz:
             source = scene.replace(mu=0.0, gamma=1.0, gain=1.0) if self.raw else scene
             self._frames = source.live(target, rate_hz)
             self._key = (scene, target, rate_hz)
-        return self._frames.entries_at(start_s)
+        frames = self._frames
+        if hasattr(frames, "entries_at"):
+            return frames.entries_at(start_s)
+        return frames.entries(round(start_s * rate_hz))  # a pattern's: frame k starts at k / rate

@@ -22,8 +22,9 @@ class KeyFilter(QtCore.QObject):
     - **Esc** turns everything off from anywhere in the window, even with the cursor in a text
       box; but with a menu, a drop-down or a dialog open, Esc is theirs (it closes them).
     - **Space** and **1-8** (play/pause, methods) act unless a text input has the focus, so
-      typing ``COM2`` or ``0.35`` never switches the method. **Enter** in a field commits its
-      value and gives the keys back to the window.
+      typing ``COM2`` or ``0.35`` never switches the method; Space is a widget's own when it
+      says so (``takes_space``: the pattern editor's time line plays its pattern). **Enter**
+      in a field commits its value and gives the keys back to the window.
     - During an experiment the run owns the keyboard.
 
     The window says what the keys do, with callables.
@@ -93,6 +94,8 @@ class KeyFilter(QtCore.QObject):
                 QtCore.QTimer.singleShot(0, self.on_return)
             return False
         if key == QtCore.Qt.Key.Key_Space:
+            if getattr(focus, "takes_space", False):
+                return False  # a view that plays on its own (the pattern editor's time line)
             self.on_space()
             return True
         if QtCore.Qt.Key.Key_1 <= key <= QtCore.Qt.Key.Key_8:

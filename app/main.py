@@ -45,9 +45,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--tab",
-        choices=("tune", "compare", "blind", "experiments"),
+        choices=("tune", "compare", "blind", "experiments", "editor"),
         default=None,
-        help="tab to show first (useful with --screenshot)",
+        help="tab to show first (useful with --screenshot); editor: the Tune tab with the "
+        "pattern editor shown",
     )
     p.add_argument("--no-restore", action="store_true", help="ignore the last session's state")
     p.add_argument(
@@ -151,9 +152,13 @@ def main(argv=None) -> int:
     sys.excepthook = excepthook
     close_on_signals(window)
 
-    tabs = {"tune": 0, "compare": 1, "blind": 2, "experiments": 3}
+    tabs = {"tune": 0, "compare": 1, "blind": 2, "experiments": 3, "editor": 0}
     if args.tab:
         window.tabs.setCurrentIndex(min(tabs[args.tab], window.tabs.count() - 1))
+    if args.tab == "editor":
+        from .timeline import show_editor
+
+        show_editor(window.timeline)
     if args.size:
         window.resize(*args.size)
     window.fit_to_screen(keep_size=args.size is not None)  # a size asked for is the size

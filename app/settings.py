@@ -1,8 +1,9 @@
 """What the tuner remembers between sessions (QSettings): the scene (and the ``.tact`` file of a
-pattern it played), the window's layout, the heatmap's view, the curves' lanes, the Compare and
-Blind A/B method sets, the results folder, the Lab Streaming Layer setting and the OSC server's
-address (never whether it was serving: another program drives the array only when asked in this
-session). ``--no-restore`` ignores them; a run never writes its trial scenes here."""
+pattern it played), the pattern editor's pattern, the window's layout, the heatmap's view, the
+curves' lanes, the Compare and Blind A/B method sets, the results folder, the Lab Streaming
+Layer setting and the OSC server's address (never whether it was serving: another program
+drives the array only when asked in this session). ``--no-restore`` ignores them; a run never
+writes its trial scenes here."""
 
 from __future__ import annotations
 
@@ -20,6 +21,9 @@ from tactile_core.files.presets import (
 )
 
 from .state import DEFAULT_SCENE
+from .timeline.editor import restore_session as restore_editor
+from .timeline.editor import resume_session as resume_editor
+from .timeline.editor import save_session as save_editor
 
 START_PRESET = "exp1-line"
 """The built-in preset the tuner starts from without a last session (or with ``--no-restore``)."""
@@ -58,8 +62,8 @@ def reopen_pattern(window) -> None:
     settings = window.settings
     try:
         last = json.loads(str(settings.value("tact_pattern", "") or "null"))
-        path, position = Path(last["path"]), last.get("position")
-    except (ValueError, TypeError, KeyError):
+        path, position = Path(last.get("path", "")), last.get("position")
+    except (ValueError, TypeError, AttributeError):
         last = None  # none (or damaged)
     try:
         shapeless = json.loads(str(settings.value("scene", ""))).get("shape", 0) is None
@@ -69,7 +73,12 @@ def reopen_pattern(window) -> None:
         return  # the last session played a shape
     kept = (f"{window.files.preset_name} with the last session's tuning (method, mu, gamma, "
             "timing)")  # fmt: skip
-    if last is not None and last.get("kind") == "pattern":  # a pattern file
+    if last is not None and last.get("kind") == "editor":  # the pattern editor's
+        name = window.timeline.model.pattern.name or "untitled"
+        said = (f"the last session's pattern again: {name}, from the pattern editor"
+                if resume_editor(window.timeline, settings) else f"the pattern editor's {name} "
+                f"does not play here: {kept}")  # fmt: skip
+    elif last is not None and last.get("kind") == "pattern":  # a pattern file
         opened = path.is_file() and window.files.open_pattern_file(path)
         said = (f"the last session's pattern again: {path}" if opened else
                 f"the last session's pattern {path} no longer opens: {kept}")  # fmt: skip
@@ -105,6 +114,9 @@ def restore_window(window) -> None:
             continue  # for a grid, and this layout is not one: its own set, as its note says
         if methods and methods != chooser.methods and not chooser.apply(methods):
             chooser.refuse("")  # a method gone since (a plug-in): the default, silently
+    said = restore_editor(window.timeline, settings)
+    if said:
+        window.statusBar().showMessage(said, 10_000)
     folder = settings.value("results_folder")
     if folder:
         window.experiments.setup.folder_edit.setText(str(folder))
@@ -138,6 +150,8 @@ def save_window(window) -> None:
     scene = window.experiments.saved_scene or window.state.scene
     files = window.files
     pattern = files.pattern_file(scene.source) if scene.shape is None else None
+    if pattern is None and window.timeline.owns_scene() and scene is window.state.scene:
+        pattern = {"kind": "editor"}  # the editor's pattern (kept below), and how it played
     if scene.shape is None:  # a pattern (or points another program drove): a preset holds a
         scene = scene.replace(shape=DEFAULT_SCENE.shape, source=None)  # shape; the tuning stays
     preset = Preset(scene, files.preset_name, files.preset_notes, window.device.profile.name,
@@ -151,6 +165,7 @@ def save_window(window) -> None:
     settings.setValue("compare_methods", " ".join(window.compare.chosen_methods))
     settings.setValue("blind_methods", " ".join(window.blind.chosen_methods))
     settings.setValue("results_folder", window.experiments.setup.folder_edit.text())
+    save_editor(window.timeline, settings)
     live = window.serve
     settings.setValue("osc_host", live.host)
     settings.setValue("osc_port", live.port)

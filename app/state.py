@@ -5,7 +5,7 @@ from __future__ import annotations
 from PySide6 import QtCore
 
 import tactile_core as tc
-from tactile_core.files.pattern import Pattern
+from tactile_core.files.pattern import Pattern, PatternCue
 from tactile_core.rendering import placement
 from tactile_core.rendering.geometry import Grid
 from tactile_core.rendering.layout import Layout
@@ -127,8 +127,8 @@ class TunerState(QtCore.QObject):
 
     def update(self, *, owner=None, **changes) -> bool:
         """Apply field changes; False (and :attr:`error_raised`) if they are invalid. Playing
-        (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go;
-        :attr:`play_guard` may refuse it.
+        (``playing=True``) without a ``hold_s`` plays the trace: a held instant is let go (a
+        held :class:`PatternCue` plays on from its moment); :attr:`play_guard` may refuse it.
 
         A change that starts a new presentation (a new epoch or shape, playing after a pause)
         without naming its ``marker`` is the tuner's own: the kind a part gave the scene before
@@ -142,6 +142,8 @@ class TunerState(QtCore.QObject):
             return False
         if changes.get("playing") and "hold_s" not in changes:
             changes["hold_s"] = None
+            if "source" not in changes and isinstance(self._scene.source, PatternCue):
+                changes["source"] = self._scene.source.played()  # held: plays on from there
         if changes.get("shape") is not None and "source" not in changes:
             changes["source"] = None  # a shape picked replaces a pattern, which would win
         why = placement.refusal(changes["method"], self._layout) if "method" in changes else ""
@@ -205,8 +207,21 @@ class TunerState(QtCore.QObject):
         self.scene_changed.emit(scene)
         return True
 
+    @property
+    def held(self) -> bool:
+        """Whether the scene holds an instant: a scrubbed trace (``hold_s``) or a held
+        pattern (:class:`PatternCue`); playing lets it go."""
+        source = self._scene.source
+        return self._scene.hold_s is not None or (isinstance(source, PatternCue) and source.hold)
+
     def restart(self) -> None:
-        """Start the trace again from its beginning."""
+        """Start the trace again from its beginning (a pattern played from a moment of it,
+        from its own beginning)."""
+        source = self._scene.source
+        if isinstance(source, PatternCue):
+            self.update(source=PatternCue(source.pattern), epoch=self._scene.epoch + 1,
+                        playing=True)  # fmt: skip
+            return
         self.update(epoch=self._scene.epoch + 1, playing=True)
 
     @property
@@ -239,7 +254,7 @@ class TunerState(QtCore.QObject):
             shape = placement.default_shape(layout)
             self._post(f"the shape lies off this layout ({layout.describe()}): {shape} instead")
             scene = scene.replace(shape=shape, hold_s=None)
-        if isinstance(scene.source, Pattern):  # its groups, its dots' actuators, its methods
+        if isinstance(scene.source, (Pattern, PatternCue)):  # its groups, dots, methods
             try:
                 scene.source.check(layout)
             except ValueError as exc:

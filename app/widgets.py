@@ -1,5 +1,6 @@
-"""Small widgets the parts share: a label that elides, one that wraps, a set of methods to
-compare, and a guard that lets the mouse wheel scroll a panel instead of turning its values."""
+"""Small widgets the parts share: a spin box that commits on Enter, a label that elides, one
+that wraps, a set of methods to compare, and a guard that lets the mouse wheel scroll a panel
+instead of turning its values."""
 
 from __future__ import annotations
 
@@ -8,6 +9,19 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from tactile_core.rendering.methods import METHODS, get_method, method_names
 
 from .texts import tip
+
+
+def spin_box(lo, hi, step, decimals, suffix="", kind=QtWidgets.QDoubleSpinBox):
+    """A spin box (a ``kind``) over ``lo..hi`` that commits on Enter or focus loss, not on
+    every keystroke."""
+    box = kind()
+    box.setRange(lo, hi)
+    box.setSingleStep(step)
+    box.setDecimals(decimals)
+    box.setKeyboardTracking(False)
+    if suffix:
+        box.setSuffix(suffix)
+    return box
 
 
 class ElidedLabel(QtWidgets.QLabel):

@@ -4,9 +4,9 @@ The parts know the state (:mod:`.state`), the device controller (:mod:`.device`)
 never each other: the Tune tab (:mod:`.tune`), Compare (:mod:`.compare`), Blind A/B
 (:mod:`.blind`), the experiments console with the participant's window and guided tuning
 (:mod:`.experiments`), the controls (:mod:`.controls`) and the device panel
-(:mod:`.device_panel`) in docks, the files (:mod:`.files`), the menus (:mod:`.menus`) and the
-keys (:mod:`.keys`). This module connects their signals, decides what a run or a blind test
-hides, and keeps the session's settings.
+(:mod:`.device_panel`) and the pattern editor (:mod:`.timeline`) in docks, the files
+(:mod:`.files`), the menus (:mod:`.menus`) and the keys (:mod:`.keys`). This module connects
+their signals, decides what a run or a blind test hides, and keeps the session's settings.
 """
 
 from __future__ import annotations
@@ -39,6 +39,7 @@ from .texts import (
     RUN_FILES,
     value3,
 )
+from .timeline import install_timeline
 from .titles import scene_name
 from .tune import TuneWidget
 
@@ -183,7 +184,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self._key_filter = KeyFilter(
             self,
             windows=lambda: (self, self.experiments.participant_window),
-            on_escape=self._on_escape_pressed,
+            on_escape=self.all_off,
             run_active=lambda: self.experiments.running,
             on_run_key=self.experiments.handle_key,
             on_space=self.toggle_play,
@@ -192,6 +193,7 @@ class MainWindow(QtWidgets.QMainWindow):
             run_only=lambda: (self.experiments.participant_window,),
         )
         QtWidgets.QApplication.instance().installEventFilter(self._key_filter)
+        self.timeline = install_timeline(self)  # the pattern editor (a dock)
 
         self.tune.refresh()
         self._update_title()
@@ -274,17 +276,13 @@ class MainWindow(QtWidgets.QMainWindow):
         else:
             self.statusBar().showMessage("all off (Space plays again)")
 
-    def _on_escape_pressed(self) -> None:
-        self.all_off()
-
     def toggle_play(self) -> None:
         """Play or pause the trace (Space); a pulsed tactor is let go first."""
         if self.tune.gestures.pulsing:
             self.tune.gestures.end_pulse()
             return
-        scene = self.state.scene
         # A held (scrubbed) instant plays the trace again; otherwise play or pause.
-        self.state.update(playing=scene.hold_s is not None or not scene.playing)
+        self.state.update(playing=self.state.held or not self.state.scene.playing)
 
     def press_number(self, key: int) -> bool:
         """Number keys: the method, or in blind A/B the shuffled method behind the key; True if

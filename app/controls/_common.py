@@ -8,6 +8,7 @@ import re
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from ..texts import value3
+from ..widgets import spin_box  # noqa: F401 (the boxes' spin box, shared with the editor)
 
 
 class CorrectionSpinBox(QtWidgets.QDoubleSpinBox):
@@ -78,19 +79,6 @@ _EXACT_DECIMALS = 323
 decimals, and at this many a double keeps its own value."""
 _PARTIAL_NUMBER = re.compile(r"[+-]?\d*\.?\d*(?:[eE][+-]?\d*)?")
 """What may become a number as one types it (``1e-``, ``.``)."""
-
-
-def spin_box(lo, hi, step, decimals, suffix="", kind=QtWidgets.QDoubleSpinBox):
-    """A spin box (a ``kind``) over ``lo..hi`` that commits on Enter or focus loss, not on
-    every keystroke."""
-    box = kind()
-    box.setRange(lo, hi)
-    box.setSingleStep(step)
-    box.setDecimals(decimals)
-    box.setKeyboardTracking(False)
-    if suffix:
-        box.setSuffix(suffix)
-    return box
 
 
 class SceneGroupWidget(QtWidgets.QGroupBox):

@@ -6,7 +6,7 @@ from __future__ import annotations
 from PySide6 import QtCore, QtWidgets
 
 import tactile_core as tc
-from tactile_core.files.pattern import Pattern
+from tactile_core.files.pattern import Pattern, PatternCue
 from tactile_core.files.tact import TactPattern
 from tactile_core.rendering import placement
 
@@ -203,6 +203,8 @@ def describe_content(scene, target) -> str:
             return (f"A time-keyed path of {points} points over {shape.duration_s:g} s "
                     f"(drawn or imported).{pick}")  # fmt: skip
         return f"A {type(shape).__name__.lower()} of {points} points.{pick}"
+    if isinstance(source, PatternCue):  # a pattern from a moment of it (the editor's)
+        source = source.pattern
     if isinstance(source, Pattern):  # a pattern file
         effects, tracks = count(len(source.effects), "effect"), count(len(source.tracks), "track")
         return (f"The pattern {source.name or 'untitled'}: {effects} on {tracks} over "

@@ -79,10 +79,15 @@ class FrameDisplay(QtCore.QObject):
         heatmap = tune.heatmap
         if self._show_driven():
             return
-        _, trace_time = self.device.streamer.last_frame
+        frame_scene, trace_time = self.device.streamer.last_frame
         trace = self._trace(scene)
         start = phase = None  # the frame shown: where it starts on the trace clock
-        if trace is not None and scene.hold_s is not None:
+        pattern = scene.source if trace is None and hasattr(scene.source, "curves") else None
+        if pattern is not None:  # a pattern, played or held (an editor's cue)
+            taken = frame_scene is not None and frame_scene.source is pattern and (
+                frame_scene.epoch == scene.epoch)  # fmt: skip
+            start, phase = self._pattern_instant(scene, pattern, trace_time if taken else None)
+        elif trace is not None and scene.hold_s is not None:
             start = phase = min(scene.hold_s, trace.period_s)  # scrubbed: the array holds it
         elif trace is not None and trace_time is not None and scene.playing:
             start = trace_time
@@ -98,13 +103,30 @@ class FrameDisplay(QtCore.QObject):
             return
         if not tune.method_hidden:
             heatmap.set_frame(values, labels)
-            t = None if start is None or heatmap.drawing else trace.parameter1(start)
+            traced = start is not None and trace is not None and not heatmap.drawing
+            t = trace.parameter1(start) if traced else None  # (a pattern has no point)
             point = None if t is None else scene.shape.point(t)
             if heatmap.drawing and scene.playing and scene.shape is not None:
                 point = scene.shape.point(0.0)
             heatmap.set_point(point)
             tune.curves.set_cursor(phase)
             self.frame_shown.emit(scene, start, rate_hz, phase)
+
+    def _pattern_instant(self, scene, pattern, trace_time) -> tuple:
+        """A pattern's frame to show: ``(start, phase)``, where it starts on the stream's clock
+        (seconds since the stream began to play it) and the pattern's time then (the curves'
+        cursor: a cue's own, from its moment on). A held cue: its moment. Paused: where it was;
+        ``(None, None)`` until the stream plays it (``trace_time`` None)."""
+        if getattr(pattern, "hold", False):  # whatever the stream's clock: that one frame
+            self._last = (0.0, pattern.pattern_time_s(0.0))
+        elif scene.playing and trace_time is not None:
+            when = getattr(pattern, "pattern_time_s", None)
+            phase = when(trace_time) if when is not None else min(trace_time,
+                                                                  pattern.duration_s)  # fmt: skip
+            self._last = (trace_time, phase)
+        elif scene.playing or self._last is None:
+            return None, None
+        return self._last
 
     def _show_driven(self) -> bool:
         """Another program's points or a pulsed tactor, as the stream sends them (True); False

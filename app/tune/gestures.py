@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6 import QtCore
 
 import tactile_core as tc
+from tactile_core.files.pattern import Pattern, PatternCue
 from tactile_core.rendering import placement
 from tactile_core.rendering.methods import get_method
 
@@ -23,7 +24,8 @@ class HeatmapGestures(QtCore.QObject):
       leaving it puts back the whole scene it changed. Round a wrap the point is taken into
       one turn, so a path drawn across the seam goes on at the other end.
     - Dragging the curves' cursor holds the trace at that time (:attr:`scrub_s`): the views
-      and the array show that instant until it plays again (Space).
+      and the array show that instant until it plays again (Space); a pattern is held there
+      (a held :class:`~tactile_core.files.pattern.PatternCue`) and plays on from there.
 
     Parameters
     ----------
@@ -134,7 +136,14 @@ class HeatmapGestures(QtCore.QObject):
         """The cursor dragged: the array holds the trace at that time, as the views do."""
         if self.heatmap.drawing or self.pulsing:
             return
-        period = self.state.scene.duration_s + self.state.scene.pause_s
+        scene = self.state.scene
+        pattern = scene.source if scene.shape is None else None
+        pattern = pattern.pattern if isinstance(pattern, PatternCue) else pattern
+        if isinstance(pattern, Pattern):  # held at that moment of it (a cue)
+            at_s = min(max(0.0, float(time_s)), pattern.duration_s)
+            self.state.update(playing=True, source=PatternCue(pattern, at_s, hold=True))
+            return
+        period = scene.duration_s + scene.pause_s
         self.state.update(playing=True, hold_s=min(max(0.0, float(time_s)), period))
 
     # --- draw mode -----------------------------------------------------------------------------

@@ -190,8 +190,7 @@ def _write_wav(args, out, profile, frames, what: str) -> int:
     """``tactile render --out FILE.wav``: the corrected frames calibrated and quantised as the
     streamer does, in channel order, as the carriers an audio interface would play."""
     from ..device.audio import CARRIER_RANGE_HZ, DEFAULT_RAMP_MS, RAMP_RANGE_MS, SAMPLERATE_RANGE
-    from ..files.wav import write_wav
-    from ..rendering.correction import quantize
+    from ..files.wav import frame_levels, write_wav
 
     samplerate = 48000 if args.samplerate is None else args.samplerate
     ramp_ms = DEFAULT_RAMP_MS if args.ramp_ms is None else args.ramp_ms
@@ -199,8 +198,7 @@ def _write_wav(args, out, profile, frames, what: str) -> int:
     _validate.in_range("ramp-ms", ramp_ms, *RAMP_RANGE_MS)
     if args.carrier_hz is not None:
         _validate.in_range("carrier-hz", args.carrier_hz, *CARRIER_RANGE_HZ)
-    flat = profile.calibrate(frames.reshape(len(frames), -1))  # cell order
-    levels = quantize(flat, profile.levels)[:, profile.array.channel_index]
+    levels = frame_levels(frames, profile)
     try:
         written = write_wav(out, levels, args.rate, profile, samplerate=samplerate,
                             carrier_hz=args.carrier_hz, ramp_ms=ramp_ms)  # fmt: skip

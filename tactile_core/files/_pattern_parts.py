@@ -113,6 +113,7 @@ class _Effect:
         """Append the effect's strokes and dots (those that start within a play: dots and
         ``.tact`` content keep their own times and are cut at the end of the play)."""
         content, target, members = self.effect.content, self.target, self.members
+        first_stroke, first_dot = len(strokes), len(dots)  # only this effect's are filtered
         if isinstance(content, Dots):
             for j, d in enumerate(content.dots):
                 at = d.at if isinstance(d.at, int) else _nearest(target, members, *d.at)
@@ -128,8 +129,8 @@ class _Effect:
                 dots.append(self.dot(d, at, f"tact.dots[{j}]"))
         else:  # a shape: traced over the whole play, whatever its own duration
             strokes.append(self.stroke(content, 0.0, self.effect.duration_s))
-        strokes[:] = [p for p in strokes if p.a < p.stop]
-        dots[:] = [p for p in dots if p.a < p.stop]
+        strokes[first_stroke:] = [p for p in strokes[first_stroke:] if p.a < p.stop]
+        dots[first_dot:] = [p for p in dots[first_dot:] if p.a < p.stop]
 
     def stroke(self, shape, a_s: float, b_s: float) -> Part:
         """A stroke over ``[a_s, b_s]`` of a play."""

@@ -13,6 +13,8 @@ plays it, :meth:`Pattern.frames` renders it; ``tactile render`` and ``tactile st
 as ``--shape pattern:FILE``. Its file is versioned JSON (``"format": "tactile-pattern"``),
 read field by field (:class:`PatternError` names the field); it exports to ``.tact``
 (:meth:`Pattern.to_tact`). ``docs/patterns.md`` documents the file and the rules.
+:class:`PatternCue` plays a pattern from a moment of it, or holds that moment (an editor's
+playhead).
 
 >>> import tactile_core as tc
 >>> taps = tc.Pattern([tc.Effect(tc.Dots([tc.Dot(14, 0.5, 0.0, 0.1)]), start_s=0.2, repeat=3,
@@ -29,6 +31,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .._shared.assets import assets_dir
+from ._pattern_cue import CueFrames, PatternCue
 from ._pattern_effects import (
     COMBINE,
     MAX_DOTS,
@@ -59,10 +62,12 @@ __all__ = [
     "MAX_TOTAL_POINTS",
     "MAX_TRACKS",
     "VERSION",
+    "CueFrames",
     "Dot",
     "Dots",
     "Effect",
     "Pattern",
+    "PatternCue",
     "PatternError",
     "PatternFrames",
     "TactEffect",

@@ -23,6 +23,7 @@ from ..device.audio import (
     synthesize,
 )
 from ..device.profile import DeviceProfile
+from ..rendering.correction import quantize
 
 TAIL_S = 0.01
 """Silence after the final fade: the file ends as the stream does, in zeros."""
@@ -52,6 +53,25 @@ def _check_levels(levels: np.ndarray, top: int) -> None:
         k, c = np.argwhere(bad)[0]
         raise ValueError(f"levels[{k}, {c}] must be a device level 0..{top}, got "
                          f"{_validate.shown(levels[k, c].item())}")  # fmt: skip
+
+
+def frame_levels(frames, profile: DeviceProfile) -> np.ndarray:
+    """Corrected frames as the device levels the streamer sends, in channel order: calibrated
+    by the profile, quantised to its levels (what :func:`write_wav` takes).
+
+    Parameters
+    ----------
+    frames : array_like of float, ``(n, rows, cols)`` or ``(n, size)``
+        Corrected intensities in [0, 1], in the layout's cell order.
+    profile : DeviceProfile
+
+    Returns
+    -------
+    ndarray of int, ``(n, channels)``
+    """
+    frames = np.asarray(frames, dtype=np.float64)
+    flat = profile.calibrate(frames.reshape(len(frames), -1))  # cell order
+    return quantize(flat, profile.levels)[:, profile.array.channel_index]
 
 
 def write_wav(path, levels, rate_hz: float, profile: DeviceProfile, *, samplerate: int = 48000,
