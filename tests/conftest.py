@@ -102,3 +102,20 @@ def sim(firmware, tmp_path):
     from .firmware_support import simulation
 
     yield from simulation(firmware, tmp_path)
+
+
+@pytest.fixture
+def window(qtbot, qt_settings):
+    """The tuner's main window at 1280 x 720, its stream a thread of this process, streaming
+    before the test starts (a test file may define a window of its own)."""
+    from tactile_tuner.window import MainWindow
+
+    win = MainWindow(restore=False, process=False)  # the stream as a thread: quicker
+    qtbot.addWidget(win)
+    win.resize(1280, 720)
+    win.show()
+    qtbot.waitExposed(win)
+    qtbot.waitUntil(lambda: win.device.stats.frames > 5, timeout=10_000)
+    yield win
+    win.confirm = lambda title, text: True
+    win.close()

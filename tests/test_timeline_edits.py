@@ -8,10 +8,8 @@ from PySide6 import QtCore
 
 import tactile_core as tc
 
-from . import timeline_support
 from .timeline_support import click_tactor, editor_of
 
-window = timeline_support.window  # the fixture
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 LINE = tc.Line((0.5, 1.5), (4.5, 1.5))

@@ -13,11 +13,9 @@ import tactile_core as tc
 from tactile_core.files.pattern import Pattern, example_patterns
 from tactile_core.files.wav import frame_levels
 
-from . import timeline_support
 from .helpers import record_sent
 from .timeline_support import click_tactor, editor_of
 
-window = timeline_support.window  # the fixture
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 

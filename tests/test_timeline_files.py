@@ -12,10 +12,9 @@ import tactile_core as tc
 from tactile_core.files.pattern import Pattern, PatternCue
 from tactile_core.files.tact import load_pattern
 
-from . import tact_support, timeline_support
+from . import tact_support
 from .timeline_support import editor_of
 
-window = timeline_support.window  # the fixture
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 

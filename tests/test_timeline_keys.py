@@ -11,11 +11,9 @@ from PySide6 import QtCore, QtWidgets
 import tactile_core as tc
 from tactile_core.files.pattern import PatternCue
 
-from . import timeline_support
 from .timeline_support import editor_of
 from .tuner_support import WAIT_MS
 
-window = timeline_support.window  # the fixture
 pytestmark = pytest.mark.usefixtures("qt_settings")
 Key = QtCore.Qt.Key
 Mod = QtCore.Qt.KeyboardModifier

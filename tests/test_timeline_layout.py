@@ -7,11 +7,9 @@ from PySide6 import QtCore
 
 import tactile_core as tc
 
-from . import timeline_support
 from .timeline_support import editor_of
 from .tuner_support import settle
 
-window = timeline_support.window  # the fixture
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 

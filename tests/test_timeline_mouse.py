@@ -8,11 +8,9 @@ from PySide6 import QtCore
 import tactile_core as tc
 from tactile_core.files.pattern import PatternCue
 
-from . import timeline_support
 from .timeline_support import block_point, drag, editor_of
 from .tuner_support import WAIT_MS
 
-window = timeline_support.window  # the fixture
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 

@@ -11,12 +11,10 @@ import pytest
 from tactile_core.files.pattern import Pattern, PatternCue, example_patterns
 from tactile_core.files.wav import frame_levels
 
-from . import timeline_support
 from .helpers import record_sent
 from .timeline_support import editor_of, wait_shown
 from .tuner_support import WAIT_MS, frames_sent
 
-window = timeline_support.window  # the fixture
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 

@@ -7,8 +7,6 @@ import json
 import pytest
 from PySide6 import QtCore
 
-from .tuner_support import window  # noqa: F401 (a fixture)
-
 Key = QtCore.Qt.Key
 
 

@@ -13,9 +13,6 @@ from tactile_core.files.presets import MAX_NAME_CHARS, builtin_presets, load_pre
 from tactile_core.files.tact import load_pattern
 
 from . import tact_support as ts
-from . import tuner_support as support
-
-window = support.window  # the fixture
 
 
 def test_dialog_names_and_extensions():

@@ -8,11 +8,8 @@ from PySide6 import QtCore
 
 import tactile_core as tc
 
-from . import tuner_support as support
 from .helpers import record_sent
 from .tuner_support import WAIT_MS, frames_sent, frames_shown
-
-window = support.window  # the fixture
 
 Key = QtCore.Qt.Key
 

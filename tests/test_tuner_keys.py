@@ -6,10 +6,7 @@ rather than turning a spin box, and Help lists the keys."""
 import pytest
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from . import tuner_support as support
 from .tuner_support import WAIT_MS
-
-window = support.window  # the fixture
 
 Key = QtCore.Qt.Key
 

@@ -4,10 +4,7 @@ is refused stays explained under the field, in red, until another set is applied
 import pytest
 from PySide6 import QtCore
 
-from . import tuner_support as support
 from .tuner_support import WAIT_MS
-
-window = support.window  # the fixture
 
 Key = QtCore.Qt.Key
 

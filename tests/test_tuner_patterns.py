@@ -7,13 +7,9 @@ import pytest
 
 from tactile_core.files.pattern import Pattern, example_patterns
 
-from . import tuner_support as support
 from .helpers import record_sent
 
 pytestmark = pytest.mark.usefixtures("qt_settings")
-
-
-window = support.window  # the fixture
 
 
 def test_the_file_menu_opens_patterns_and_lists_the_examples(window):
@@ -112,8 +108,11 @@ def test_the_profiles_a_pattern_plays_on_are_those_with_its_groups():
     from tactile_tuner.files import profiles_playing
 
     sweep = Pattern.load(example_patterns()["vest-sweep"])
-    with_groups = [name for name in profile_names()
-                   if {"front", "back"} <= dict(find_profile(name).layout.groups).keys()]  # fmt: skip
+    with_groups = [
+        name
+        for name in profile_names()
+        if {"front", "back"} <= dict(find_profile(name).layout.groups).keys()
+    ]
     assert profiles_playing(sweep) == with_groups == ["vest-front-back"]
     assert profiles_playing(Pattern.load(example_patterns()["letter-a"]))[0] == "palm-5x6"
 
@@ -140,8 +139,7 @@ def test_an_example_pattern_does_not_switch_while_the_profile_may_not_change(win
     window.files.profile_blocked = lambda: "not now: the Blind A/B ratings are unsaved"
     assert not window.files.open_pattern_file(example_patterns()["vest-sweep"], example=True)
     assert window.last_error.endswith(
-        "It plays on the device profile vest-front-back: not now: the Blind A/B ratings are "
-        "unsaved"
+        "It plays on the device profile vest-front-back: not now: the Blind A/B ratings are unsaved"
     )
     assert window.device.profile.name == "palm-5x6"
 

@@ -8,10 +8,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 import tactile_core as tc
 
-from . import tuner_support as support
 from .tuner_support import WAIT_MS, frames_shown
-
-window = support.window  # the fixture
 
 Key = QtCore.Qt.Key
 

@@ -5,11 +5,8 @@ is pulsed or held, and a change to the tuning meanwhile releases the tactor and 
 import numpy as np
 from PySide6 import QtCore
 
-from . import tuner_support as support
 from .helpers import record_sent
 from .tuner_support import WAIT_MS
-
-window = support.window  # the fixture
 
 Key = QtCore.Qt.Key
 FULL = 22  # full drive on the palm array's 23 levels

@@ -11,10 +11,7 @@ import sys
 import pytest
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from . import tuner_support as support
 from .tuner_support import WAIT_MS, settle
-
-window = support.window  # the fixture
 
 Key = QtCore.Qt.Key
 

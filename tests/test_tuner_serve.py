@@ -245,8 +245,7 @@ def test_a_senders_mu_marks_the_scene_modified_in_the_title(qtbot, clients):
         win.close()
 
 
-def test_the_status_line_names_every_field_the_sender_set_and_the_boxes_show_them(qtbot,
-                                                                                 clients):  # fmt: skip
+def test_the_status_line_names_every_field_the_sender_set_and_the_boxes_show_them(qtbot, clients):
     # /tactile/mu 0.5 then /tactile/gamma 50: the status line said only "gamma 50.00" (the mu
     # went unsaid), and the gamma box read 10.00, the end of its range, while gamma 50 played.
     win = make_window(qtbot, process=False)

@@ -10,10 +10,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from tactile_core.stream.streamer import StreamStats
 
-from . import tuner_support as support
 from .tuner_support import WAIT_MS
-
-window = support.window  # the fixture
 
 Key = QtCore.Qt.Key
 

@@ -8,12 +8,8 @@ from tactile_core.files.tact import load_pattern, read_tact
 from tactile_core.rendering.shapes import TimedPath
 
 from . import tact_support as ts
-from . import tuner_support as support
 
 pytestmark = pytest.mark.usefixtures("qt_settings")
-
-
-window = support.window  # the fixture
 
 
 def test_the_file_menu_offers_the_tact_actions(window):
@@ -240,8 +236,9 @@ def _choose_in_save_dialog(monkeypatch, path):
     return asked
 
 
-def test_export_onto_the_imported_file_is_refused_before_anything_is_asked(window, tmp_path,
-                                                                           monkeypatch):  # fmt: skip
+def test_export_onto_the_imported_file_is_refused_before_anything_is_asked(
+    window, tmp_path, monkeypatch
+):
     # Qt asked "already exists. Do you want to replace it?" and after Yes the export refused.
     from PySide6 import QtWidgets
 

@@ -7,8 +7,6 @@ import pytest
 import tactile_core as tc
 from tactile_core.files.pattern import Pattern, example_patterns
 
-from .tuner_support import window  # noqa: F401 (a fixture)
-
 pytestmark = pytest.mark.usefixtures("qt_settings")
 
 

@@ -5,10 +5,8 @@ time line and on the heatmap."""
 import numpy as np
 from PySide6 import QtCore
 
-from . import tuner_support
 from .tuner_support import WAIT_MS, settle
 
-window = tuner_support.window  # the fixture
 LEFT = QtCore.Qt.MouseButton.LeftButton
 
 

@@ -1,26 +1,9 @@
-"""The tuner's main window for the tests of what it shows and does (test_tuner_window.py,
-test_tuner_plots.py, test_tuner_keys.py, test_tuner_files.py): 1280 x 720, its stream a thread
-of this process, streaming before the test starts; and waits on what the window does."""
-
-import pytest
+"""Waits on what the tuner's window does, for the tests of what it shows and does (the window
+itself, 1280 x 720 with its stream a thread of this process, is the ``window`` fixture of
+conftest.py)."""
 
 #: pytest-qt's bound on a wait for the window (ms): generous, for a loaded machine.
 WAIT_MS = 5000
-
-
-@pytest.fixture
-def window(qtbot, qt_settings):
-    from tactile_tuner.window import MainWindow
-
-    win = MainWindow(restore=False, process=False)  # the stream as a thread: quicker
-    qtbot.addWidget(win)
-    win.resize(1280, 720)
-    win.show()
-    qtbot.waitExposed(win)
-    qtbot.waitUntil(lambda: win.device.stats.frames > 5, timeout=10_000)
-    yield win
-    win.confirm = lambda title, text: True
-    win.close()
 
 
 def frames_shown(qtbot, window, n=3):
