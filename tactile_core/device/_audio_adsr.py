@@ -1,0 +1,153 @@
+"""The ADSR envelopes of an audio array's channels, block by block, without allocating.
+
+A channel whose waveform has an envelope (:class:`~.waveform.Adsr`) multiplies its amplitude by
+``E``, counted in samples from the *stage*'s start (an onset, or the channel going off): for the
+``j``-th sample since (``j = 0`` the first), with ``u = j + 1`` and the times ``A``, ``D``,
+``R`` in samples (``ms * samplerate / 1000``, at least 1)::
+
+    lit:     E = e0 + (1 - e0) clip(u / A) - (1 - S) clip((u - A) / D)
+    release: E = r0 (1 - clip(u / R))
+    off:     E = 0
+
+``clip`` to [0, 1]; ``e0`` is where the envelope was at the onset (0 from silence, else where
+a release had left it), ``r0`` where it was when the channel went off. So the attack reaches 1
+on sample ``A - 1`` after the onset, the decay reaches ``S`` on sample ``A + D - 1``, the release
+reaches 0 on sample ``R - 1`` after the channel went off. A channel without an envelope has
+``E = 1``.
+
+Each of the clipped ramps is a difference of two hinges, ``w clip(x) = max(w x, 0) - max(w x -
+w, 0)`` for ``w >= 0``, and each hinge's argument is affine in ``u``: so the whole envelope of
+every channel is two matrix products ``[j, 1] @ K``, a constant ``(n, channels)`` and four
+hinges ``(n, 4 channels)``, one ``max(., 0)`` and four additions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._audio_voices import ATTACK_N, DECAY_N, HAS_ADSR, RELEASE_N, SUSTAIN
+
+
+class Envelopes:
+    """The channels' envelopes: the stage each is in, and a block of their values.
+
+    Parameters
+    ----------
+    channels : int
+    block : int
+        The most samples :meth:`render` is asked for at once.
+
+    Notes
+    -----
+    Per channel and term (the constant, then the four hinges) a stage holds a slope and a bias
+    in ``u`` and the sample it started on; a term's block is ``[j, 1] @ [slope; slope u0 +
+    bias]`` into a contiguous ``(n, channels)`` buffer of its own (numpy copies an operand
+    that is a slice across rows).
+    """
+
+    def __init__(self, channels: int, block: int):
+        n = self.channels = channels
+        self.slope = np.zeros((5, n))  # per term and channel, in u: constant, four hinges
+        self.bias = np.zeros((5, n))
+        self.bias[0] = 1.0  # E = 1: no envelope
+        self.since = np.zeros((5, n))  # the sample the stage started on
+        self.releasing = np.zeros(n, dtype=bool)
+        self._k = np.zeros((5, 2, n))
+        self._lin = np.ones((block, 2))
+        self._lin[:, 0] = np.arange(block)
+        self._z = np.zeros((5, block, n))
+        self._u = np.zeros((5, n))
+        self._v = np.zeros((6, n))
+        self._b = np.zeros((2, n), dtype=bool)
+
+    def now(self, sample: int, out: np.ndarray) -> np.ndarray:
+        """``E`` of the last sample rendered (the one before ``sample``), ``(channels,)``."""
+        u = self._u
+        np.subtract(float(sample), self.since, out=u)
+        np.multiply(u, self.slope, out=u)
+        np.add(u, self.bias, out=u)
+        np.maximum(u, 0.0, out=u)  # (the constant is never negative)
+        return self._sum(u, out)
+
+    @staticmethod
+    def _sum(terms, out):
+        """``K0 + H1 - H2 - H3 + H4`` of the five terms (rows or blocks), into ``out``."""
+        np.add(terms[0], terms[1], out=out)
+        np.subtract(out, terms[2], out=out)
+        np.subtract(out, terms[3], out=out)
+        np.add(out, terms[4], out=out)
+        return out
+
+    def _set(self, where: np.ndarray, sample: int, terms) -> None:
+        """Channels ``where`` start a stage at ``sample`` whose five terms are ``terms``: pairs
+        ``(slope, bias)``, each a number or a ``(channels,)`` vector."""
+        for i, (slope, bias) in enumerate(terms):
+            np.copyto(self.slope[i], slope, where=where)
+            np.copyto(self.bias[i], bias, where=where)
+            np.copyto(self.since[i], float(sample), where=where)
+
+    def start(self, where: np.ndarray, sample: int, e0: np.ndarray, params: np.ndarray) -> None:
+        """Channels ``where`` are lit from ``sample`` (an onset, or a new waveform): attack from
+        ``e0`` (``(channels,)``), decay, sustain, as their ``params`` say (rows of a
+        :class:`~._audio_voices.VoiceSet`); ``E = 1`` for those without an envelope."""
+        has, a, d = params[HAS_ADSR], params[ATTACK_N], params[DECAY_N]
+        k0, w1, w2, s_a, s_d, b_d = self._v
+        np.multiply(e0, has, out=k0)  # e0 with an envelope, 1 without
+        np.subtract(1.0, has, out=w1)
+        np.add(k0, w1, out=k0)
+        np.subtract(1.0, k0, out=w1)  # attack: from e0 to 1 (nothing without an envelope)
+        np.subtract(1.0, params[SUSTAIN], out=w2)
+        np.multiply(w2, has, out=w2)  # decay: from 1 to S
+        np.divide(w1, a, out=s_a)
+        np.divide(w2, d, out=s_d)
+        np.multiply(s_d, a, out=b_d)
+        np.negative(b_d, out=b_d)  # the decay's lower hinge starts A samples in
+        np.negative(w1, out=w1)  # the attack's upper hinge
+        np.subtract(b_d, w2, out=w2)  # the decay's upper hinge
+        self._set(where, sample, ((0.0, k0), (s_a, 0.0), (s_a, w1), (s_d, b_d), (s_d, w2)))
+        spare = self._b[1]
+        np.logical_not(where, out=spare)
+        np.logical_and(self.releasing, spare, out=self.releasing)
+
+    def release(self, where: np.ndarray, sample: int, r0: np.ndarray, params: np.ndarray) -> None:
+        """Channels ``where`` go off at ``sample``: from ``r0`` to 0 over their release."""
+        slope, bias = self._v[0], self._v[1]
+        np.divide(r0, params[RELEASE_N], out=slope)
+        np.negative(r0, out=bias)
+        self._set(where, sample, ((0.0, r0), (0.0, 0.0), (0.0, 0.0), (slope, 0.0),
+                                  (slope, bias)))  # fmt: skip
+        np.logical_or(self.releasing, where, out=self.releasing)
+
+    def finished(self, sample: int, params: np.ndarray) -> np.ndarray | None:
+        """The releasing channels whose release is over by ``sample`` (bool ``(channels,)``),
+        turned off (``E = 0``); None if there are none."""
+        if not self.releasing.any():
+            return None
+        done, spare = self._b
+        elapsed = self._v[0]
+        np.subtract(float(sample), self.since[0], out=elapsed)
+        np.greater_equal(elapsed, params[RELEASE_N], out=done)
+        np.logical_and(done, self.releasing, out=done)
+        if not done.any():
+            return None
+        self._set(done, sample, _OFF)
+        np.logical_not(done, out=spare)
+        np.logical_and(self.releasing, spare, out=self.releasing)
+        return done
+
+    def render(self, n: int, sample: int) -> np.ndarray:
+        """``E`` for samples ``sample .. sample + n - 1``: a ``(n, channels)`` view (valid until
+        the next call)."""
+        k, z = self._k, self._z
+        for i in range(5):
+            np.subtract(float(sample + 1), self.since[i], out=k[i, 1])  # u of the first sample
+            np.multiply(k[i, 1], self.slope[i], out=k[i, 1])
+            np.add(k[i, 1], self.bias[i], out=k[i, 1])
+            np.copyto(k[i, 0], self.slope[i])
+            np.matmul(self._lin[:n], k[i], out=z[i, :n])
+            if i:
+                np.maximum(z[i, :n], 0.0, out=z[i, :n])
+        return self._sum([z[0, :n], z[1, :n], z[2, :n], z[3, :n], z[4, :n]], z[0, :n])
+
+
+_OFF = ((0.0, 0.0),) * 5
