@@ -40,7 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output file, .csv, .npz or .wav")
     p.add_argument("--profile", default=None,
                    help=profile_help(" (its grid or layout, and for .wav its channels, levels, "
-                                     "calibration and carriers)"))  # fmt: skip
+                                     "calibration, carriers and waveforms)"))  # fmt: skip
     p.add_argument("--samplerate", type=whole, default=None,
                    help=".wav: samples per second, 8000-384000 (default 48000)")  # fmt: skip
     p.add_argument("--carrier-hz", type=number, default=None,
@@ -49,6 +49,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--ramp-ms", type=number, default=None,
                    help=".wav: the raised-cosine ramp between levels, 0-20 ms "
                    "(default 1.5)")  # fmt: skip
+    p.add_argument("--waveform", default=None, metavar="SPEC",
+                   help=".wav: one waveform for every channel, e.g. square:200, noise, "
+                   "sweep:100-300:500ms, sine+adsr:5,20,0.7,50 (default: the profile's, else "
+                   "the plain carrier)")  # fmt: skip
     add_compensate_motors(p)
     add_tact_option(p)
     p.set_defaults(func=cmd_render)

@@ -163,8 +163,8 @@ class Waveform:
                 raise WaveformError(f"end_hz must differ from carrier_hz (a sweep glides "
                                     f"between two frequencies), both are {_num(end)}")  # fmt: skip
             object.__setattr__(self, "end_hz", end)
-            object.__setattr__(self, "sweep_ms",
-                               _checked("sweep_ms", self.sweep_ms, *SWEEP_RANGE_MS, " ms"))  # fmt: skip
+            ms = _checked("sweep_ms", self.sweep_ms, *SWEEP_RANGE_MS, " ms")
+            object.__setattr__(self, "sweep_ms", ms)
         if self.scale not in SCALES or (self.scale != "lin" and not sweep):
             raise WaveformError(f"scale must be 'lin' or, for a sweep, 'log', got "
                                 f"{_validate.shown(self.scale)}")  # fmt: skip
@@ -185,7 +185,8 @@ class Waveform:
         elif self.shape == "noise":
             text = f"noise:seed={self.seed}" if self.seed else "noise"
         else:
-            text = self.shape if self.carrier_hz is None else f"{self.shape}:{_num(self.carrier_hz)}"
+            hz = self.carrier_hz
+            text = self.shape if hz is None else f"{self.shape}:{_num(hz)}"
         return text if self.adsr is None else f"{text}+{self.adsr.spec}"
 
     def __str__(self) -> str:
