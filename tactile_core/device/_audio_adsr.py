@@ -6,7 +6,7 @@ A channel whose waveform has an envelope (:class:`~.waveform.Adsr`) multiplies i
 ``R`` in samples (``ms * samplerate / 1000``, at least 1)::
 
     lit:     E = e0 + (1 - e0) clip(u / A) - (1 - S) clip((u - A) / D)
-    release: E = r0 (1 - clip(u / R))
+    release: E = r0 max(1 - u / R, 0)
     off:     E = 0
 
 ``clip`` to [0, 1]; ``e0`` is where the envelope was at the onset (0 from silence, else where
@@ -111,11 +111,10 @@ class Envelopes:
 
     def release(self, where: np.ndarray, sample: int, r0: np.ndarray, params: np.ndarray) -> None:
         """Channels ``where`` go off at ``sample``: from ``r0`` to 0 over their release."""
-        slope, bias = self._v[0], self._v[1]
+        slope = self._v[0]
         np.divide(r0, params[RELEASE_N], out=slope)
-        np.negative(r0, out=bias)
-        self._set(where, sample, ((0.0, r0), (0.0, 0.0), (0.0, 0.0), (slope, 0.0),
-                                  (slope, bias)))  # fmt: skip
+        np.negative(slope, out=slope)  # one hinge, max(r0 - r0 u / R, 0): exactly 0 after
+        self._set(where, sample, ((0.0, 0.0), (slope, r0), (0.0, 0.0), (0.0, 0.0), (0.0, 0.0)))
         np.logical_or(self.releasing, where, out=self.releasing)
 
     def finished(self, sample: int, params: np.ndarray) -> np.ndarray | None:
