@@ -168,9 +168,12 @@ def test_saw_and_triangle_start_at_zero_rising_like_the_sine():
 
 
 def crossings(x):
-    """Zero crossings (both ways), interpolated, in samples."""
-    i = np.flatnonzero(np.sign(x[:-1]) * np.sign(x[1:]) < 0)
-    return i + x[i] / (x[i] - x[i + 1])
+    """Zero crossings (both ways), interpolated, in samples (a sample that is exactly 0 between
+    two of opposite signs is one)."""
+    nz = np.flatnonzero(x != 0)
+    m = np.flatnonzero(np.sign(x[nz[:-1]]) != np.sign(x[nz[1:]]))
+    i, j = nz[m], nz[m + 1]
+    return i + x[i] / (x[i] - x[j]) * (j - i)
 
 
 def local_hz(x, at_s):

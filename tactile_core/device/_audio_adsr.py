@@ -40,9 +40,11 @@ class Envelopes:
     Notes
     -----
     Per channel and term (the constant, then the four hinges) a stage holds a slope and a bias
-    in ``u`` and the sample it started on; a term's block is ``[j, 1] @ [slope; slope u0 +
-    bias]`` into a contiguous ``(n, channels)`` buffer of its own (numpy copies an operand
-    that is a slice across rows).
+    in ``u`` and the sample it started on. A block is one batched product ``[j, 1] @ [slope;
+    slope u0 + bias]`` per term into ``(5, n, channels)``, one ``max(., 0)`` on the hinges and
+    four additions. Once every channel's envelope holds still (sustaining, off, or without an
+    envelope) :meth:`steady` gives its value per channel instead, and a block costs nothing
+    more.
     """
 
     def __init__(self, channels: int, block: int):
@@ -52,9 +54,14 @@ class Envelopes:
         self.bias[0] = 1.0  # E = 1: no envelope
         self.since = np.zeros((5, n))  # the sample the stage started on
         self.releasing = np.zeros(n, dtype=bool)
-        self._k = np.zeros((5, 2, n))
-        self._lin = np.ones((block, 2))
-        self._lin[:, 0] = np.arange(block)
+        self._settled = np.zeros(n)  # from this sample on, each channel's envelope holds still
+        self.steady_from = 0.0
+        """From this sample on every channel's envelope holds still (:meth:`steady`)."""
+        self._steady = np.ones(n)
+        self._steady_valid = False
+        self._k = np.zeros((5, 2, n))  # per term: [slope; value at the block's first sample]
+        self._lin = np.ones((5, block, 2))
+        self._lin[:, :, 0] = np.arange(block)
         self._z = np.zeros((5, block, n))
         self._u = np.zeros((5, n))
         self._v = np.zeros((6, n))
@@ -78,13 +85,29 @@ class Envelopes:
         np.add(out, terms[4], out=out)
         return out
 
-    def _set(self, where: np.ndarray, sample: int, terms) -> None:
+    def _set(self, where: np.ndarray, sample: int, terms, settle) -> None:
         """Channels ``where`` start a stage at ``sample`` whose five terms are ``terms``: pairs
-        ``(slope, bias)``, each a number or a ``(channels,)`` vector."""
+        ``(slope, bias)``, each a number or a ``(channels,)`` vector; it holds still
+        ``settle`` samples on (a number or a vector)."""
         for i, (slope, bias) in enumerate(terms):
             np.copyto(self.slope[i], slope, where=where)
             np.copyto(self.bias[i], bias, where=where)
             np.copyto(self.since[i], float(sample), where=where)
+        at = self._u[0]
+        np.add(settle, float(sample), out=at)
+        np.copyto(self._settled, at, where=where)
+        self.steady_from = float(self._settled.max())
+        self._steady_valid = False
+
+    def steady(self, sample: int) -> np.ndarray | None:
+        """Each channel's envelope, ``(channels,)``, if none changes from ``sample`` on (then
+        it is the same on every sample); None while some channel's still moves."""
+        if sample < self.steady_from:
+            return None
+        if not self._steady_valid:
+            self.now(sample + 1, self._steady)
+            self._steady_valid = True
+        return self._steady
 
     def start(self, where: np.ndarray, sample: int, e0: np.ndarray, params: np.ndarray) -> None:
         """Channels ``where`` are lit from ``sample`` (an onset, or a new waveform): attack from
@@ -104,7 +127,11 @@ class Envelopes:
         np.negative(b_d, out=b_d)  # the decay's lower hinge starts A samples in
         np.negative(w1, out=w1)  # the attack's upper hinge
         np.subtract(b_d, w2, out=w2)  # the decay's upper hinge
-        self._set(where, sample, ((0.0, k0), (s_a, 0.0), (s_a, w1), (s_d, b_d), (s_d, w2)))
+        settle = self._u[1]
+        np.add(a, d, out=settle)
+        np.multiply(settle, has, out=settle)
+        self._set(where, sample, ((0.0, k0), (s_a, 0.0), (s_a, w1), (s_d, b_d), (s_d, w2)),
+                  settle)  # fmt: skip
         spare = self._b[1]
         np.logical_not(where, out=spare)
         np.logical_and(self.releasing, spare, out=self.releasing)
@@ -114,7 +141,8 @@ class Envelopes:
         slope = self._v[0]
         np.divide(r0, params[RELEASE_N], out=slope)
         np.negative(slope, out=slope)  # one hinge, max(r0 - r0 u / R, 0): exactly 0 after
-        self._set(where, sample, ((0.0, 0.0), (slope, r0), (0.0, 0.0), (0.0, 0.0), (0.0, 0.0)))
+        self._set(where, sample, ((0.0, 0.0), (slope, r0), (0.0, 0.0), (0.0, 0.0), (0.0, 0.0)),
+                  params[RELEASE_N])  # fmt: skip
         np.logical_or(self.releasing, where, out=self.releasing)
 
     def finished(self, sample: int, params: np.ndarray) -> np.ndarray | None:
@@ -129,7 +157,7 @@ class Envelopes:
         np.logical_and(done, self.releasing, out=done)
         if not done.any():
             return None
-        self._set(done, sample, _OFF)
+        self._set(done, sample, _OFF, 0.0)
         np.logical_not(done, out=spare)
         np.logical_and(self.releasing, spare, out=self.releasing)
         return done
@@ -137,16 +165,16 @@ class Envelopes:
     def render(self, n: int, sample: int) -> np.ndarray:
         """``E`` for samples ``sample .. sample + n - 1``: a ``(n, channels)`` view (valid until
         the next call)."""
-        k, z = self._k, self._z
-        for i in range(5):
-            np.subtract(float(sample + 1), self.since[i], out=k[i, 1])  # u of the first sample
-            np.multiply(k[i, 1], self.slope[i], out=k[i, 1])
-            np.add(k[i, 1], self.bias[i], out=k[i, 1])
-            np.copyto(k[i, 0], self.slope[i])
-            np.matmul(self._lin[:n], k[i], out=z[i, :n])
-            if i:
-                np.maximum(z[i, :n], 0.0, out=z[i, :n])
-        return self._sum([z[0, :n], z[1, :n], z[2, :n], z[3, :n], z[4, :n]], z[0, :n])
+        k, z = self._k, self._z[:, :n]
+        at = self._u
+        np.subtract(float(sample + 1), self.since, out=at)  # u of the block's first sample
+        np.multiply(at, self.slope, out=at)
+        np.add(at, self.bias, out=at)
+        np.copyto(k[:, 0], self.slope)
+        np.copyto(k[:, 1], at)
+        np.matmul(self._lin[:, :n], k, out=z)
+        np.maximum(z[1:], 0.0, out=z[1:])
+        return self._sum(z, z[0])
 
 
 _OFF = ((0.0, 0.0),) * 5

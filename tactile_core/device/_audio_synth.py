@@ -114,6 +114,7 @@ class CarrierSynth:
         self._delta = self._levels[0]  # the step of the ramp under way: to - from
         self._to = self._levels[1]  # the amplitudes the channels are at or heading to
         self._amplitude = np.zeros((MAX_BLOCK, n))
+        self._scaled = np.zeros((2, n))  # the levels times steady envelopes
         self._from = np.zeros(n)  # scratch: the amplitudes a new ramp starts from
         self._goal = np.zeros(n)  # the amplitudes the frames ask for (0: off)
         self._held = np.zeros(n)  # scratch: the targets before a frame
@@ -259,9 +260,16 @@ class CarrierSynth:
             dest.fill(0.0)
         else:
             wave = self._waves.render(n, self.sample)
-            amplitude = np.matmul(self._weights[self._pos : self._pos + n], self._levels,
+            levels, moving = self._levels, self._enveloped
+            if moving:
+                steady = self._env.steady(self.sample)
+                if steady is not None:  # the same on every sample: scale the levels instead
+                    levels, moving = self._scaled, False
+                    np.multiply(self._delta, steady, out=levels[0])
+                    np.multiply(self._to, steady, out=levels[1])
+            amplitude = np.matmul(self._weights[self._pos : self._pos + n], levels,
                                   out=self._amplitude[:n])  # fmt: skip
-            if self._enveloped:
+            if moving:
                 np.multiply(amplitude, self._env.render(n, self.sample), out=amplitude)
             np.multiply(wave, amplitude, out=wave)
             np.copyto(dest, wave)

@@ -149,11 +149,15 @@ class Waves:
         self._quad = np.stack([j**2, j, np.ones(block)], axis=1)  # [j^2, j, 1]
         self._ones = np.ones((block, 1))
         self._masks = np.zeros((LOGSWEEP + 1, n))
+        self._planes = np.zeros((LOGSWEEP + 1, block, n))
         self._k2 = np.zeros((2, n))
         self._k3 = np.zeros((3, n))
         self._v = np.zeros((7, n))  # per-channel scratch
         self._changed = np.zeros(n, dtype=bool)
         self._is_kind = np.zeros(n, dtype=bool)
+        self._inside = np.zeros(n, dtype=bool)
+        self._ends = np.zeros(n, dtype=bool)
+        self._spare = np.zeros(n, dtype=bool)
         self._present = np.zeros(LOGSWEEP + 1, dtype=bool)
         for name in ("_wave", "_phase", "_tmp", "_f", "_aux", "_plane"):
             setattr(self, name, np.zeros((block, n)))
@@ -168,6 +172,10 @@ class Waves:
             np.equal(self.params[KIND], k, out=self._is_kind)
             np.copyto(self._masks[k], self._is_kind)
             self._present[k] = self._is_kind.any()
+        if self._present.sum() > 1:  # the masks as blocks, for merging kinds (no broadcast)
+            for k in range(LOGSWEEP + 1):
+                if self._present[k]:
+                    np.copyto(self._planes[k], self._masks[k])
         self.adsr = bool(self.params[HAS_ADSR].any())
         """Some channel has an envelope."""
         self.clocked = self.adsr or bool(self._present[SWEEP] or self._present[LOGSWEEP])
@@ -228,9 +236,8 @@ class Waves:
 
     def _merge(self, wave, dest, kind: int, n: int) -> None:
         """``wave`` takes ``dest`` on the channels of ``kind``: ``wave += m (dest - wave)``."""
-        plane = np.matmul(self._ones[:n], self._masks[kind : kind + 1], out=self._plane[:n])
         np.subtract(dest, wave, out=dest)
-        np.multiply(dest, plane, out=dest)
+        np.multiply(dest, self._planes[kind, :n], out=dest)
         np.add(wave, dest, out=wave)
 
     def _cycles(self, n: int, sample: int) -> np.ndarray:
@@ -296,68 +303,112 @@ class Waves:
         np.subtract(dest, 1.0, out=dest)
 
     def _sweep(self, dest, n: int, sample: int, log: bool) -> None:
-        """The sine of each sweep's phase since its onset (the module's notes). In the block,
-        ``y = max(j - rem, 0)`` counts the samples past the sweep's end (``rem`` samples of it
-        were left at the block's start, ``c`` gone)."""
+        """The sine of each sweep's phase since its onset (the module's notes). At the block's
+        start ``c`` samples of the sweep are gone and ``rem`` left; in the block ``y = max(j -
+        rem, 0)`` counts the samples past its end. A block in which no sweep ends takes the
+        short way: each channel is wholly in its sweep, or wholly past it."""
         p, k, lin = self.params, self._k2, self._lin[:n]
         tau, c, rem, after, phi0, fs, tmp = self._v
         np.subtract(float(sample), self.onset, out=tau)
         np.minimum(tau, p[SWEEP_N], out=c)
         np.subtract(p[SWEEP_N], c, out=rem)
         np.subtract(tau, c, out=after)
-        k[0].fill(1.0)
-        np.negative(rem, out=k[1])
-        y = np.matmul(lin, k, out=self._aux[:n])
-        np.maximum(y, 0.0, out=y)
-        if not log:  # frac(phi0) + fs j + (slope / 2) j^2 - (slope / 2) y^2
-            np.multiply(p[SLOPE], c, out=fs)
-            np.multiply(fs, 0.5, out=phi0)
-            np.add(phi0, p[RATE0], out=phi0)
-            np.multiply(phi0, c, out=phi0)  # rate0 c + slope c^2 / 2
-            np.add(fs, p[RATE0], out=fs)  # the frequency at c, cycles a sample
-            self._phi0(phi0, after, tmp)
-            k3 = self._k3
-            np.multiply(p[SLOPE], 0.5, out=k3[0])
-            np.copyto(k3[1], fs)
-            np.copyto(k3[2], phi0)
-            np.matmul(self._quad[:n], k3, out=dest)
-            np.negative(k3[0], out=k[0])
-            np.multiply(k3[0], rem, out=k[1])
-            b = np.matmul(lin, k, out=self._tmp[:n])  # -(slope / 2) (j - rem)
-            np.multiply(b, y, out=b)
-            np.add(dest, b, out=dest)
-        else:  # frac(phi0) + G' (exp(h x) - 1) + f1 y, with h x = h j - [y > 0] h (j - rem)
+        if log:  # the phase and the frequency at c
             np.multiply(p[LOG_H], c, out=fs)
             np.exp(fs, out=fs)
             np.subtract(fs, 1.0, out=phi0)
             np.multiply(phi0, p[LOG_G], out=phi0)  # G (r^(c / T) - 1)
-            np.multiply(fs, p[RATE0], out=fs)  # the frequency at c
-            self._phi0(phi0, after, tmp)
-            np.sign(y, out=y)
-            np.copyto(k[0], p[LOG_H])
-            k[1].fill(0.0)
-            np.matmul(lin, k, out=dest)
-            np.multiply(p[LOG_H], rem, out=k[1])
-            np.negative(k[1], out=k[1])
-            past = np.matmul(lin, k, out=self._tmp[:n])
-            np.multiply(past, y, out=past)
-            np.subtract(dest, past, out=dest)
-            np.exp(dest, out=dest)
-            np.multiply(fs, p[INV_H], out=fs)  # G' = fs / h
-            plane = np.matmul(self._ones[:n], fs[None, :], out=self._plane[:n])
-            np.multiply(dest, plane, out=dest)
-            np.copyto(k[0], p[RATE1])
-            np.multiply(p[RATE1], rem, out=k[1])
-            np.negative(k[1], out=k[1])
-            tail = np.matmul(lin, k, out=self._tmp[:n])
-            np.multiply(tail, y, out=tail)
-            np.add(dest, tail, out=dest)
-            k[0].fill(0.0)
-            np.subtract(phi0, fs, out=k[1])
-            const = np.matmul(lin, k, out=self._tmp[:n])
-            np.add(dest, const, out=dest)
+            np.multiply(fs, p[RATE0], out=fs)
+        else:
+            np.multiply(p[SLOPE], c, out=fs)
+            np.multiply(fs, 0.5, out=phi0)
+            np.add(phi0, p[RATE0], out=phi0)
+            np.multiply(phi0, c, out=phi0)  # rate0 c + slope c^2 / 2
+            np.add(fs, p[RATE0], out=fs)
+        self._phi0(phi0, after, tmp)
+        inside, ends = self._inside, self._ends
+        np.greater_equal(rem, float(n), out=inside)  # wholly in the sweep this block
+        np.greater(rem, 0.0, out=ends)
+        np.logical_not(inside, out=self._spare)
+        np.logical_and(ends, self._spare, out=ends)  # its end falls within the block
+        if not ends.any():
+            np.copyto(tmp, inside)  # 1 in the sweep, 0 past it
+            if log:
+                self._log_short(dest, n, tmp, phi0, fs)
+            else:  # phi0 + fs j + [in] (slope / 2) j^2
+                k3 = self._k3
+                np.multiply(p[SLOPE], 0.5, out=k3[0])
+                np.multiply(k3[0], tmp, out=k3[0])
+                np.copyto(k3[1], fs)
+                np.copyto(k3[2], phi0)
+                np.matmul(self._quad[:n], k3, out=dest)
+        else:
+            k[0].fill(1.0)
+            np.negative(rem, out=k[1])
+            y = np.matmul(lin, k, out=self._aux[:n])
+            np.maximum(y, 0.0, out=y)
+            if log:
+                self._log_long(dest, n, y, rem, phi0, fs)
+            else:  # phi0 + fs j + (slope / 2) j^2 - (slope / 2) y^2
+                k3 = self._k3
+                np.multiply(p[SLOPE], 0.5, out=k3[0])
+                np.copyto(k3[1], fs)
+                np.copyto(k3[2], phi0)
+                np.matmul(self._quad[:n], k3, out=dest)
+                np.negative(k3[0], out=k[0])
+                np.multiply(k3[0], rem, out=k[1])
+                b = np.matmul(lin, k, out=self._tmp[:n])  # -(slope / 2) (j - rem)
+                np.multiply(b, y, out=b)
+                np.add(dest, b, out=dest)
         _frac(dest, self._tmp[:n])
         self._sine(dest, dest, n)
+
+    def _log_short(self, dest, n: int, inside, phi0, fs) -> None:
+        """A block no log sweep ends in: ``phi0 + G' (exp(h j) - 1)`` in the sweep (``G' = fs /
+        h``), ``phi0 + f1 j`` past it."""
+        p, k, lin = self.params, self._k2, self._lin[:n]
+        np.multiply(p[LOG_H], inside, out=k[0])
+        k[1].fill(0.0)
+        np.matmul(lin, k, out=dest)
+        np.exp(dest, out=dest)
+        gp = self._v[2]  # (rem: no longer needed)
+        np.multiply(fs, p[INV_H], out=gp)
+        np.multiply(gp, inside, out=gp)
+        plane = np.matmul(self._ones[:n], gp[None, :], out=self._plane[:n])
+        np.multiply(dest, plane, out=dest)
+        np.subtract(1.0, inside, out=k[0])
+        np.multiply(k[0], p[RATE1], out=k[0])
+        np.subtract(phi0, gp, out=k[1])
+        tail = np.matmul(lin, k, out=self._tmp[:n])
+        np.add(dest, tail, out=dest)
+
+    def _log_long(self, dest, n: int, y, rem, phi0, fs) -> None:
+        """A block some log sweep ends in: ``phi0 + G' (exp(h x) - 1) + f1 y`` with ``h x = h j
+        - [y > 0] h (j - rem)``."""
+        p, k, lin = self.params, self._k2, self._lin[:n]
+        np.sign(y, out=y)
+        np.copyto(k[0], p[LOG_H])
+        k[1].fill(0.0)
+        np.matmul(lin, k, out=dest)
+        np.multiply(p[LOG_H], rem, out=k[1])
+        np.negative(k[1], out=k[1])
+        past = np.matmul(lin, k, out=self._tmp[:n])
+        np.multiply(past, y, out=past)
+        np.subtract(dest, past, out=dest)
+        np.exp(dest, out=dest)
+        np.multiply(fs, p[INV_H], out=fs)  # G' = fs / h
+        plane = np.matmul(self._ones[:n], fs[None, :], out=self._plane[:n])
+        np.multiply(dest, plane, out=dest)
+        np.copyto(k[0], p[RATE1])
+        np.multiply(p[RATE1], rem, out=k[1])
+        np.negative(k[1], out=k[1])
+        tail = np.matmul(lin, k, out=self._tmp[:n])
+        np.multiply(tail, y, out=tail)
+        np.add(dest, tail, out=dest)
+        k[0].fill(0.0)
+        np.subtract(phi0, fs, out=k[1])
+        const = np.matmul(lin, k, out=self._tmp[:n])
+        np.add(dest, const, out=dest)
 
     def _phi0(self, phi0, after, tmp) -> None:
         """``phi0 = frac(phi0 + f1 after)``: the phase at the block's start."""
