@@ -234,3 +234,21 @@ def test_tactile_stream_to_a_serial_array_says_what_it_drops_once(tmp_path, caps
     out, err = capsys.readouterr()
     text = out + err
     assert text.count(f"waveform sweep:100-300:500ms {NOTE}") == 1, text
+
+
+def test_the_waveforms_example_in_the_docs_writes_its_wav(tmp_path, monkeypatch):
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "patterns.md").read_text()
+    section = text.split("## Waveforms", 1)[1]
+    script = section.split("```python\n", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(tmp_path)
+    exec(compile(script, "docs/patterns.md", "exec"), {"__name__": "__docs__"})
+    x = read_wav(tmp_path / "buzz.wav")
+    assert x.shape[1] == 8
+    square = x[240:1200, 0]  # after the 5 ms attack, in its decay: a square, +-E
+    s = np.arange(240, 1200)
+    assert np.array_equal(np.sign(square), np.where(s % 240 < 120, 1.0, -1.0))
+    assert np.abs(x[1200:14000, 0]).max() == pytest.approx(0.7, abs=1e-3)  # the sustain
+    assert np.abs(x[14400:38400, 7]).max() > 0.1  # the line ends at (3, 1): actuator 7
+    assert not x[38400 + 100 :].any()  # 0.8 s: over, faded

@@ -54,7 +54,9 @@ class Envelopes:
         self.bias[0] = 1.0  # E = 1: no envelope
         self.since = np.zeros((5, n))  # the sample the stage started on
         self.releasing = np.zeros(n, dtype=bool)
-        self._settled = np.zeros(n)  # from this sample on, each channel's envelope holds still
+        self.any_releasing = False
+        """Some channel may be releasing (:attr:`releasing` says which)."""
+        self._new = np.zeros((2, 5, n))  # scratch: a stage's slopes and biases
         self.steady_from = 0.0
         """From this sample on every channel's envelope holds still (:meth:`steady`)."""
         self._steady = np.ones(n)
@@ -64,7 +66,7 @@ class Envelopes:
         self._lin[:, :, 0] = np.arange(block)
         self._z = np.zeros((5, block, n))
         self._u = np.zeros((5, n))
-        self._v = np.zeros((6, n))
+        self._v = np.zeros((2, n))
         self._b = np.zeros((2, n), dtype=bool)
 
     def now(self, sample: int, out: np.ndarray) -> np.ndarray:
@@ -85,23 +87,19 @@ class Envelopes:
         np.add(out, terms[4], out=out)
         return out
 
-    def _set(self, where: np.ndarray, sample: int, terms, settle) -> None:
-        """Channels ``where`` start a stage at ``sample`` whose five terms are ``terms``: pairs
-        ``(slope, bias)``, each a number or a ``(channels,)`` vector; it holds still
-        ``settle`` samples on (a number or a vector)."""
-        for i, (slope, bias) in enumerate(terms):
-            np.copyto(self.slope[i], slope, where=where)
-            np.copyto(self.bias[i], bias, where=where)
-            np.copyto(self.since[i], float(sample), where=where)
-        at = self._u[0]
-        np.add(settle, float(sample), out=at)
-        np.copyto(self._settled, at, where=where)
-        self.steady_from = float(self._settled.max())
+    def _commit(self, where: np.ndarray, sample: int, settle_s: float) -> None:
+        """Channels ``where`` start at ``sample`` the stage whose slopes and biases are in
+        ``self._new``; every envelope holds still ``settle_s`` samples on at the latest."""
+        new_slope, new_bias = self._new
+        np.copyto(self.slope, new_slope, where=where)
+        np.copyto(self.bias, new_bias, where=where)
+        np.copyto(self.since, float(sample), where=where)
+        self.steady_from = max(self.steady_from, sample + settle_s)
         self._steady_valid = False
 
     def steady(self, sample: int) -> np.ndarray | None:
         """Each channel's envelope, ``(channels,)``, if none changes from ``sample`` on (then
-        it is the same on every sample); None while some channel's still moves."""
+        it is the same on every sample); None while some channel's may still move."""
         if sample < self.steady_from:
             return None
         if not self._steady_valid:
@@ -109,46 +107,56 @@ class Envelopes:
             self._steady_valid = True
         return self._steady
 
-    def start(self, where: np.ndarray, sample: int, e0: np.ndarray, params: np.ndarray) -> None:
+    def start(self, where: np.ndarray, sample: int, e0: np.ndarray, params: np.ndarray,
+              settle_s: float) -> None:  # fmt: skip
         """Channels ``where`` are lit from ``sample`` (an onset, or a new waveform): attack from
         ``e0`` (``(channels,)``), decay, sustain, as their ``params`` say (rows of a
-        :class:`~._audio_voices.VoiceSet`); ``E = 1`` for those without an envelope."""
+        :class:`~._audio_voices.VoiceSet`); ``E = 1`` for those without an envelope. Every
+        envelope holds still ``settle_s`` samples on at the latest (the longest attack and
+        decay)."""
         has, a, d = params[HAS_ADSR], params[ATTACK_N], params[DECAY_N]
-        k0, w1, w2, s_a, s_d, b_d = self._v
-        np.multiply(e0, has, out=k0)  # e0 with an envelope, 1 without
+        slope, bias = self._new
+        w1, w2 = self._v[0], self._v[1]
+        slope[0].fill(0.0)
+        np.multiply(e0, has, out=bias[0])  # the constant: e0 with an envelope, 1 without
         np.subtract(1.0, has, out=w1)
-        np.add(k0, w1, out=k0)
-        np.subtract(1.0, k0, out=w1)  # attack: from e0 to 1 (nothing without an envelope)
+        np.add(bias[0], w1, out=bias[0])
+        np.subtract(1.0, bias[0], out=w1)  # attack: from e0 to 1 (nothing without an envelope)
+        np.divide(w1, a, out=slope[1])
+        bias[1].fill(0.0)
+        np.copyto(slope[2], slope[1])
+        np.negative(w1, out=bias[2])
         np.subtract(1.0, params[SUSTAIN], out=w2)
-        np.multiply(w2, has, out=w2)  # decay: from 1 to S
-        np.divide(w1, a, out=s_a)
-        np.divide(w2, d, out=s_d)
-        np.multiply(s_d, a, out=b_d)
-        np.negative(b_d, out=b_d)  # the decay's lower hinge starts A samples in
-        np.negative(w1, out=w1)  # the attack's upper hinge
-        np.subtract(b_d, w2, out=w2)  # the decay's upper hinge
-        settle = self._u[1]
-        np.add(a, d, out=settle)
-        np.multiply(settle, has, out=settle)
-        self._set(where, sample, ((0.0, k0), (s_a, 0.0), (s_a, w1), (s_d, b_d), (s_d, w2)),
-                  settle)  # fmt: skip
+        np.multiply(w2, has, out=w2)  # decay: from 1 to S, A samples in
+        np.divide(w2, d, out=slope[3])
+        np.multiply(slope[3], a, out=bias[3])
+        np.negative(bias[3], out=bias[3])
+        np.copyto(slope[4], slope[3])
+        np.subtract(bias[3], w2, out=bias[4])
+        self._commit(where, sample, settle_s)
         spare = self._b[1]
         np.logical_not(where, out=spare)
         np.logical_and(self.releasing, spare, out=self.releasing)
 
-    def release(self, where: np.ndarray, sample: int, r0: np.ndarray, params: np.ndarray) -> None:
-        """Channels ``where`` go off at ``sample``: from ``r0`` to 0 over their release."""
-        slope = self._v[0]
-        np.divide(r0, params[RELEASE_N], out=slope)
-        np.negative(slope, out=slope)  # one hinge, max(r0 - r0 u / R, 0): exactly 0 after
-        self._set(where, sample, ((0.0, 0.0), (slope, r0), (0.0, 0.0), (0.0, 0.0), (0.0, 0.0)),
-                  params[RELEASE_N])  # fmt: skip
+    def release(self, where: np.ndarray, sample: int, r0: np.ndarray, params: np.ndarray,
+                settle_s: float) -> None:  # fmt: skip
+        """Channels ``where`` go off at ``sample``: from ``r0`` to 0 over their release (one
+        hinge, ``max(r0 - r0 u / R, 0)``: exactly 0 after it); every envelope holds still
+        ``settle_s`` samples on at the latest (the longest release)."""
+        slope, bias = self._new
+        slope.fill(0.0)
+        bias.fill(0.0)
+        np.divide(r0, params[RELEASE_N], out=slope[1])
+        np.negative(slope[1], out=slope[1])
+        np.copyto(bias[1], r0)
+        self._commit(where, sample, settle_s)
         np.logical_or(self.releasing, where, out=self.releasing)
+        self.any_releasing = True
 
     def finished(self, sample: int, params: np.ndarray) -> np.ndarray | None:
         """The releasing channels whose release is over by ``sample`` (bool ``(channels,)``),
         turned off (``E = 0``); None if there are none."""
-        if not self.releasing.any():
+        if not self.any_releasing:
             return None
         done, spare = self._b
         elapsed = self._v[0]
@@ -157,9 +165,11 @@ class Envelopes:
         np.logical_and(done, self.releasing, out=done)
         if not done.any():
             return None
-        self._set(done, sample, _OFF, 0.0)
+        self._new.fill(0.0)
+        self._commit(done, sample, 0.0)
         np.logical_not(done, out=spare)
         np.logical_and(self.releasing, spare, out=self.releasing)
+        self.any_releasing = bool(self.releasing.any())
         return done
 
     def render(self, n: int, sample: int) -> np.ndarray:
@@ -175,6 +185,3 @@ class Envelopes:
         np.matmul(self._lin[:, :n], k, out=z)
         np.maximum(z[1:], 0.0, out=z[1:])
         return self._sum(z, z[0])
-
-
-_OFF = ((0.0, 0.0),) * 5

@@ -207,7 +207,7 @@ class CarrierSynth:
                     np.logical_or(was, env.releasing, out=off)
                     np.logical_not(off, out=off)
                     np.copyto(self._e, 0.0, where=off)
-                    env.start(onset, now, self._e, waves.params)
+                    env.start(onset, now, self._e, waves.params, waves.settle_s)
         np.copyto(self._held, self._to)
         np.copyto(self._to, amplitudes)
         if self._enveloped:
@@ -218,10 +218,11 @@ class CarrierSynth:
                 np.logical_and(off, onset, out=off)
                 if off.any():
                     env.now(now, self._e)
-                    env.release(off, now, self._e, waves.params)
+                    env.release(off, now, self._e, waves.params, waves.settle_s)
                 np.copyto(self._to, self._held, where=env.releasing)
             else:
                 env.releasing.fill(False)
+                env.any_releasing = False
         np.subtract(self._to, self._from, out=self._delta)
         self._pos = 0 if self.ramp and self._delta.any() else self.ramp
 

@@ -151,6 +151,7 @@ class Waves:
         self._masks = np.zeros((LOGSWEEP + 1, n))
         self._planes = np.zeros((LOGSWEEP + 1, block, n))
         self._k2 = np.zeros((2, n))
+        self._kc = np.zeros((2, n))  # the fixed-frequency phases: [cycles a sample; start]
         self._k3 = np.zeros((3, n))
         self._v = np.zeros((7, n))  # per-channel scratch
         self._changed = np.zeros(n, dtype=bool)
@@ -178,6 +179,10 @@ class Waves:
                     np.copyto(self._planes[k], self._masks[k])
         self.adsr = bool(self.params[HAS_ADSR].any())
         """Some channel has an envelope."""
+        p = self.params
+        self.settle_s = float(max((p[ATTACK_N] + p[DECAY_N]).max(), p[RELEASE_N].max()))
+        """Samples after an onset or a release within which every envelope holds still."""
+        np.divide(p[HZ], self.samplerate, out=self._kc[0])  # cycles a sample
         self.clocked = self.adsr or bool(self._present[SWEEP] or self._present[LOGSWEEP])
         """Some channel counts time from its onsets (an envelope, a sweep)."""
 
@@ -243,9 +248,8 @@ class Waves:
     def _cycles(self, n: int, sample: int) -> np.ndarray:
         """``frac(f s / sr)`` (+ the guard) of the fixed-frequency shapes, ``(n, channels)``;
         ``f s`` is reduced modulo ``sr`` first (exact for whole hertz)."""
-        k = self._k2
+        k = self._kc
         sr = self.samplerate
-        np.divide(self.params[HZ], sr, out=k[0])
         np.multiply(self.params[HZ], float(sample), out=k[1])
         np.remainder(k[1], sr, out=k[1])
         np.divide(k[1], sr, out=k[1])
