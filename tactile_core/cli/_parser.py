@@ -32,7 +32,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.commands = sub.choices  # {name: its parser}, for main's usage errors
 
     p = sub.add_parser(
-        "render", help="write the frames of one trace to .csv or .npz, or its carriers to .wav"
+        "render", help="write the frames of one trace to .csv or .npz, or its signal to .wav"
     )
     _add_scene_arguments(p, duration=2.0)
     p.set_defaults(cols=None, rows=None)  # None: 5 x 6, or the profile's grid
