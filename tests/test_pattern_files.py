@@ -140,7 +140,7 @@ E3 = ("effects", 3)
 
 MUTATIONS = [
     (change(("format",), "tactile-preset"), "format must be 'tactile-pattern'"),
-    (change(("version",), 2), "version is 2, newer than this software reads"),
+    (change(("version",), 3), r"version is 3, newer than this software reads \(2\)"),
     (change(("version",), "1"), "version must be a whole number"),
     (change(("version",), _REMOVE), "version is missing"),
     (change(("effects",), _REMOVE), "effects is missing"),

@@ -20,7 +20,7 @@ from importlib.metadata import entry_points
 
 # ``_name as _name``: helpers of the module before the split, still importable from here.
 from ._accuracy import accuracy_table
-from ._audio import audio_table
+from ._audio import audio_table, waveform_table
 from ._batch import batch_table, dense_area_sampling, naive_area_sampling, ratio_table
 from ._common import FILTERS, GAMMA, MU, RATES_HZ, SCENES, Table, best_time
 from ._device import EmulatorProcess, device_tables
@@ -104,6 +104,7 @@ __all__ = [
     "trade_tables",
     "tuning_table",
     "validation_table",
+    "waveform_table",
     "winners_table",
 ]
 
@@ -145,6 +146,7 @@ def run(part: str = "core", quick: bool = False, out=print, profile=None) -> lis
         for table in device_tables(seconds=3.0 if quick else 10.0):
             show(table)
         show(audio_table(blocks=1000 if quick else 4000))
+        show(waveform_table(blocks=1000 if quick else 4000))
     if part in ("link", "all"):
         show(link_table(seconds=2.0 if quick else 5.0))
     if part in ("experiments", "all"):

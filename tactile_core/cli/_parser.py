@@ -33,7 +33,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.commands = sub.choices  # {name: its parser}, for main's usage errors
 
     p = sub.add_parser(
-        "render", help="write the frames of one trace to .csv or .npz, or its carriers to .wav"
+        "render", help="write the frames of one trace to .csv or .npz, or its signal to .wav"
     )
     _add_scene_arguments(p, duration=2.0)
     p.set_defaults(cols=None, rows=None)  # None: 5 x 6, or the profile's grid
@@ -41,7 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output file, .csv, .npz or .wav")
     p.add_argument("--profile", default=None,
                    help=profile_help(" (its grid or layout, and for .wav its channels, levels, "
-                                     "calibration and carriers)"))  # fmt: skip
+                                     "calibration, carriers and waveforms)"))  # fmt: skip
     p.add_argument("--samplerate", type=whole, default=None,
                    help=".wav: samples per second, 8000-384000 (default 48000)")  # fmt: skip
     p.add_argument("--carrier-hz", type=number, default=None,
@@ -50,6 +50,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--ramp-ms", type=number, default=None,
                    help=".wav: the raised-cosine ramp between levels, 0-20 ms "
                    "(default 1.5)")  # fmt: skip
+    p.add_argument("--waveform", default=None, metavar="SPEC",
+                   help=".wav: one waveform for every channel, e.g. square:200, noise, "
+                   "sweep:100-300:500ms, sine+adsr:5,20,0.7,50 (default: the profile's, else "
+                   "the plain carrier)")  # fmt: skip
     add_compensate_motors(p)
     add_tact_option(p)
     p.set_defaults(func=cmd_render)

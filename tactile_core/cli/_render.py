@@ -113,11 +113,18 @@ def cmd_render(args) -> int:
         what = f"{pattern.describe(grid)} of {args.shape[len('tact:') :]}"
         left_out = not_played(pattern, grid)
         warn_of_notes("render", pattern)
+    voices = None
     if pattern is not None:  # frame k samples the middle of [k / rate, (k + 1) / rate)
         duration = pattern.duration_on(grid)
         n = int(np.ceil(duration * args.rate - 1e-9))
         _check_render_size(n, grid.size, duration, args.rate)
         time_s, frames = pattern.frames(method, grid, rate_hz=args.rate, mu=mu, gamma=gamma)
+        if wav and composed is not None:  # its effects' waveforms (the same source, cached)
+            from ..files.wav import frame_voices
+            from ..rendering.trace import Sampling
+
+            live = pattern.live(method, grid, Sampling(args.rate, "point"), mu, gamma)
+            voices = frame_voices(live, profile, len(frames))
     else:
         n = int(np.floor(args.duration * args.rate + 1e-9)) + 1
         _check_render_size(n, grid.size, args.duration, args.rate)
@@ -135,7 +142,7 @@ def cmd_render(args) -> int:
         source = motor.describe().rpartition(" (")[2].rstrip(")")  # estimate, measured DATE
         what = f"{what[:-1]}, motor-aware drive for {taus} ms motors ({source}))"
     if wav:
-        return _write_wav(args, out, profile, frames, what)
+        return _write_wav(args, out, profile, frames, what, voices)
     try:
         write_frames(out, time_s, frames, names)
     except OSError as exc:
@@ -157,7 +164,7 @@ def _render_profile(args, wav: bool):
     sets in ``args``: the profile's, which ``--cols``/``--rows`` may only repeat."""
     from ..device.profile import ProfileError, default_profile, load_profile
 
-    audio_options = ("samplerate", "carrier_hz", "ramp_ms")
+    audio_options = ("samplerate", "carrier_hz", "ramp_ms", "waveform")
     if not wav:
         for name in audio_options:
             if getattr(args, name) is not None:
@@ -186,10 +193,12 @@ def _render_profile(args, wav: bool):
     return profile
 
 
-def _write_wav(args, out, profile, frames, what: str) -> int:
+def _write_wav(args, out, profile, frames, what: str, voices=None) -> int:
     """``tactile render --out FILE.wav``: the corrected frames calibrated and quantised as the
-    streamer does, in channel order, as the carriers an audio interface would play."""
+    streamer does, in channel order, as the waveforms an audio interface would play (a
+    pattern's effects' own where ``voices`` names them)."""
     from ..device.audio import CARRIER_RANGE_HZ, DEFAULT_RAMP_MS, RAMP_RANGE_MS, SAMPLERATE_RANGE
+    from ..device.waveform import WaveformError, parse_waveform
     from ..files.wav import frame_levels, write_wav
 
     samplerate = 48000 if args.samplerate is None else args.samplerate
@@ -198,10 +207,17 @@ def _write_wav(args, out, profile, frames, what: str) -> int:
     _validate.in_range("ramp-ms", ramp_ms, *RAMP_RANGE_MS)
     if args.carrier_hz is not None:
         _validate.in_range("carrier-hz", args.carrier_hz, *CARRIER_RANGE_HZ)
+    waveform = None
+    if args.waveform is not None:
+        try:
+            waveform = parse_waveform(args.waveform, "--waveform")
+        except WaveformError as exc:
+            raise UsageError(str(exc)) from None
     levels = frame_levels(frames, profile)
     try:
         written = write_wav(out, levels, args.rate, profile, samplerate=samplerate,
-                            carrier_hz=args.carrier_hz, ramp_ms=ramp_ms)  # fmt: skip
+                            carrier_hz=args.carrier_hz, ramp_ms=ramp_ms, waveform=waveform,
+                            voices=voices)  # fmt: skip
     except OSError as exc:
         raise write_failed(out, exc) from None
     print(f"wrote {len(frames)} frames of {what} to {out}: {profile.channels} channels of "

@@ -2,7 +2,8 @@
 
 :class:`Player` sits between two threads. The writer (the streamer's thread, through
 :class:`~.audio.AudioLink`) turns what the array model applied or queued into *events* — ``(id,
-host time, amplitudes, timed)`` — and swaps in a new immutable tuple of them. PortAudio's thread
+host time, amplitudes, timed, voices)``, ``voices`` the waveforms the frame asks for (None: each
+channel its own) — and swaps in a new immutable tuple of them. PortAudio's thread
 calls :meth:`Player.play` once per block: it maps the block onto the host's clock
 (:class:`BlockClock`), applies each event at the first sample at or after its time (a frame for
 now, stamped with its arrival, lands at the start of the next block), enforces the 250 ms
@@ -32,6 +33,8 @@ STEP_S = 2e-6
 late callback or a burst moves it by this much at most (ten times as much during its first
 :data:`QUICK_BLOCKS`, to leave the error of the one block it locked on quickly)."""
 QUICK_BLOCKS = 32
+FADE = "fade"
+"""The voices of the event that closes the stream: all off along the ramp, releases cut."""
 
 
 class BlockClock:
@@ -99,11 +102,16 @@ class Player:
         The stream's channels (those beyond the array's stay silent).
     top : int
         The array's highest level (full amplitude).
+    waveforms : sequence of Waveform, optional
+        Each channel's own waveform (one for all, or one per channel); the plain carrier by
+        default.
     """
 
-    def __init__(self, carrier_hz, samplerate: int, *, ramp_s: float, outputs: int, top: int):
+    def __init__(self, carrier_hz, samplerate: int, *, ramp_s: float, outputs: int, top: int,
+                 waveforms=None):  # fmt: skip
         self.samplerate = samplerate
-        self.synth = CarrierSynth(carrier_hz, samplerate, ramp_s=ramp_s, outputs=outputs)
+        self.synth = CarrierSynth(carrier_hz, samplerate, ramp_s=ramp_s, outputs=outputs,
+                                  waveforms=waveforms)  # fmt: skip
         self.clock = BlockClock(samplerate)
         self._scale = 1.0 / top
         self._zeros = np.zeros(self.synth.channels)
@@ -118,14 +126,16 @@ class Player:
 
     # --- the writer's side ------------------------------------------------------------------
 
-    def _event(self, at: float, levels: bytes, timed: bool) -> tuple:
+    def _event(self, at: float, levels: bytes, timed: bool, voices=None) -> tuple:
         self._next_id += 1
         amplitudes = np.frombuffer(levels, dtype=np.uint8) * self._scale
-        return (self._next_id, at, amplitudes, timed)
+        return (self._next_id, at, amplitudes, timed, voices)
 
-    def schedule(self, model, frames: list, now: float) -> None:
+    def schedule(self, model, frames: list, now: float, voices=None) -> None:
         """After :meth:`~.array.ArrayModel.receive` at host time ``now``: events for the frames
-        the model applied (``frames``) and queued (``model.queue``)."""
+        the model applied (``frames``) and queued (``model.queue``); the new ones play
+        ``voices`` (a waveform or None per channel, None: each channel its own)."""
+        voices = self.synth.voices(voices)
         if not frames and len(model.queue) == len(self._queued):
             return
         done = self.done
@@ -136,10 +146,11 @@ class Player:
                 continue  # played from the queue: scheduled when it was queued
             if isinstance(msg, Frame):  # a frame for now drops what was still to come
                 pending = [e for e in pending if e[1] <= now]
-            pending.append(self._event(now, msg.levels, False))
+            pending.append(self._event(now, msg.levels, False, voices))
         for msg in model.queue:
             if not any(msg is q for q in before):
-                pending.append(self._event(model.host_time(msg.at_us, now), msg.levels, True))
+                at = model.host_time(msg.at_us, now)
+                pending.append(self._event(at, msg.levels, True, voices))
         self._queued = list(model.queue)
         if model.last_valid == now:
             self.fed_at = now  # before the events: the callback reads them first, then this
@@ -149,7 +160,7 @@ class Player:
         """All off from the next block, dropping whatever was still to come."""
         self.silent_blocks = 0
         self._queued = []
-        self.events = (self._event(now, bytes(self.synth.channels), False),)
+        self.events = (self._event(now, bytes(self.synth.channels), False, FADE),)
 
     # --- the callback's side ----------------------------------------------------------------
 
@@ -166,7 +177,7 @@ class Player:
         done = 0
         last_id = self.done
         for event in events:
-            eid, at, amplitudes, timed = event
+            eid, at, amplitudes, timed, voices = event
             if eid <= last_id:
                 continue
             if at > watch:
@@ -180,7 +191,10 @@ class Player:
                 offset = done
             synth.render(out, done, offset)
             done = offset
-            synth.set_target(amplitudes)
+            if voices is FADE:  # closing: every channel fades along the ramp, releases too
+                synth.set_target(amplitudes, release=False)
+            else:
+                synth.set_target(amplitudes, voices)
             self.done = last_id = eid
         if watch < start_s + frames / rate:  # no valid frame for 250 ms: all off
             if synth.active:

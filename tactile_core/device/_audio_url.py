@@ -2,8 +2,9 @@
 
 ``audio:`` is the default output device; ``audio:NAME`` a device by its index, its name, or a
 part of its name that only one output device has; a query sets ``channels``, ``carrier_hz``,
-``samplerate`` and ``ramp_ms`` (``audio:USB?channels=8&carrier_hz=170``). Every problem is a
-:class:`~.link.LinkError` whose message names the key or lists what the devices offer.
+``samplerate``, ``ramp_ms`` and ``waveform`` (``audio:USB?channels=8&carrier_hz=170``,
+``audio:USB?waveform=square:200``). Every problem is a :class:`~.link.LinkError` whose message
+names the key or lists what the devices offer.
 """
 
 from __future__ import annotations
@@ -15,10 +16,10 @@ from dataclasses import dataclass
 from .._shared import validate as _validate
 from ._audio_synth import DEFAULT_RAMP_MS
 from ._link_error import LinkError
-from ._profile_json import CARRIER_RANGE_HZ
+from .waveform import CARRIER_RANGE_HZ, Waveform, WaveformError, parse_waveform
 
 SCHEME = "audio:"
-KEYS = ("channels", "carrier_hz", "samplerate", "ramp_ms")
+KEYS = ("channels", "carrier_hz", "samplerate", "ramp_ms", "waveform")
 """The keys an ``audio:`` URL's query may set."""
 SAMPLERATE_RANGE = (8000, 384000)
 RAMP_RANGE_MS = (0.0, 20.0)
@@ -37,6 +38,7 @@ class AudioURL:
     carrier_hz: float | None = None
     samplerate: int | None = None
     ramp_ms: float = DEFAULT_RAMP_MS
+    waveform: Waveform | None = None
 
 
 def is_audio_url(url) -> bool:
@@ -63,12 +65,15 @@ def parse_audio_url(url: str) -> AudioURL:
     LinkError
         Naming the key: an unknown or repeated key, a value that is not a number, or one out of
         range (channels < 1, a carrier outside 1-1000 Hz, a samplerate outside 8000-384000 Hz,
-        a ramp outside 0-20 ms).
+        a ramp outside 0-20 ms), a waveform spec that does not read (naming its field).
 
     Examples
     --------
-    >>> parse_audio_url("audio:USB%3F?channels=8&carrier_hz=170")
-    AudioURL(device='USB?', channels=8, carrier_hz=170.0, samplerate=None, ramp_ms=1.5)
+    >>> parse_audio_url("audio:USB%3F?channels=8&carrier_hz=170")  # doctest: +NORMALIZE_WHITESPACE
+    AudioURL(device='USB?', channels=8, carrier_hz=170.0, samplerate=None, ramp_ms=1.5,
+             waveform=None)
+    >>> parse_audio_url("audio:USB?waveform=square:200").waveform.spec
+    'square:200'
     """
     if not is_audio_url(url):
         raise LinkError(f"invalid device URL {url!r}: an audio URL starts with 'audio:'")
@@ -88,8 +93,14 @@ def parse_audio_url(url: str) -> AudioURL:
             raise LinkError(f"invalid device URL {url!r}: key {key!r} given twice")
         if not eq:
             raise LinkError(f"invalid device URL {url!r}: key {key!r} has no value ({key}=...)")
-        fields[key] = _value(url, key, urllib.parse.unquote(text), key in ("channels",
-                                                                         "samplerate"))  # fmt: skip
+        text = urllib.parse.unquote(text)
+        if key == "waveform":
+            try:
+                fields[key] = parse_waveform(text)
+            except WaveformError as exc:
+                raise LinkError(f"invalid device URL {url!r}: {exc}") from None
+            continue
+        fields[key] = _value(url, key, text, key in ("channels", "samplerate"))
     checks = {
         "channels": (1, MAX_CHANNELS, ""),
         "carrier_hz": (*CARRIER_RANGE_HZ, " Hz"),

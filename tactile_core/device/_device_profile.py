@@ -48,6 +48,10 @@ class DeviceProfile:
     carrier_hz : tuple of float or None
         An audio array's carrier frequencies: one for every channel, or one per channel in
         channel order (:mod:`tactile_core.device.audio`; 250 Hz when None).
+    waveform : tuple of Waveform or None
+        An audio array's waveforms (:mod:`tactile_core.device.waveform`): one for every channel,
+        or one per channel in channel order; the plain carrier (a sine at ``carrier_hz``) when
+        None. A serial array plays levels only.
     """
 
     name: str
@@ -62,6 +66,7 @@ class DeviceProfile:
     path: str | None = field(default=None, compare=False)
     file_sha256: str | None = field(default=None, compare=False)
     carrier_hz: tuple | None = None
+    waveform: tuple | None = None
 
     @property
     def layout(self) -> Layout:
@@ -188,6 +193,9 @@ class DeviceProfile:
         if self.carrier_hz is not None:
             hz = self.carrier_hz
             data["carrier_hz"] = hz[0] if len(hz) == 1 else list(hz)
+        if self.waveform is not None:
+            specs = [w.spec for w in self.waveform]
+            data["waveform"] = specs[0] if len(specs) == 1 else specs
         return data
 
     @property

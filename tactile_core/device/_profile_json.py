@@ -16,6 +16,7 @@ from .._shared import validate as _validate
 from ..rendering.geometry import ArraySpec, Grid
 from ..rendering.motor import MotorResponse
 from ._layout_json import layout_from_json
+from .waveform import CARRIER_RANGE_HZ, WaveformError, parse_waveform
 
 FORMAT = "tactile-device-profile"
 VERSION = 1
@@ -91,8 +92,8 @@ def profile_fields(data, source: str = "profile") -> dict:
     -------
     dict
         ``name``, ``array`` (:class:`ArraySpec`), ``baud``, ``response``, ``motor``, ``offset``,
-        ``gain``, ``threshold``, ``description``, ``path`` (None) and ``carrier_hz``, checked and
-        as the class holds them.
+        ``gain``, ``threshold``, ``description``, ``path`` (None), ``carrier_hz`` and
+        ``waveform``, checked and as the class holds them.
 
     Raises
     ------
@@ -255,6 +256,7 @@ def profile_fields(data, source: str = "profile") -> dict:
         description=description,
         path=None,
         carrier_hz=_carrier_hz(data.get("carrier_hz"), source, size),
+        waveform=_waveform(data.get("waveform"), source, size),
     )
 
 
@@ -283,10 +285,6 @@ def _motor(field, source, size, table):
     return MotorResponse(taus[0], taus[1], note)
 
 
-CARRIER_RANGE_HZ = (1.0, 1000.0)
-"""Carriers a profile may give an audio array's actuators (vibrotactile: up to ~1 kHz)."""
-
-
 def _carrier_hz(field, source, channels):
     """The ``carrier_hz`` field (audio arrays): one frequency for every channel, or a list of
     one per channel in channel order, each within :data:`CARRIER_RANGE_HZ`; None if absent."""
@@ -304,3 +302,22 @@ def _carrier_hz(field, source, channels):
             f"{source}: field '{key}' must be within [{lo:g}, {hi:g}] Hz, got {hz[bad[0]]:g}"
         )
     return tuple(hz.tolist())
+
+
+def _waveform(field, source, channels):
+    """The ``waveform`` field (audio arrays): one spec for every channel, or a list of one per
+    channel in channel order (:mod:`.waveform`); a tuple of :class:`Waveform`, None if
+    absent."""
+    if field is None:
+        return None
+    if isinstance(field, list):
+        if len(field) != channels:
+            raise ProfileError(f"{source}: field 'waveform' must hold {channels} specs (one per "
+                               f"channel) or be one spec, got {len(field)}")  # fmt: skip
+        specs = [(f"field 'waveform[{i}]'", spec) for i, spec in enumerate(field)]
+    else:
+        specs = [("field 'waveform'", field)]
+    try:
+        return tuple(parse_waveform(spec, what) for what, spec in specs)
+    except WaveformError as exc:
+        raise ProfileError(f"{source}: {exc}") from None

@@ -6,8 +6,9 @@ are received by :class:`~.array.ArrayModel`, exactly as the reference firmware r
 frames, hello (its info names the profile's array and announces scheduled frames), query, the
 clock exchange and timed frames, the 250 ms watchdog. What the model applies becomes *events*
 for the audio callback: a frame for now starts at the next block, a timed frame at the sample
-whose time is its time. The callback turns them into carriers (:mod:`._audio_synth`), sample
-for sample, with a raised-cosine ramp between levels.
+whose time is its time. The callback turns them into each channel's waveform
+(:mod:`._audio_synth`: the profile's, or what a frame asks for), sample for sample, with a
+raised-cosine ramp between levels.
 
 The array's clock is the host's (``time.perf_counter``, microseconds from the link's start):
 clock exchanges cost nothing in-process (:attr:`AudioLink.byte_s` is 0), and the callback maps
@@ -48,6 +49,7 @@ from ._link_error import LinkError
 from .array import ArrayModel
 from .host_clock import HostClock
 from .profile import DeviceProfile, default_profile
+from .waveform import PLAIN, Waveform
 
 _WHAT_TO_CHECK = (
     "is it plugged in and not held by another program? For ALSA's file plugin: does something "
@@ -170,15 +172,28 @@ def carriers_for(profile: DeviceProfile, carrier_hz: float | None = None) -> np.
     return np.broadcast_to(np.asarray(given, dtype=np.float64), (n,)).copy()
 
 
+def waveforms_for(profile: DeviceProfile, waveform: Waveform | None = None) -> tuple:
+    """One waveform per channel: ``waveform`` (a URL's) for all, else the profile's (one for
+    all or one per channel), else the plain carrier; a waveform that gives no frequency plays
+    at the channel's carrier (:func:`carriers_for`)."""
+    n = profile.channels
+    if waveform is not None:
+        return (waveform,) * n
+    given = getattr(profile, "waveform", None)
+    if given is None:
+        return (PLAIN,) * n
+    return tuple(given) * n if len(given) == 1 else tuple(given)
+
+
 class AudioLink:
     """An ``audio:`` device: the profile's channels on an output stream.
 
     Parameters
     ----------
     url : str
-        ``audio:`` or ``audio:NAME?channels=N&carrier_hz=F&samplerate=SR&ramp_ms=R``.
+        ``audio:`` or ``audio:NAME?channels=N&carrier_hz=F&samplerate=SR&ramp_ms=R&waveform=W``.
     profile : DeviceProfile, optional
-        The array (its channels, levels, carriers); the palm array by default.
+        The array (its channels, levels, carriers, waveforms); the palm array by default.
     clock : HostClock, optional
         The host's clock (``time.perf_counter``); the tests drive a fake stream on a
         :class:`~.host_clock.VirtualClock`.
@@ -220,6 +235,7 @@ class AudioLink:
                 f"{n} actuators of the profile {self.profile.name} (one channel each)"
             )
         self.carrier_hz = carriers_for(self.profile, self.settings.carrier_hz)
+        self.waveforms = waveforms_for(self.profile, self.settings.waveform)
         self.ramp_s = self.settings.ramp_ms / 1e3
         self._clock = clock or HostClock()
         self.model = ArrayModel(self.profile, pwm_hz=round(float(self.carrier_hz[0])),
@@ -272,7 +288,7 @@ class AudioLink:
                                                           asked=asked), gave_up)  # fmt: skip
         self.device, self.samplerate = device, rate
         self.player = Player(self.carrier_hz, rate, ramp_s=self.ramp_s, outputs=self.channels,
-                             top=self.profile.levels - 1)  # fmt: skip
+                             top=self.profile.levels - 1, waveforms=self.waveforms)  # fmt: skip
         self._last_callback = self._clock.now()
         self._failure = ""
         self._finished = False
@@ -349,8 +365,16 @@ class AudioLink:
 
     # --- the writer's side (the streamer's thread) ---------------------------------------------
 
-    def write(self, data: bytes) -> None:
-        """Receive bytes as the array would; what it applies or queues goes to the callback."""
+    takes_voices = True
+    """It plays a waveform per channel: a writer may hand each frame's (:meth:`write`)."""
+
+    def write(self, data: bytes, *, voices=None) -> None:
+        """Receive bytes as the array would; what it applies or queues goes to the callback.
+
+        ``voices``: the waveforms the frames in ``data`` ask for, one per channel in channel
+        order (a :class:`~.waveform.Waveform`, or None for the channel's own), as a pattern's
+        effects give them; None: every channel its own. A lit channel takes its waveform from
+        the frame that lights it; one that is off keeps the one it had."""
         self._alive()
         now = self._clock.now()
         with self._lock:
@@ -362,7 +386,7 @@ class AudioLink:
             replies, frames = model.receive(data, now)
             model.onsets.clear()  # nobody reads them here; they would pile up
             self._replies += replies
-            player.schedule(model, frames, now)
+            player.schedule(model, frames, now, voices)
 
     def read(self) -> bytes:
         """What the array answered since the last read."""
@@ -445,4 +469,5 @@ __all__ = [
     "output_devices",
     "parse_audio_url",
     "synthesize",
+    "waveforms_for",
 ]

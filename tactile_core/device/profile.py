@@ -20,7 +20,9 @@ A profile (``assets/devices/palm-5x6.json`` is the paper's array) holds::
         "offset": [0.0, ...],               #   added to a lit tactor's drive, within [-1, 1]
         "gain": [1.0, ...],                 #   multiplies it, within (0, 10]
         "threshold": [0.25, ...]            #   optional: measured detection thresholds, [0, 1]
-      }
+      },
+      "carrier_hz": 250,                    # optional, audio: one, or one per channel
+      "waveform": "square+adsr:5,20,0.7,50" # optional, audio: one spec, or one per channel
     }
 
 Unknown keys are ignored (so a newer minor addition does not break an older reader). A file

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 from .._shared import validate as _validate
+from ..device.waveform import parse_waveform
 from ..rendering.layout import MAX_ACTUATORS
 from ..rendering.methods import get_method
 from ..rendering.shapes import FADES, Shape, TimedPath
@@ -274,6 +275,11 @@ class Effect:
         The editor's row it sits on (0 to ``MAX_TRACKS - 1``); it does not change what plays.
     name : str
         A label, "" by default.
+    waveform : Waveform or str, optional
+        What the actuators it lights play on an audio interface (a
+        :class:`~tactile_core.device.waveform.Waveform` or its spec: ``"square:200"``,
+        ``"sweep:100-300:500ms"``, ``"noise"``); a frequency left out is the channel's carrier.
+        None: the device profile's waveform. A serial array plays levels only.
 
     Examples
     --------
@@ -292,6 +298,7 @@ class Effect:
     group: str | None = None
     track: int = 0
     name: str = ""
+    waveform: object = None
 
     def __post_init__(self):
         content = self.content
@@ -322,6 +329,8 @@ class Effect:
         object.__setattr__(self, "track",
                            _validate.integer("track", self.track, 0, MAX_TRACKS - 1))  # fmt: skip
         _text("name", self.name)
+        if self.waveform is not None:
+            object.__setattr__(self, "waveform", parse_waveform(self.waveform))
         end = self.end_s
         if end > _validate.MAX_DURATION_S * (1.0 + 1e-12):
             raise ValueError(f"repeat {self.repeat} of {self.duration_s:g} s from start_s "

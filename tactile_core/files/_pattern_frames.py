@@ -137,6 +137,7 @@ class PatternFrames(TabledFrames):
         self._dots = [k for k, p in enumerate(self._parts) if p.shape is None]
         self._first_dot = self._dots[0] if self._dots else len(self._parts)
         self._columns = _dot_columns([self._parts[k] for k in self._dots])
+        self._waveforms = any(e.waveform is not None for e in pattern.effects)
 
     FOREGROUND_CHUNK = BLOCK_SAMPLES
     THREAD_NAME = "tactile-pattern-precompute"
@@ -145,30 +146,33 @@ class PatternFrames(TabledFrames):
         """When each part is on: ``[(start_s, end_s), ...]``."""
         return [(p.lo, p.hi) for p in self._parts]
 
+    def _found(self, part, when: float):
+        """What ``part`` lights at ``when`` seconds: ``[(actuator, raw value), ...]``, or None
+        when it is not on then."""
+        offset = when - part.start
+        if offset < 0.0 or when >= part.end:
+            return None
+        r = min(math.floor(offset / part.period), part.repeat - 1)
+        phase = min(max(offset - r * part.period, 0.0), part.period)
+        if not part.a <= phase < part.stop:
+            return None
+        g = part.effect.gain1(phase)
+        if g <= 0.0:
+            return None
+        u = min(max((phase - part.a) / (part.b - part.a), 0.0), 1.0)
+        if part.shape is not None:
+            mask = part.mask
+            return [(i, v * g) for i, v in part.entries(part.shape, u)
+                    if mask is None or i in mask]  # fmt: skip
+        return [(part.actuator, part.level * fade1(FADES[part.fade], u) * g)]
+
     def raw1(self, when: float) -> dict:
         """Combined raw intensities at ``when`` seconds: ``{actuator: value}`` of the lit."""
         lit: dict[int, float] = {}
         add = self._sum
         for n in self._spans.at(when):
-            part = self._parts[n]
-            offset = when - part.start
-            if offset < 0.0 or when >= part.end:
-                continue
-            r = min(math.floor(offset / part.period), part.repeat - 1)
-            phase = min(max(offset - r * part.period, 0.0), part.period)
-            if not part.a <= phase < part.stop:
-                continue
-            g = part.effect.gain1(phase)
-            if g <= 0.0:
-                continue
-            u = min(max((phase - part.a) / (part.b - part.a), 0.0), 1.0)
-            if part.shape is not None:
-                mask = part.mask
-                found = [(i, v * g) for i, v in part.entries(part.shape, u)
-                         if mask is None or i in mask]  # fmt: skip
-            else:
-                found = [(part.actuator, part.level * fade1(FADES[part.fade], u) * g)]
-            for i, v in found:
+            found = self._found(self._parts[n], when)
+            for i, v in found or ():
                 if add:
                     lit[i] = lit.get(i, 0.0) + v
                 elif v > lit.get(i, 0.0):
@@ -176,6 +180,35 @@ class PatternFrames(TabledFrames):
         if add:
             return {i: min(v, 1.0) for i, v in lit.items() if v > 0.0}
         return {i: v for i, v in lit.items() if v > 0.0}
+
+    @property
+    def waveforms(self) -> bool:
+        """True if some effect asks for a waveform of its own (:meth:`voices`)."""
+        return self._waveforms
+
+    def voices(self, k: int) -> tuple | None:
+        """The waveforms frame ``k`` asks for, one per actuator (a
+        :class:`~tactile_core.device.waveform.Waveform`, or None: the device's own), or None
+        when it asks for none. An actuator plays the waveform of the effect that gives it its
+        largest raw intensity within the frame (the first such effect on a tie); an effect
+        without a waveform gives the device's."""
+        if not self._waveforms or not 0 <= k < self.n_frames:
+            return None
+        start = k / self.sampling.rate_hz
+        best: dict[int, tuple] = {}
+        for offset in self._offsets:
+            when = start + offset
+            for n in self._spans.at(when):
+                part = self._parts[n]
+                for i, v in self._found(part, when) or ():
+                    if v > 0.0 and v > best.get(i, (0.0,))[0]:
+                        best[i] = (v, part.effect.waveform)
+        if all(w is None for _, w in best.values()):
+            return None
+        chosen = [None] * self.grid.size
+        for i, (_, waveform) in best.items():
+            chosen[i] = waveform
+        return tuple(chosen)
 
     def raw_at(self, when_s: np.ndarray) -> np.ndarray:
         """Combined raw intensities at the ascending times ``when_s`` (seconds from the

@@ -28,7 +28,10 @@ from ._pattern_effects import (
 )
 
 FORMAT = "tactile-pattern"
-VERSION = 1
+VERSION = 2
+"""The newest version read; a file is written as version 1 unless it needs 2."""
+WAVEFORM_VERSION = 2
+"""The first version whose effects may name a ``waveform`` (version 1 files read as before)."""
 MAX_PATTERN_BYTES = 4 << 20
 """Largest pattern file read (4 MiB: 10,000 effects of a few hundred bytes each)."""
 MAX_PATTERN_DEPTH = 8
@@ -37,7 +40,7 @@ path, ``points``, a point."""
 
 _TOP = ("format", "version", "name", "notes", "combine", "effects")
 _EFFECT = ("track", "name", "start_s", "duration_s", "repeat", "method", "group", "envelope",
-           "shape", "dots", "tact")  # fmt: skip
+           "waveform", "shape", "dots", "tact")  # fmt: skip
 _CONTENT = ("shape", "dots", "tact")
 _DOT = ("at", "intensity", "start_s", "duration_s", "fade")
 _KEYFRAME = ("time_s", "gain")
@@ -183,6 +186,9 @@ def pattern_fields(data, source: str = "pattern") -> dict:
     effects = r.array(data["effects"], "effects", MAX_EFFECTS)
     out, points = [], 0
     for i, item in enumerate(effects):
+        if isinstance(item, dict) and "waveform" in item and version < WAVEFORM_VERSION:
+            r.fail(f"effects[{i}].waveform needs version {WAVEFORM_VERSION} (the file says "
+                   f"{version})")  # fmt: skip
         effect = _effect(r, item, f"effects[{i}]")
         points += effect.points()
         if points > MAX_TOTAL_POINTS:
@@ -214,7 +220,7 @@ def _effect(r: _Reader, item, field: str) -> Effect:
     for key in ("repeat", "track"):
         if key in item:
             kwargs[key] = r.whole(item[key], f"{field}.{key}")
-    for key in ("method", "group"):
+    for key in ("method", "group", "waveform"):
         if key in item:
             kwargs[key] = r.text(item[key], f"{field}.{key}", null=True)
     if "name" in item:
@@ -282,9 +288,10 @@ def _timed_path(data, field: str) -> TimedPath:
 
 def pattern_to_json(pattern) -> dict:
     """The JSON form of a pattern (what :func:`pattern_fields` reads back equal)."""
+    waveforms = any(e.waveform is not None for e in pattern.effects)
     return {
         "format": FORMAT,
-        "version": VERSION,
+        "version": WAVEFORM_VERSION if waveforms else 1,
         "name": pattern.name,
         "notes": pattern.notes,
         "combine": pattern.combine,
@@ -301,6 +308,8 @@ def _effect_json(effect) -> dict:
             out[key] = getattr(effect, key)
     if effect.name:
         out["name"] = effect.name
+    if effect.waveform is not None:
+        out["waveform"] = effect.waveform.spec
     if effect.envelope:
         out["envelope"] = [{"time_s": t, "gain": g} for t, g in effect.envelope]
     content = effect.content

@@ -151,6 +151,12 @@ class Pattern:
         """The layout groups its effects name, in order of first use."""
         return tuple(dict.fromkeys(e.group for e in self.effects if e.group is not None))
 
+    @property
+    def waveforms(self) -> tuple:
+        """The waveforms its effects ask for (:class:`~tactile_core.device.waveform.Waveform`),
+        in order of first use; what an audio interface plays and a serial array drops."""
+        return tuple(dict.fromkeys(e.waveform for e in self.effects if e.waveform is not None))
+
     def check(self, target, method: str | None = None) -> Pattern:
         """Return the pattern if it plays on ``target`` (a Grid or Layout) with the scene's
         ``method`` (None: the layout's default, IM on a grid, BA elsewhere); ``ValueError``
@@ -293,6 +299,18 @@ class Pattern:
         from ._pattern_tact import write_pattern_tact
 
         return write_pattern_tact(out, self, target, **options)
+
+    def save_wav(self, out, profile, method: str | None = None, *, rate_hz: float = 300.0,
+                 mu: float = 0.0, gamma: float = 1.0, **options):  # fmt: skip
+        """Write what an audio interface plays for the pattern on ``profile`` (a
+        :class:`~tactile_core.device.profile.DeviceProfile`) as a multichannel WAV file: each
+        channel on its waveform, an effect's own where it names one (``docs/patterns.md``);
+        ``options`` as :func:`~tactile_core.files.wav.write_wav` (``samplerate``,
+        ``carrier_hz``, ``ramp_ms``, ``waveform``). Returns the samples per channel written."""
+        from .wav import write_pattern_wav
+
+        return write_pattern_wav(out, self, profile, method, rate_hz=rate_hz, mu=mu,
+                                 gamma=gamma, **options)  # fmt: skip
 
     def save(self, path):
         """Write the pattern to ``path`` atomically (a file :meth:`load` reads back equal);

@@ -77,6 +77,7 @@ class _Plan:
         self.precompute_started = False
         self.last_k = None
         self.last_levels = None
+        self.last_voices = None
 
     def describe(self, profile: DeviceProfile, link, priority_note: str) -> tuple[str, str]:
         """State and status line of the stream under this plan, to ``link`` (its
@@ -92,6 +93,7 @@ class _Plan:
             return "streaming", (
                 f"streaming {self.scene.method} at {self.rate:.0f} Hz: {self.requested:g} Hz "
                 f"requested, the link carries {self.max_rate:.0f} frames/s ({why})"
+                f"{dropped_waveforms(self.scene, profile, link)}"
             )
         note = f" ({priority_note})" if priority_note else ""
         if self.motor is not None:
@@ -100,7 +102,27 @@ class _Plan:
             note += f", plain drive: profile {profile.name} has no motor constants ('motor')"
         return "streaming", (
             f"streaming {self.scene.method} at {self.rate:g} Hz to {link.description}{note}"
+            f"{dropped_waveforms(self.scene, profile, link)}"
         )
+
+
+def dropped_waveforms(scene: Scene | None, profile: DeviceProfile, link) -> str:
+    """``"; waveform square:200 needs an audio interface: the serial array plays levels
+    only"``: what a link that plays levels only (not an audio interface) drops of the waveforms
+    the profile (its ``waveform``) and the scene's pattern (its effects') ask for; "" when it
+    drops nothing. Said in the status line, once a scene."""
+    if getattr(link, "takes_voices", False):
+        return ""
+    asked = [w for w in (profile.waveform or ()) if not w.plain]
+    asked += list(getattr(getattr(scene, "source", None), "waveforms", ()) or ())
+    specs = list(dict.fromkeys(w.spec for w in asked))
+    if not specs:
+        return ""
+    if len(specs) == 1:
+        what = f"waveform {specs[0]} needs"
+    else:
+        what = f"waveforms {', '.join(specs[:4])}{' ...' if len(specs) > 4 else ''} need"
+    return f"; {what} an audio interface: the serial array plays levels only"
 
 
 class _ChannelLevels:
@@ -123,6 +145,7 @@ class _ChannelLevels:
         channel_of_cell[profile.array.channel_index] = np.arange(profile.channels)
         self._channel_of_cell = channel_of_cell.tolist()
         self._cell_of_channel = profile.array.channel_index
+        self._cells = self._cell_of_channel.tolist()
         self._offset = None if profile.offset is None else list(profile.offset)
         self._gain = None if profile.gain is None else list(profile.gain)
         self._drive: LiveMotorDrive | None = None
@@ -187,6 +210,15 @@ class _ChannelLevels:
             for ch in lit_before - lit:
                 dither.residual[ch] = 0.0
         return levels, lit
+
+    def voices(self, plan: _Plan, k: int) -> tuple | None:
+        """The waveforms frame ``k`` of ``plan`` asks for, in channel order (a waveform or None
+        per channel), or None when it asks for none (only a pattern's effects do)."""
+        voices = getattr(plan.live, "voices", None)
+        chosen = voices(k) if voices is not None else None
+        if chosen is None:
+            return None
+        return tuple(chosen[cell] for cell in self._cells)
 
     def grid(self, levels: bytes) -> np.ndarray:
         """Channel-ordered ``levels`` on the grid: ``(rows, cols)`` uint8, for display

@@ -182,6 +182,8 @@ class Streamer:
         self._seq = 0  # the next frame's; taken before its write, which may go out and fail
         self._channels = _ChannelLevels(self.profile)
         self._bits = level_bits(self.profile.levels)
+        self._voiced = bool(getattr(link, "takes_voices", False))
+        """The link plays a waveform per channel (an audio interface): frames carry theirs."""
 
     # --- control (any thread) ------------------------------------------------------------------
 
@@ -301,14 +303,18 @@ class Streamer:
         """Channel-ordered levels of frame ``k`` and the set of lit channels."""
         return self._channels.levels(plan, k, dither, lit_before)
 
-    def _write(self, seq: int, levels: bytes, at: tuple | None = None) -> float:
+    def _write(self, seq: int, levels: bytes, at: tuple | None = None, voices=None) -> float:
         """Write a frame; ``at = (array_us, host_s)`` makes it a timed frame played at
-        ``array_us`` on the array's clock (``host_s`` on the host's). The time written."""
+        ``array_us`` on the array's clock (``host_s`` on the host's); ``voices``, the waveforms
+        it asks for in channel order, go to a link that plays them. The time written."""
         if at is None:
             data = encode_frame(seq, levels)
         else:
             data = encode_timed(seq, at[0], levels, self._bits)
-        self.link.write(data)
+        if voices is None:
+            self.link.write(data)
+        else:
+            self.link.write(data, voices=voices)
         now = self.clock.now()
         self.last_levels = self._channels.grid(levels)
         self.last_seq = seq & 0xFF
@@ -355,6 +361,8 @@ class Streamer:
                 if k != plan.last_k:
                     levels, cur.lit = self._levels(plan, k, cur.dither, cur.lit)
                     plan.last_k, plan.last_levels = k, levels
+                    if self._voiced:  # the waveforms the frame asks for, if any
+                        plan.last_voices = self._channels.voices(plan, k)
                 levels = plan.last_levels
                 seq, self._seq = self._seq, self._seq + 1
                 try:
@@ -363,7 +371,7 @@ class Streamer:
                     if plan.active and self._talk.scheduled:  # pausing and all-off are for now
                         at_s = cur.deadline + self.lead_s
                         at = (self._talk.at_us(at_s), at_s)
-                    sent = self._write(seq, levels, at)
+                    sent = self._write(seq, levels, at, plan.last_voices)
                     self._onsets.written(sent if at is None else at[1], seq, at is not None, k)
                     self.last_frame = (plan.scene, k / plan.rate if plan.active else None)
                     self._talk.after_frame()
