@@ -47,6 +47,18 @@ def test_scrubbing_plays_that_instant_on_the_array(window, qtbot):
     assert window.state.scene.playing and window.state.scene.hold_s is None
 
 
+def test_a_held_instant_offers_play_and_the_button_plays_on(window, qtbot):
+    # The controls' button said "Pause (Space)" while the cursor held an instant (the pattern
+    # editor's said "Play"), and a click paused instead of playing on.
+    button = window.controls.playback.play_button
+    assert button.text() == "Pause (Space)"
+    window.tune.curves.scrubbed.emit(0.9)
+    assert window.state.held and button.text() == "Play (Space)"
+    qtbot.mouseClick(button, QtCore.Qt.MouseButton.LeftButton)
+    assert window.state.scene.playing and not window.state.held
+    assert button.text() == "Pause (Space)"
+
+
 def test_draw_mode_clears_its_curves_and_restores_the_scene(window, qtbot):
     before = window.state.scene.replace(method="IM", pause_s=0.7)
     window.state.set_scene(before)

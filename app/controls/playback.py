@@ -34,7 +34,10 @@ class PlaybackWidget(SceneGroupWidget):
         grid = QtWidgets.QGridLayout(self)
         self.play_button = QtWidgets.QPushButton("Pause (Space)")
         self.play_button.setObjectName("play")
-        self.play_button.clicked.connect(lambda: self._set(playing=not self.state.scene.playing))
+        # A held instant (a scrubbed trace, a held pattern moment) plays again, as Space does.
+        self.play_button.clicked.connect(
+            lambda: self._set(playing=self.state.held or not self.state.scene.playing)
+        )
         self.restart_button = QtWidgets.QPushButton("Restart")
         self.restart_button.clicked.connect(self.state.restart)
         self.off_button = QtWidgets.QPushButton("All off (Esc)")
@@ -94,7 +97,8 @@ class PlaybackWidget(SceneGroupWidget):
         self.refresh()
 
     def _show(self, scene) -> None:
-        self.play_button.setText("Pause (Space)" if scene.playing else "Play (Space)")
+        playing = scene.playing and not self.state.held  # a held instant is not playing
+        self.play_button.setText("Pause (Space)" if playing else "Play (Space)")
         self.view_buttons.button(VIEW_MODES.index(self.state.view_mode)).setChecked(True)
 
     def set_felt_available(self, available: bool) -> None:
