@@ -141,6 +141,23 @@ def test_stream_plays_the_taps_into_the_emulator(emulator):
     assert align(levels[on], expected) >= 0  # each lit frame is one of the pattern's
 
 
+@pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
+def test_stream_plays_the_letter_to_its_last_frame_before_it_stops(emulator):
+    # Timed frames go out 20 ms ahead; the stream stopped when the pattern's duration had passed
+    # since the hello, and its final all-off dropped the stroke's last 6 scheduled frames.
+    emu = emulator("--rate", "300")
+    proc = stream(emu.path, "--shape", f"pattern:{EXAMPLES['letter-a']}", "--method", "AS")
+    assert proc.returncode == 0, proc.stderr
+    _, log = emu.finish()
+    levels = log[:, 2:].astype(np.uint8)
+    expected = levels_of(LETTER, PALM, "AS", 300.0)  # 630 frames, the last one lit
+    assert expected[-1].any() and not levels[-1].any()  # the stroke's end, then all off
+    lit = np.flatnonzero(levels.any(axis=1))
+    played = levels[lit[0] : lit[-1] + 1]  # from the first lit frame to the last
+    # each frame is the pattern's, in order (a stalled host may skip some), to its last
+    assert align(played, expected) == len(expected) - 1
+
+
 def test_export_tact_then_import_gives_the_same_frames(tmp_path, capsys):
     out = tmp_path / "sweep.tact"
     args = ["export-tact", "--shape", f"pattern:{EXAMPLES['vest-sweep']}", "--profile",

@@ -268,7 +268,8 @@ def cmd_stream(args) -> int:
         print(f"playing {pattern.describe(profile.layout)} of {args.shape[len('tact:') :]}"
               f"{not_played(pattern, profile.layout)}", file=sys.stderr, flush=True)  # fmt: skip
         warn_of_notes("stream", pattern)
-    if pattern is not None and args.seconds is None:
+    own_end = pattern is not None and args.seconds is None
+    if own_end:
         args.seconds = max(pattern.duration_on(profile.layout), 0.1)  # the file, then off
     if shape is not None:  # one trace at the stream's frame times (at most DARK_CHECK_FRAMES)
         n = min(int(np.floor(args.duration * args.rate + 1e-9)) + 1, DARK_CHECK_FRAMES)
@@ -331,7 +332,11 @@ def cmd_stream(args) -> int:
         while not stop.is_set() and not streamer.identified.wait(0.05):
             pass  # --seconds counts from the end of the hello exchange
         deadline = None if args.seconds is None else time.monotonic() + args.seconds
+        if own_end:  # the file's last frame, not its duration since the hello (a lead and a
+            deadline += END_SLACK_S  # clock exchange come between), then off
         while not stop.is_set() and streamer.running:
+            if own_end and _played_through(streamer, args.seconds):
+                own_end, deadline = False, time.monotonic() + options.lead_s + 2.0 / scene.rate_hz
             remaining = None if deadline is None else deadline - time.monotonic()
             if remaining is not None and remaining <= 0:
                 break
@@ -363,6 +368,18 @@ def cmd_stream(args) -> int:
         print(f"tactile stream: {stats.status}", file=sys.stderr)
         return 1
     return 0 if stats.errors == 0 and not unsaved else 1
+
+
+END_SLACK_S = 5.0
+"""How long past its duration ``tactile stream`` waits at most for a pattern's last frame to go
+out (a host stall, a reconnection), before it stops anyway."""
+
+
+def _played_through(streamer, duration_s: float) -> bool:
+    """Whether the stream has written a frame at or past ``duration_s`` of the trace: every
+    frame of a pattern has gone out (timed ones play a lead later)."""
+    _, trace_time = streamer.last_frame
+    return trace_time is not None and trace_time >= duration_s - 1e-9
 
 
 EMULATOR_PRIORITY = 20
