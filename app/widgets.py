@@ -207,6 +207,7 @@ def guard_wheel(root: QtWidgets.QWidget) -> None:
     guard = _WheelGuard(root)
     kinds = (QtWidgets.QAbstractSpinBox, QtWidgets.QComboBox, QtWidgets.QAbstractSlider)
     for widget in root.findChildren(QtWidgets.QWidget):
-        if isinstance(widget, kinds):
+        # a scroll bar is how a text box scrolls (handing its wheel on to it looped for ever)
+        if isinstance(widget, kinds) and not isinstance(widget, QtWidgets.QScrollBar):
             widget.setFocusPolicy(QtCore.Qt.FocusPolicy.StrongFocus)
             widget.installEventFilter(guard)

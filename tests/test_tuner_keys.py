@@ -79,6 +79,28 @@ def test_the_mouse_wheel_over_the_controls_scrolls_them(window, qtbot):
     assert scroll.verticalScrollBar().value() > 0
 
 
+def wheel_down(widget) -> None:
+    """One notch of the mouse wheel, down, over the middle of ``widget``."""
+    pos = QtCore.QPointF(widget.width() / 2, widget.height() / 2)
+    event = QtGui.QWheelEvent(pos, widget.mapToGlobal(pos), QtCore.QPoint(0, 0),
+                              QtCore.QPoint(0, -120), QtCore.Qt.MouseButton.NoButton,
+                              QtCore.Qt.KeyboardModifier.NoModifier,
+                              QtCore.Qt.ScrollPhase.NoScrollPhase, False)  # fmt: skip
+    QtWidgets.QApplication.sendEvent(widget, event)
+
+
+def test_the_wheel_over_the_notes_box_scrolls_its_text(window, qtbot):
+    # The wheel over the preset's notes opened "internal error: RecursionError": the notes'
+    # scroll bar handed the wheel to the scroll area around it, which is the notes box itself.
+    notes = window.controls.preset.notes_edit
+    notes.setPlainText("\n".join(f"line {i}" for i in range(200)))
+    notes.clearFocus()
+    bar = notes.verticalScrollBar()
+    qtbot.waitUntil(lambda: bar.maximum() > 0, timeout=WAIT_MS)
+    wheel_down(notes.viewport())
+    assert bar.value() > 0
+
+
 def test_help_lists_the_keys_and_says_what_the_tuner_is(window, qtbot):
     import tactile_core as tc
 
