@@ -284,3 +284,29 @@ def test_a_tact_pattern_shows_its_own_duration_with_bhaptics_scale(window, tmp_p
     assert trace.duration_spin.text() == "1.00 s" and not trace.duration_spin.isEnabled()
     window.controls.shape.tact_fields["duration"].setValue(2.0)  # twice as slow
     assert trace.duration_spin.text() == "2.00 s" and not trace.duration_spin.isEnabled()
+
+
+def test_a_front_then_back_file_is_plotted_over_both_positions(window, qtbot, tmp_path):
+    # The vest sweep exported with VestFront (0-0.8 s) and VestBack (0.8-1.6 s), imported on
+    # vest-front-back: the curves ended at 0.8 s (the front's own duration) and the back's
+    # lanes were flat, though the stream played both.
+    from tactile_core.device.profile import find_profile
+    from tactile_core.files.pattern import Pattern, example_patterns
+
+    from .tuner_support import WAIT_MS
+
+    vest = find_profile("vest-front-back")
+    sweep = Pattern.load(example_patterns()["vest-sweep"])
+    out = sweep.save_tact(tmp_path / "sweep.tact", vest.layout,
+                          positions={"front": "VestFront", "back": "VestBack"})  # fmt: skip
+    combo = window.device_panel.profile_combo
+    combo.setCurrentIndex(combo.findData("vest-front-back"))
+    combo.activated.emit(combo.currentIndex())
+    assert window.files.import_tact_file(out)
+    curves = window.tune.curves
+    qtbot.waitUntil(lambda: curves.curves is not None and curves.curves.raw.shape[1] == 8,
+                    timeout=WAIT_MS)  # fmt: skip
+    assert curves.curves.time_s[-1] == pytest.approx(sweep.duration_s, abs=0.01)  # 1.6 s
+    assert curves.plotItem.vb.viewRange()[0][1] >= sweep.duration_s
+    back = [k for k, cell in enumerate(curves.curves.cells) if cell >= 20]  # the back's 20-39
+    assert back and curves.curves.raw[:, back].max() > 0.5

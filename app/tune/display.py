@@ -121,8 +121,8 @@ class FrameDisplay(QtCore.QObject):
             self._last = (0.0, pattern.pattern_time_s(0.0))
         elif scene.playing and trace_time is not None:
             when = getattr(pattern, "pattern_time_s", None)
-            phase = when(trace_time) if when is not None else min(trace_time,
-                                                                  pattern.duration_s)  # fmt: skip
+            end = pattern.duration_on(self.state.layout)  # (a .tact file's positions here)
+            phase = when(trace_time) if when is not None else min(trace_time, end)
             self._last = (trace_time, phase)
         elif scene.playing or self._last is None:
             return None, None

@@ -262,12 +262,13 @@ class TuneWidget(QtWidgets.QStackedWidget):
                     return
                 outline = pattern_outlines(pattern, self.state.layout)
                 # one sample a frame (the middle of each), as the stream takes them
-                frames = max(curve_samples(pattern.duration_s, scene.rate_hz) - 1, 3)
+                # what plays on this array: a .tact file's positions on its groups
+                period = pattern.duration_on(self.state.layout)
+                frames = max(curve_samples(period, scene.rate_hz) - 1, 3)
                 curves = pattern.curves(scene.method, self.state.layout, mu=scene.mu,
                                         gamma=scene.gamma, samples=frames,
                                         motor=motor,
                                         compensate=aware)  # fmt: skip
-                period = pattern.duration_s
             else:
                 outline = scene.shape.outline()
                 curves = activation_curves(
