@@ -33,6 +33,31 @@ def test_hidden_at_first_and_shown_by_the_file_menu(window, qtbot):
     assert not editor.dock.isVisible()
 
 
+def front_tab(window) -> str:
+    """The text of the tab in front where the pattern editor shares a place with a dock."""
+    from PySide6 import QtWidgets
+
+    def has_editor(bar) -> bool:
+        return any(bar.tabText(i).startswith("Pattern editor") for i in range(bar.count()))
+
+    bars = [bar for bar in window.findChildren(QtWidgets.QTabBar) if has_editor(bar)]
+    assert len(bars) == 1
+    return bars[0].tabText(bars[0].currentIndex())
+
+
+def test_ctrl_e_brings_the_editor_to_the_front(window, qtbot):
+    # Ctrl+E added a "Pattern editor" tab but left the Device tab in front: nothing visible
+    # changed, while File > Pattern editor brought it up.
+    window.activateWindow()
+    qtbot.keyClick(window.tabs, QtCore.Qt.Key.Key_E, QtCore.Qt.KeyboardModifier.ControlModifier)
+    settle()
+    assert window.timeline.dock.isVisible() and front_tab(window).startswith("Pattern editor")
+    qtbot.waitUntil(window.timeline.panel.view.hasFocus, timeout=5000)
+    window.device_dock.raise_()  # the Device tab clicked
+    settle()
+    assert front_tab(window) == "Device"
+
+
 def test_readable_at_1280_by_720(window, qtbot):
     from tactile_tuner.timeline.view import RULER_PX, TRACK_PX
 

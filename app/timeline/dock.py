@@ -197,6 +197,8 @@ def install_timeline(window) -> TimelineEditor:
     toggle = dock.toggleViewAction()
     toggle.setText("Pattern editor panel")
     toggle.setShortcut(QtGui.QKeySequence("Ctrl+E"))
+    # shown means in front of the device dock it shares a place with, its time line taking keys
+    toggle.triggered.connect(lambda shown: show_editor(editor) if shown else None)
     lanes = next(a for a in window.view_menu.actions() if a.text() == "Activation curves in lanes")
     window.view_menu.insertAction(lanes, toggle)
     file_menu = next(a.menu() for a in window.menuBar().actions() if a.text() == "&File")
