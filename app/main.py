@@ -163,6 +163,8 @@ def main(argv=None) -> int:
         window.resize(*args.size)
     window.fit_to_screen(keep_size=args.size is not None)  # a size asked for is the size
     window.show()
+    # again once the window manager has framed it: its title bar's real height
+    QtCore.QTimer.singleShot(500, lambda: window.fit_to_screen(keep_size=args.size is not None))
 
     failed = []
     if args.screenshot:

@@ -174,10 +174,17 @@ def save_window(window) -> None:
     settings.sync()
 
 
+TITLE_GUESS_PX = 32
+"""A title bar's height, for a window the window manager has not framed yet (before it is
+shown its frame is unknown: Qt reports the window's own rectangle as its frame)."""
+
+
 def fit_window(window, keep_size: bool = False) -> None:
-    """Keep the window on its screen and no larger than it (a saved size from a larger
-    screen, or the default, is shrunk to fit); ``keep_size``: a size asked for (``--size``)
-    is kept, only the position is fitted.
+    """Keep the window on its screen and no larger than it, its frame included (a saved size
+    from a larger screen, or the default, is shrunk to fit); ``keep_size``: a size asked for
+    (``--size``) is kept, only the position is fitted. A window that fits is not moved: Qt
+    places a window by its frame but, before the window manager has framed it, reports the
+    window's own place, so moving it there put it a title bar lower at every start.
 
     Parameters
     ----------
@@ -188,12 +195,19 @@ def fit_window(window, keep_size: bool = False) -> None:
     if screen is None:
         return
     area = screen.availableGeometry()
-    frame = window.frameGeometry()
-    w = min(window.width(), area.width() - (frame.width() - window.width()))
-    h = min(window.height(), area.height() - (frame.height() - window.height()))
-    if (w, h) != (window.width(), window.height()) and not keep_size:
+    frame, inner = window.frameGeometry(), window.geometry()
+    if frame != inner:  # framed: its margins as they are
+        left, top = inner.x() - frame.x(), inner.y() - frame.y()
+        right, bottom = frame.right() - inner.right(), frame.bottom() - inner.bottom()
+    else:  # not framed yet: room for a title bar
+        left, top, right, bottom = 0, TITLE_GUESS_PX, 0, 0
+    w = min(inner.width(), area.width() - left - right)
+    h = min(inner.height(), area.height() - top - bottom)
+    if (w, h) != (inner.width(), inner.height()) and not keep_size:
         window.resize(w, h)
-    geometry = window.frameGeometry()
-    x = min(max(geometry.x(), area.left()), area.right() - geometry.width() + 1)
-    y = min(max(geometry.y(), area.top()), area.bottom() - geometry.height() + 1)
-    window.move(x, y)
+    w, h = window.width(), window.height()
+    # within the area; one larger than it (a size asked for) from its top left corner
+    x = max(min(inner.x(), area.right() - right - w + 1), area.left() + left)
+    y = max(min(inner.y(), area.bottom() - bottom - h + 1), area.top() + top)
+    if (x, y) != (inner.x(), inner.y()):
+        window.move(x - left, y - top)  # (Qt moves a window by its frame)

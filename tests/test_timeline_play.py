@@ -45,14 +45,26 @@ def test_an_opened_pattern_plays_on_the_heatmap_frame_by_frame(window, qtbot):
     pattern = window.state.scene.source
     shown = record_shown(window)
 
-    def playing():
-        return [s for s in list(shown) if s[1] is not None and s[0].source is pattern]
+    def playing(scene):
+        return [s for s in list(shown) if s[1] is not None and s[0] is scene]
 
-    # ten frames and a lit one: on a loaded machine the first ten shown may all fall in the
-    # pause between two strokes
-    qtbot.waitUntil(lambda: len(playing()) >= 10 and any(s[4].max() > 0.3 for s in playing()),
-                    timeout=10_000)  # fmt: skip
-    playing = playing()
+    # Ten frames and a lit one, from its start. A loaded machine can hold the window up for
+    # longer than the 2.1 s letter (drawing its curves): it is restarted until the window shows
+    # it while it plays (the first ten may also all fall in the pause between two strokes).
+    for _ in range(3):
+        window.state.restart()
+        scene = window.state.scene
+        try:
+            qtbot.waitUntil(lambda: len(playing(scene)) >= 10  # noqa: B023 (this attempt's)
+                            and any(s[4].max() > 0.3 for s in playing(scene)),  # noqa: B023
+                            timeout=10_000)  # fmt: skip
+            break
+        except qtbot.TimeoutError:
+            continue
+    else:
+        pytest.fail("the heatmap showed no lit frame of the letter in three plays")
+    assert scene.source is pattern
+    playing = playing(scene)
     frames = pattern_frames(window, pattern, playing[0][2])
     for _, start, rate, phase, values in playing:
         k = round(start * rate)

@@ -217,3 +217,81 @@ def test_screenshot_refuses_a_path_it_cannot_write_before_starting(tmp_path, whe
     # It said "saved ..." and exited 0 with nothing written; the FIFO blocked for ever.
     assert proc.returncode == 2 and "--screenshot" in proc.stderr
     assert "saved" not in proc.stdout
+
+
+class X11Window:
+    """A top-level window as an X11 window manager places one: moved by its frame (a title bar
+    ``title`` px high above it); before it is framed, Qt reports its own rectangle as its frame."""
+
+    def __init__(self, x, y, w, h, screen=(1280, 720), title=20):
+        from PySide6 import QtCore
+
+        self.rect = QtCore.QRect(x, y, w, h)
+        self.title, self.framed = title, False
+        self.area = QtCore.QRect(0, 0, *screen)
+
+    def screen(self):
+        return type("Screen", (), {"availableGeometry": lambda _: self.area})()
+
+    def geometry(self):
+        return self.rect
+
+    def frameGeometry(self):
+        if not self.framed:
+            return self.rect
+        return self.rect.adjusted(0, -self.title, 0, 0)
+
+    def width(self):
+        return self.rect.width()
+
+    def height(self):
+        return self.rect.height()
+
+    def resize(self, w, h):
+        self.rect.setSize(type(self.rect.size())(w, h))
+
+    def move(self, x, y):  # the frame's corner: the window sits a title bar lower
+        self.rect.moveTo(x, y + self.title)
+
+
+def test_a_window_that_fits_comes_back_where_it_was_at_every_start():
+    # The window came back 20 px lower at every start (y 45 -> 65 -> 85): fit_window moved it
+    # to its own place before it was framed, and Qt places a window by its frame.
+    from tactile_tuner.settings import fit_window
+
+    y = 45
+    for _ in range(3):  # three starts, each restoring where the last one was
+        win = X11Window(100, y, 1000, 600)
+        fit_window(win)
+        win.framed = True
+        fit_window(win)  # again once framed, as the tuner does after show()
+        assert (win.geometry().x(), win.geometry().y()) == (100, 45)
+        y = win.geometry().y()
+
+
+def test_a_session_from_a_larger_screen_fits_a_1280x720_one_with_its_title_bar():
+    # A 1600 x 1000 session restored at 1280 x 720 came back 1278 x 694 at y 45: 19 px of it,
+    # the status bar, below the screen.
+    from tactile_tuner.settings import fit_window
+
+    win = X11Window(0, 45, 1600, 1000)
+    fit_window(win)  # before show(): the frame not known yet
+    win.framed = True  # shown, framed by the window manager: it fits as it is
+    frame = win.frameGeometry()
+    assert frame.top() >= 0 and frame.bottom() <= 719 and frame.right() <= 1279
+    assert win.height() >= 720 - 32  # shrunk for a title bar, not more
+    fit_window(win)  # the tuner's second look after show() changes nothing then
+    assert win.frameGeometry() == frame
+
+
+def test_a_size_asked_for_larger_than_the_screen_keeps_its_title_bar_on_it():
+    # --size 1600x1000 on a 1280 x 720 screen put the window at y -285: its title bar, by
+    # which it is moved, above the screen.
+    from tactile_tuner.settings import fit_window
+
+    win = X11Window(0, 45, 1600, 1000)
+    fit_window(win, keep_size=True)
+    win.framed = True
+    fit_window(win, keep_size=True)
+    assert (win.width(), win.height()) == (1600, 1000)  # the size asked for
+    assert win.frameGeometry().topLeft().toTuple() == (0, 0)
