@@ -369,6 +369,17 @@ class FileActions(QtCore.QObject, KeepsDrawing):
         if path:
             self.open_pattern_file(path)
 
+    def pattern_saved(self, pattern, path) -> None:
+        """The pattern editor saved ``pattern`` to ``path``: while the scene plays it, the scene
+        came from that file (the title's name, no star; the next start opens it)."""
+        source = self.state.scene.source
+        if (source.pattern if isinstance(source, PatternCue) else source) != pattern:
+            return
+        self._pattern_file = (pattern, {"path": str(Path(path).absolute()), "kind": "pattern"})
+        self.preset_name, self.preset_notes = pattern.name or Path(path).stem, pattern.notes
+        self.preset_scene = self.state.scene.replace(source=pattern)
+        self.preset_changed.emit()
+
     def pattern_file(self, source) -> dict | None:
         """``{"path", "position", ["scale", "rotation"]}`` of the ``.tact`` file a scene's
         ``source`` was imported from (with the options it plays with), ``{"path", "kind":

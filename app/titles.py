@@ -6,6 +6,7 @@ from __future__ import annotations
 import functools
 
 import tactile_core as tc
+from tactile_core.files.pattern import PatternCue
 from tactile_core.files.presets import builtin_presets, load_preset
 
 EDITABLE = (tc.Line, tc.Circle, tc.Square)
@@ -29,16 +30,17 @@ def scene_name(scene, came_from, name: str) -> str:
     str
         ``name`` while ``scene`` plays the content it came with (the same pattern or ``.tact``
         file, options aside; a line, circle or square of the same kind, its fields edited; the
-        same path); otherwise what plays: a pattern's own name, ``free point (draw mode)``,
+        same path); otherwise what plays: a pattern's own name (``untitled`` if it has none),
+        ``free point (draw mode)``,
         ``drawn path``, a built-in preset's name for its shape (``Experiment 1 line``, the
         scene a profile that a pattern does not fit gives way to), else the kind of shape
         (``circle``), or ``nothing``.
     """
     if came_from is None or _same_content(scene, came_from):
         return name
-    shape, source = scene.shape, scene.source
+    shape, source = scene.shape, played(scene.source)
     if source is not None:
-        return getattr(source, "name", "") or "pattern"
+        return getattr(source, "name", "") or "untitled"
     if shape is None:
         return "nothing"
     if _point(shape):
@@ -48,11 +50,17 @@ def scene_name(scene, came_from, name: str) -> str:
     return _builtin_names().get(shape, type(shape).__name__.lower())
 
 
+def played(source):
+    """A scene's frame source as content: a pattern played from a moment of it (the editor's
+    :class:`PatternCue`) is that pattern."""
+    return source.pattern if isinstance(source, PatternCue) else source
+
+
 def _same_content(a, b) -> bool:
     if a.source is not None or b.source is not None:
-        file = getattr(a.source, "file", None)  # a .tact file, whatever its options
-        return a.source == b.source or (file is not None and file is getattr(b.source, "file",
-                                                                              None))  # fmt: skip
+        one, other = played(a.source), played(b.source)
+        file = getattr(one, "file", None)  # a .tact file, whatever its options
+        return one == other or (file is not None and file is getattr(other, "file", None))
     if isinstance(a.shape, EDITABLE):
         return type(a.shape) is type(b.shape) and _point(a.shape) == _point(b.shape)
     return a.shape == b.shape

@@ -40,15 +40,15 @@ from .texts import (
     value3,
 )
 from .timeline import install_timeline
-from .titles import scene_name
+from .titles import played, scene_name
 from .tune import TuneWidget
 
 
 def _same_tuning(a, b) -> bool:
-    """Whether two scenes are the same tuning (playing state, restarts and the kind of
-    presentation, such as a Blind A/B play's ``ab``, aside)."""
-    return a.replace(playing=True, epoch=0, marker="") == b.replace(playing=True, epoch=0,
-                                                                     marker="")  # fmt: skip
+    """Whether two scenes are the same tuning (playing state, restarts, where a pattern plays
+    from and the kind of presentation, such as a Blind A/B play's ``ab``, aside)."""
+    a, b = (s.replace(playing=True, epoch=0, marker="", source=played(s.source)) for s in (a, b))
+    return a == b  # (a pattern played from a moment of it is that pattern)
 
 
 class MainWindow(QtWidgets.QMainWindow):

@@ -135,3 +135,22 @@ def test_the_next_start_brings_the_editors_pattern_back(qtbot, qt_settings, tmp_
     finally:
         third.confirm = lambda title, text: True
         third.close()
+
+
+def test_a_pattern_saved_without_a_name_is_called_by_its_file_everywhere(window, qtbot, tmp_path):
+    # Saved as mypat.json without a name, it was "pattern *" in the title (a star right after
+    # saving), "untitled" in the Shape panel and "mypat.json" on the dock; the file held "".
+    editor = editor_of(window)
+    editor.open_pattern(mixed().replace(name=""), None, "New")
+    assert editor.play()
+    assert editor.files.save_file(tmp_path / "mypat.json")
+    assert Pattern.load(tmp_path / "mypat.json").name == "mypat"
+    assert editor.dock.windowTitle() == "Pattern editor - mypat"
+    assert window.windowTitle().split(" - ")[1] == "mypat"  # and no star: it is that file's
+    assert window.controls.shape.other_label.text().startswith("The pattern mypat:")
+    editor.undo_stack.undo()  # the name is an edit like any other
+    assert editor.model.pattern.name == ""
+    editor.undo_stack.redo()
+    assert editor.files.open_file(tmp_path / "mypat.json") and editor.play()
+    assert window.windowTitle().split(" - ")[1] == "mypat"
+    assert window.controls.shape.other_label.text().startswith("The pattern mypat:")

@@ -182,6 +182,7 @@ def install_timeline(window) -> TimelineEditor:
     editor.message_posted.connect(window.statusBar().showMessage)
     tune.display.frame_shown.connect(editor.on_frame_shown)
     editor.files = PatternFiles(editor, window.device, window)
+    editor.files.saved.connect(window.files.pattern_saved)  # the title names the file's pattern
     panel = TimelinePanel(editor, editor.files)
     dock = QtWidgets.QDockWidget("Pattern editor", window)
     dock.setObjectName("timeline_dock")

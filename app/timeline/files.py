@@ -46,6 +46,9 @@ class PatternFiles(QtCore.QObject):
         The dialogs' parent.
     """
 
+    saved = QtCore.Signal(object, object)
+    """A pattern was saved: ``(pattern, path)``."""
+
     def __init__(self, editor, device, parent):
         super().__init__(parent)
         self.editor = editor
@@ -84,16 +87,19 @@ class PatternFiles(QtCore.QObject):
 
     def save_file(self, path=None) -> bool:
         """Save the pattern to ``path`` (None: the file it came from); the undo stack is clean
-        after it."""
+        after it. A pattern without a name is given its file's (an undoable edit)."""
         path = self.model.path if path is None else Path(path)
         if path is None:
             return self._fail("the pattern has no file yet: Save as... first")
+        if not self.model.pattern.name:  # named for its file, by the file and everywhere
+            self.editor.push(lambda: self.model.change_pattern(name=path.stem))
         try:
             written = self.model.pattern.save(path)
         except (OSError, ValueError) as exc:
             return self._fail(f"could not save {path}: {exc}")
         self.model.set_path(Path(written))
         self.editor.undo_stack.setClean()
+        self.saved.emit(self.model.pattern, Path(written))
         return self._done(f"saved the pattern to {written}")
 
     def import_tact(self, path) -> bool:
