@@ -30,7 +30,9 @@ profile written for the run; the points anywhere on it and up to 1.5 pitches bey
 method at a time:
 ``tactile serve`` at 300 Hz into the emulator, a sender
 refreshing every point every 20 ms (3,200 messages a second); the stream's late frames (sent
-more than 1 ms after their deadline) and skipped deadlines, and the cost of a frame of those
+more than 1 ms after their deadline) and skipped deadlines, the timed frames the array played
+late (after their time on its clock: the lead, 20 ms, covers a late write) and how long after
+their time it played them (p99), and the cost of a frame of those
 points in this process, one point at a time (``PointFrames.at_each``, what every frame did
 before) and all at once (``at_many``). ``--pythonpath DIR`` runs the emulator and the server
 from another checkout (the code before a change).
@@ -418,11 +420,15 @@ def many_points(args) -> None:
               f"{args.seconds:g} s"
               f"{', real-time priority' if args.realtime else ''}"
               f"{' (code from ' + args.pythonpath + ')' if args.pythonpath else ''}:")  # fmt: skip
-        print("| method | frames | late > 1 ms | skipped | one at a time us/frame | all at once "
-              "us/frame |")  # fmt: skip
+        print(
+            "| method | frames | written > 1 ms late | skipped | played late at the array | "
+            "played p99 ms after its time | one at a time us/frame | all at once us/frame |"
+        )
         for method in args.methods.split(","):
             summary = Path(folder) / f"{method}.json"
-            emulator = subprocess.Popen([*CLI, "emulate", "--profile", str(profile)], env=env,
+            played = Path(folder) / f"{method}-array.json"
+            emulator = subprocess.Popen([*CLI, "emulate", "--profile", str(profile),
+                                         "--json", str(played)], env=env,
                                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
                                         text=True)  # fmt: skip
             path = emulator.stdout.readline().strip()
@@ -440,8 +446,10 @@ def many_points(args) -> None:
             emulator.send_signal(signal.SIGINT)
             emulator.communicate(timeout=30)
             stream = json.loads(summary.read_text())["stream"]
+            array = json.loads(played.read_text())
             each, many = frame_cost_us(profile, method, args.points)
             print(f"| {method} | {stream['frames']} | {stream['late']} | {stream['skipped']} | "
+                  f"{array['timed_late']} | {array['play_lag_p99_ms']:.2f} | "
                   f"{each:.0f} | {many:.0f} |")  # fmt: skip
 
 
