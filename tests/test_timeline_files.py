@@ -154,3 +154,22 @@ def test_a_pattern_saved_without_a_name_is_called_by_its_file_everywhere(window,
     assert editor.files.open_file(tmp_path / "mypat.json") and editor.play()
     assert window.windowTitle().split(" - ")[1] == "mypat"
     assert window.controls.shape.other_label.text().startswith("The pattern mypat:")
+
+
+def test_an_example_pattern_is_never_saved_over(window):
+    # File > Example patterns, an effect moved, File > Save: it wrote into the installed
+    # package's assets/patterns/letter-a.json, which every later Example patterns served.
+    from tactile_core.files.pattern import example_patterns
+
+    example = example_patterns()["letter-a"]
+    before = example.read_bytes()
+    assert window.files.open_pattern_file(example, example=True)
+    editor = editor_of(window)
+    assert editor.model.pattern == Pattern.load(example)
+    assert editor.model.path is None and editor.undo_stack.isClean()  # Save asks where
+    editor.push(lambda: editor.model.move(0, 0.01, 0))
+    assert not editor.files.save_file()
+    assert "Save as" in window.last_error
+    assert not editor.files.save_file(example)  # chosen by hand in Save as: refused too
+    assert "letter-a.json is a bundled example" in window.last_error
+    assert example.read_bytes() == before

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from PySide6 import QtCore, QtGui
 
-from tactile_core.files.pattern import Dot, Dots, Effect, Pattern, PatternCue
+from tactile_core.files.pattern import Dot, Dots, Effect, Pattern, PatternCue, is_example
 from tactile_core.rendering import placement
 from tactile_core.rendering.shapes import path_from_samples
 
@@ -385,10 +385,14 @@ class TimelineEditor(QtCore.QObject):
         if isinstance(source, Pattern) and source == self.model.pattern:
             if source is not self.model.pattern:  # the same pattern again: this one's object
                 self.model.apply(source, self.model.selected)
-        elif isinstance(source, Pattern):  # File > Open pattern...
+        elif isinstance(source, Pattern):  # File > Open pattern... (or Example patterns)
             path = (self.file_of(source) or {}).get("path")
-            self.open_pattern(source, None if path is None else Path(path),
+            path = None if path is None else Path(path)
+            bundled = path is not None and is_example(path)
+            self.open_pattern(source, None if bundled else path,
                               f"Open {source.name or 'the pattern'}")  # fmt: skip
+            if bundled:  # an example as it comes: nothing to save; Save asks where
+                self.undo_stack.setClean()
 
     def open_pattern(self, pattern: Pattern, path, text: str) -> None:
         """Edit ``pattern`` (from the file ``path``, or None) instead, as an undoable step;

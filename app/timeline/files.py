@@ -9,7 +9,7 @@ from pathlib import Path
 from PySide6 import QtCore
 
 from tactile_core.files import tact
-from tactile_core.files.pattern import Pattern, PatternError
+from tactile_core.files.pattern import Pattern, PatternError, is_example
 from tactile_core.files.tact import POSITION_GROUPS, POSITIONS, TactError, load_pattern
 from tactile_core.files.wav import frame_levels, write_wav
 
@@ -91,6 +91,8 @@ class PatternFiles(QtCore.QObject):
         path = self.model.path if path is None else Path(path)
         if path is None:
             return self._fail("the pattern has no file yet: Save as... first")
+        if is_example(path):  # the installed package's own copy: every next user's example
+            return self._fail(f"{path.name} is a bundled example: Save as... a file of your own")
         if not self.model.pattern.name:  # named for its file, by the file and everywhere
             self.editor.push(lambda: self.model.change_pattern(name=path.stem))
         try:

@@ -72,6 +72,7 @@ __all__ = [
     "PatternFrames",
     "TactEffect",
     "example_patterns",
+    "is_example",
     "pattern_tact_document",
     "write_pattern_tact",
 ]
@@ -82,3 +83,19 @@ def example_patterns() -> dict[str, Path]:
     taps of ``docs/patterns.md``), by file stem, in file-name order."""
     folder = assets_dir() / "patterns"
     return {p.stem: p for p in sorted(folder.glob("*.json"))}
+
+
+def is_example(path) -> bool:
+    """Whether ``path`` is in the bundled example patterns' folder (the installed package's
+    own files: an editor saves a changed example elsewhere).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    bool
+    """
+    folder = (assets_dir() / "patterns").resolve()
+    return Path(path).resolve().parent == folder
