@@ -55,6 +55,20 @@ def restored_preset(settings):
         return None  # a damaged setting: start from the default
 
 
+def restored_profile(saved):
+    """The device profile the last session ended on (``saved``, from :func:`restored_preset`),
+    if it is still a known profile's name; else None (the default then)."""
+    from tactile_core.device.profile import ProfileError, find_profile, profile_names
+
+    name = getattr(saved, "device_profile", None)
+    if not isinstance(name, str) or name not in profile_names():
+        return None
+    try:
+        return find_profile(name)
+    except ProfileError:
+        return None  # its file is gone or damaged since
+
+
 def reopen_pattern(window) -> None:
     """The last session played a ``.tact`` pattern or a pattern file: open it again, on the
     restored tuning; if the file is gone (or was never known), say so in the status bar (the

@@ -59,6 +59,7 @@ class MainWindow(QtWidgets.QMainWindow):
     device_url : str, optional
         Connect to this device at start-up; the simulated array otherwise.
     profile : DeviceProfile, optional
+        The array (else the last session's profile if still known, else the palm array).
     preset : Preset, optional
         Start from this preset (else the last session's scene, else the built-in Experiment 1
         line with its notes).
@@ -112,7 +113,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self._ask_before_closing = True
         saved = remembered.restored_preset(self.settings) if restore else None
         start = preset or saved or remembered.start_preset()
-        profile = profile or default_profile()
+        profile = profile or remembered.restored_profile(saved) or default_profile()
         self.state = TunerState(start.scene, layout=profile.layout)
         if start.device_profile != profile.name:
             self.state.fit_scene()  # a scene made for another array: its shape may lie off this

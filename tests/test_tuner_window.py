@@ -78,6 +78,37 @@ def test_a_session_that_ended_on_a_tact_pattern_comes_back_with_its_tuning(qtbot
     third.close()
 
 
+def choose(win, name: str) -> None:
+    combo = win.device_panel.profile_combo
+    combo.setCurrentIndex(combo.findData(name))
+    combo.activated.emit(combo.currentIndex())
+
+
+def test_the_next_start_comes_back_on_the_last_sessions_profile(qtbot, tmp_path):
+    # The profile was saved with the scene but not used: every start came back on palm-5x6,
+    # where a vest .tact file's two positions played as one path over the whole grid.
+    from tactile_core.files.pattern import Pattern, example_patterns
+
+    vest_file = tmp_path / "sweep.tact"
+    first = _session(qtbot)
+    choose(first, "vest-front-back")
+    Pattern.load(example_patterns()["vest-sweep"]).save_tact(
+        vest_file, first.device.profile.layout, positions={"front": "VestFront", "back": "VestBack"}
+    )
+    assert first.files.import_tact_file(vest_file)
+    first.close()
+    second = _session(qtbot)
+    assert second.device.profile.name == "vest-front-back"
+    source = second.state.scene.source
+    assert [(p.position, p.group) for p in source.placement(second.device.profile.layout)] == [
+        ("VestFront", "front"), ("VestBack", "back")]  # fmt: skip
+    choose(second, "belt-8")
+    second.close()
+    third = _session(qtbot)
+    assert third.device.profile.name == "belt-8"
+    third.close()
+
+
 def test_settings_of_a_pattern_saved_without_its_file_keep_the_tuning(qtbot):
     import json
 
