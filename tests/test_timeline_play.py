@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from PySide6 import QtCore
 
 from tactile_core.files.pattern import Pattern, PatternCue, example_patterns
 from tactile_core.files.wav import frame_levels
@@ -157,3 +158,17 @@ def test_an_imported_tact_pattern_plays_on_the_heatmap_too(window, qtbot, tmp_pa
         k = round(start * rate)
         expected = frames[k] if k < len(frames) else np.zeros_like(frames[0])
         np.testing.assert_allclose(values, expected, atol=1e-9)
+
+
+def test_an_opened_pattern_stops_at_its_end_and_the_buttons_offer_play(window, qtbot):
+    # An example pattern opened from the File menu played to its end, but both buttons still
+    # said "Pause (Space)" and the first press only changed their label.
+    assert window.files.open_pattern_file(example_patterns()["taps"], example=True)
+    pattern = window.state.scene.source
+    qtbot.waitUntil(lambda: not window.state.scene.playing, timeout=10_000)
+    assert window.state.scene.source == PatternCue(pattern, pattern.duration_s, hold=True)
+    assert window.controls.playback.play_button.text() == "Play (Space)"
+    assert window.timeline.panel.play_button.text() == "Play (Space)"
+    window.tabs.setFocus()
+    qtbot.keyClick(window.tabs, QtCore.Qt.Key.Key_Space)  # one press plays it from its start
+    assert window.state.scene.playing and not window.state.held

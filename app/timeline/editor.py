@@ -375,8 +375,9 @@ class TimelineEditor(QtCore.QObject):
             return
         self.model.set_playhead(phase_s)
         end = self.model.pattern.duration_s
-        if isinstance(source, PatternCue) and phase_s >= end:
-            self.state.update(source=PatternCue(source.pattern, end, hold=True), playing=False)
+        if phase_s >= end:  # (a pattern opened from a file too: its buttons said Pause at end)
+            self.state.update(source=PatternCue(self.model.pattern, end, hold=True),
+                              playing=False)  # fmt: skip
 
     def _on_state_scene_changed(self, scene) -> None:
         if scene.shape is not None and not self.heatmap.drawing:
