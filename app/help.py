@@ -25,7 +25,7 @@ SHORTCUTS = (
     ("Tab / Shift+Tab", "select the next / previous effect in time (also Ctrl+Right / Ctrl+Left)"),
     ("Left / Right", "move the effect 10 ms earlier / later (with Shift: 100 ms)"),
     ("Up / Down", "move the effect to the track above / below"),
-    ("Alt+Right / Alt+Left", "lengthen / shorten one play by 10 ms (with Shift: 100 ms)"),
+    ("Alt+Right / Alt+Left, ] / [", "lengthen / shorten one play by 10 ms (with Shift: 100 ms)"),
     ("Delete / Ctrl+D", "delete / duplicate the effect"),
     ("Space", "play the pattern from the playhead, or pause it"),
     ("Home / End", "scrub to the pattern's start / end"),

@@ -109,13 +109,25 @@ def test_home_and_end_scrub(window, qtbot):
     assert editor.model.playhead_s == 0.0
 
 
+def test_the_brackets_resize_where_alt_shift_arrows_belong_to_the_window_manager(window, qtbot):
+    # openbox takes Alt+Shift+Right ("send to the next desktop"): the window went to desktop 2.
+    editor, view = focused(window, qtbot)
+    editor.model.select(2)  # 0.5 s long
+    qtbot.keyClick(view, Key.Key_BracketRight)  # ]: 10 ms longer
+    assert editor.model.pattern.effects[2].duration_s == 0.51
+    qtbot.keyClick(view, Key.Key_BraceRight, Mod.ShiftModifier)  # } (Shift+]): 100 ms longer
+    assert editor.model.pattern.effects[2].duration_s == 0.61
+    qtbot.keyClick(view, Key.Key_BracketLeft)  # [: 10 ms shorter
+    assert editor.model.pattern.effects[2].duration_s == 0.6
+
+
 def test_help_and_the_docs_list_the_editors_keys(window, qtbot):
     menu = next(a.menu() for a in window.menuBar().actions() if a.text() == "&Help")
     next(a for a in menu.actions() if a.text() == "Keyboard shortcuts").trigger()
     dialog = window.findChild(QtWidgets.QDialog, "shortcuts")
     text = " ".join(label.text() for label in dialog.findChildren(QtWidgets.QLabel))
     docs = (Path(__file__).resolve().parents[1] / "docs" / "tuner.md").read_text()
-    for key in ("Tab / Shift+Tab", "Alt+Right / Alt+Left", "Delete / Ctrl+D",
+    for key in ("Tab / Shift+Tab", "Alt+Right / Alt+Left", "] / [", "Delete / Ctrl+D",
                 "Ctrl+Z / Ctrl+Shift+Z", "Home / End", "Pattern editor"):  # fmt: skip
         assert key in text and key in docs
     dialog.close()

@@ -24,6 +24,10 @@ KIND_COLORS = {"shape": "#2478b4", "dots": "#de9c00", "tact": "#00a070", "brush"
 """The blocks' colours by what they play: a shape, dots, a ``.tact`` effect, a TB stroke."""
 PLAYHEAD_COLOR = "#e53935"
 Key = QtCore.Qt.Key
+
+STRETCH_KEYS = {Key.Key_BracketRight: 1, Key.Key_BracketLeft: -1, Key.Key_BraceRight: 1,
+                Key.Key_BraceLeft: -1}  # fmt: skip
+"""] / [ lengthen / shorten the selected effect by 10 ms (} / {, Shift: 100 ms)."""
 Mod = QtCore.Qt.KeyboardModifier
 
 
@@ -106,8 +110,8 @@ class TimelineView(QtWidgets.QGraphicsView):
     up or down to another track), drag its right edge to resize one play, click or drag the
     ruler to scrub; Ctrl+wheel zooms. Keys: Tab / Shift+Tab (or Ctrl+Right / Ctrl+Left) select
     the next or previous effect in time; the arrows move it by 10 ms (Shift: 100 ms) or a
-    track; Alt+Right / Alt+Left lengthen or shorten it; Home / End scrub to the start or the
-    end; Delete removes it, Ctrl+D duplicates it; Space plays or pauses.
+    track; Alt+Right / Alt+Left (or ] / [) lengthen or shorten it; Home / End scrub to the start
+    or the end; Delete removes it, Ctrl+D duplicates it; Space plays or pauses.
     """
 
     takes_space = True
@@ -367,6 +371,8 @@ class TimelineView(QtWidgets.QGraphicsView):
                 editor.stretch(sign, big)
             else:
                 editor.nudge(steps=sign, big=big)
+        elif key in STRETCH_KEYS:  # as Alt+arrows, which some window managers take for their own
+            editor.stretch(STRETCH_KEYS[key], big or key in (Key.Key_BraceRight, Key.Key_BraceLeft))
         elif key in (Key.Key_Up, Key.Key_Down):
             editor.nudge(tracks=-1 if key == Key.Key_Up else 1)
         elif key in (Key.Key_Delete, Key.Key_Backspace):
