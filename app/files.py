@@ -9,14 +9,13 @@ from pathlib import Path
 from PySide6 import QtCore
 
 from tactile_core.device.profile import (
-    DEFAULT_PROFILE,
     ProfileError,
     find_profile,
     load_profile,
     profile_names,
 )
 from tactile_core.files import export, tact
-from tactile_core.files.pattern import Pattern, PatternCue, PatternError
+from tactile_core.files.pattern import Pattern, PatternCue, PatternError, profiles_playing
 from tactile_core.files.presets import MAX_NAME_CHARS, Preset, PresetError, load_preset, save_preset
 from tactile_core.files.tact import TactError, load_pattern, path_of_scene, write_tact
 from tactile_core.rendering.shapes import TimedPath
@@ -25,20 +24,6 @@ from . import dialogs
 from .drawing import KeepsDrawing
 from .texts import count, value3
 from .views import cell_colors
-
-
-def profiles_playing(pattern) -> list[str]:
-    """The known device profiles (the bundled ones and the user's, by name) whose layout
-    ``pattern`` plays on with the layout's own method: the default profile first, then in name
-    order (``vest-front-back`` for the vest sweep, whose groups are ``front`` and ``back``)."""
-    names = []
-    for name, path in profile_names().items():
-        try:
-            pattern.check(load_profile(path).layout)
-        except (ProfileError, ValueError):  # a user's broken profile: not one to offer
-            continue
-        names.append(name)
-    return sorted(names, key=lambda name: name != DEFAULT_PROFILE)
 
 
 def _plays_on(names, blocked: str) -> str:

@@ -97,7 +97,8 @@ def test_render_writes_a_patterns_frames_to_csv_npz_and_wav(tmp_path, capsys):
         (["--shape", "pattern:"], "--shape pattern: needs a file"),
         (["--shape", "pattern:missing.json"], "missing.json: no such file"),
         (["--shape", f"pattern:{EXAMPLES['vest-sweep']}"],
-         "effects[0].group must name a group of the layout (it has none), got 'front'"),
+         "effects[0].group must name a group of the layout (it has none), got 'front'. It "
+         "plays on the device profile vest-front-back: --profile vest-front-back"),
         (["--shape", f"pattern:{EXAMPLES['letter-a']}", "--direction", "reverse"],
          "--direction reverse does not apply to a pattern"),
     ],

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import sys
 
-from ..files.pattern import Pattern, PatternError
+from ..files.pattern import Pattern, PatternError, profiles_playing
 from ._common import PATTERN_PREFIX, UsageError
 
 PREFIX = PATTERN_PREFIX
@@ -41,8 +41,17 @@ def load_pattern_arg(args, target, method: str | None = None):
     except PatternError as exc:
         raise UsageError(str(exc)) from None
     except ValueError as exc:  # what does not play on this array, by field
-        raise UsageError(f"{path}: {exc}") from None
+        raise UsageError(f"{path}: {exc}{_plays_on(pattern, args)}") from None
     return pattern
+
+
+def _plays_on(pattern, args) -> str:
+    """Where a refused pattern plays, as the option to give: ``. It plays on the device
+    profile vest-front-back: --profile vest-front-back`` (nothing if on none)."""
+    names = [name for name in profiles_playing(pattern) if name != getattr(args, "profile", None)]
+    if not names:
+        return ""
+    return f". It plays on the device profile {' or '.join(names)}: --profile {names[0]}"
 
 
 def describe(args, pattern) -> str:

@@ -74,6 +74,7 @@ __all__ = [
     "example_patterns",
     "is_example",
     "pattern_tact_document",
+    "profiles_playing",
     "write_pattern_tact",
 ]
 
@@ -99,3 +100,28 @@ def is_example(path) -> bool:
     """
     folder = (assets_dir() / "patterns").resolve()
     return Path(path).resolve().parent == folder
+
+
+def profiles_playing(pattern) -> list[str]:
+    """The known device profiles (the bundled ones and the user's, by name) whose layout
+    ``pattern`` plays on with the layout's own method: the default profile first, then in name
+    order (``vest-front-back`` for the vest sweep, whose groups are ``front`` and ``back``).
+
+    Parameters
+    ----------
+    pattern : Pattern
+
+    Returns
+    -------
+    list of str
+    """
+    from ..device.profile import DEFAULT_PROFILE, ProfileError, load_profile, profile_names
+
+    names = []
+    for name, path in profile_names().items():
+        try:
+            pattern.check(load_profile(path).layout)
+        except (ProfileError, ValueError):  # a user's broken profile: not one to offer
+            continue
+        names.append(name)
+    return sorted(names, key=lambda name: name != DEFAULT_PROFILE)
