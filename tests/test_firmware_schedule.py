@@ -77,9 +77,24 @@ def test_timed_frames_reach_the_pins_at_their_time_with_both_host_cores_busy(sim
     log = sim.finish()
     rx_entry = pinlog.handler_cycles(sim.elf, RX_VECTOR, "0x0084")  # to the counter's read
     origin, exchanges = pinlog.clock_origin(log, rx_entry)
-    stopped = pinlog.received_frames(log)[-1][0]  # the all-off frame for now that ended it
-    frames = [f for f in pinlog.timed_frames(log) if origin + f.at_us * 16 < stopped]
-    errors = pinlog.onset_errors(log, frames, origin)
+    now = [cycle for cycle, _ in pinlog.received_frames(log)]  # frames for now
+    stopped = now[-1]  # the all-off frame for now that ended it
+    # A frame for now drops what is scheduled and sets the pins itself: a host that stopped
+    # scheduling for a while (its clock's error above a quarter of the lead, as a loaded host
+    # may) sends some. Onsets are judged within runs of timed frames with none between them,
+    # each against the frame before it in the run (the first of a run has no known one).
+    timed = [f for f in pinlog.timed_frames(log) if origin + f.at_us * 16 < stopped]
+    runs, since = [[]], 0
+    for f in timed:
+        due = origin + f.at_us * 16
+        if any(since < c < due for c in now):
+            runs.append([])
+        runs[-1].append(f)
+        since = due
+    frames, errors = [], []
+    for run in runs:
+        frames += run[1:]
+        errors += pinlog.onset_errors(log, run, origin)[1:]
     # How long before its time each frame's last byte was in (ms): the lead, less the bytes'
     # transmission and whatever the busy host added.
     margin_ms = np.array([(origin + f.at_us * 16 - f.arrived) / 16_000 for f in frames])
@@ -91,7 +106,8 @@ def test_timed_frames_reach_the_pins_at_their_time_with_both_host_cores_busy(sim
     # Frames that came after their time were played at once and counted; the firmware may also
     # count one that came less than 2 ms ahead (parsing and building its table take ~1.2 ms).
     counters = pinlog.last_clock_reply(log)
-    after, close = int((margin_ms < 0).sum()), int((margin_ms < 2.0).sum())
+    every_ms = np.array([(origin + f.at_us * 16 - f.arrived) / 16_000 for f in timed])
+    after, close = int((every_ms < 0).sum()), int((every_ms < 2.0).sum())
     assert counters is not None and after <= counters["late"] <= close
     assert counters["full"] == 0
 
