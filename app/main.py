@@ -89,6 +89,23 @@ def close_on_signals(window) -> None:
     heartbeat.start(200)
 
 
+def requested_profile(name):
+    """The device profile ``--profile`` names: a known profile's name (bundled or the user's)
+    or a JSON file; None when it names none, so the window comes back on the last session's
+    (it came back on the palm array whatever the last session had used).
+
+    Raises
+    ------
+    ProfileError
+        When ``name`` names no profile, or its file is invalid.
+    """
+    from tactile_core.device.profile import find_profile, load_profile, profile_names
+
+    if name is None:
+        return None
+    return find_profile(name) if name in profile_names() else load_profile(name)
+
+
 def main(argv=None) -> int:
     """Entry point of ``tactile-tuner``."""
     args = build_parser().parse_args(argv)
@@ -113,12 +130,11 @@ def main(argv=None) -> int:
         print(f"tactile-tuner: {problem}", file=sys.stderr)
         return 1
 
-    from tactile_core.device.profile import ProfileError, find_profile, load_profile, profile_names
+    from tactile_core.device.profile import ProfileError
     from tactile_core.files.presets import PresetError, load_preset
 
-    try:  # a known profile's name (bundled or the user's), or a file
-        known = args.profile is not None and args.profile in profile_names()
-        profile = find_profile(args.profile) if known else load_profile(args.profile)
+    try:
+        profile = requested_profile(args.profile)
         preset = load_preset(args.preset) if args.preset else None
     except (ProfileError, PresetError) as exc:
         print(f"tactile-tuner: error: {exc}", file=sys.stderr)

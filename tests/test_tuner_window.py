@@ -295,3 +295,27 @@ def test_the_predicted_views_title_fits_its_plot(window, qtbot, size):
     label = window.tune.curves.plotItem.titleLabel
     assert "over 25 participants" in label.text
     qtbot.waitUntil(lambda: 0 < label.item.boundingRect().width() <= window.tune.curves.width())
+
+
+def test_tactile_tuner_without_profile_leaves_the_profile_to_the_last_session(qtbot, monkeypatch):
+    # main() turned a missing --profile into the palm array, which the window then took as
+    # asked for: the last session's profile never came back.
+    import tactile_tuner.window
+    from tactile_tuner.main import main
+
+    asked = {}
+
+    class Stop(Exception):
+        pass
+
+    def window(**kwargs):
+        asked.update(kwargs)
+        raise Stop
+
+    monkeypatch.setattr(tactile_tuner.window, "MainWindow", window)
+    with pytest.raises(Stop):
+        main(["--no-realtime"])
+    assert asked["profile"] is None and asked["restore"]
+    with pytest.raises(Stop):
+        main(["--profile", "belt-8"])
+    assert asked["profile"].name == "belt-8"  # asked for: it wins over the last session's
