@@ -52,6 +52,8 @@ def test_a_gamma_of_zero_typed_is_not_taken(window, qtbot):
     qtbot.keyClicks(spin, "0")
     qtbot.keyClick(spin, Key.Key_Return)
     assert window.state.scene.gamma == 0.7
+    # and the box shows the gamma in use again (it kept 0.00 while 0.70 played)
+    assert spin.value() == 0.7 and spin.text() == "0.70"
 
 
 def test_enter_in_a_box_keeps_the_value_in_use_not_its_rounding(window, qtbot):

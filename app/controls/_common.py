@@ -94,8 +94,8 @@ class SceneGroupWidget(QtWidgets.QGroupBox):
         self._updating = False
 
     def _set(self, **changes) -> None:
-        if not self._updating:
-            self.state.update(**changes)
+        if not self._updating and not self.state.update(**changes):
+            self.refresh()  # refused (said in the status line): the values in use again
 
     def refresh(self, *_) -> None:
         """Show the state's values (without writing them back)."""
