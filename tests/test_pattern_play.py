@@ -200,8 +200,9 @@ def test_an_exported_pattern_has_an_effect_per_play_and_its_dots_on_motors(tmp_p
     # an effect of no group written where a group's actuators are numbered: refused, not a
     # dot on a motor that position does not have
     mixed = SWEEP.add(TAPS.effects[0].replace(content=tc.Dots([tc.Dot(36)])))
-    with pytest.raises(ValueError, match=r"effects\[2\] \(group None\) would go to VestFront, "
-                       "which holds group 'front'"):  # fmt: skip
+    with pytest.raises(ValueError, match=r"effects\[2\] plays on every actuator, which would be "
+                       r"written to VestFront, the position of group 'front' alone: give the "
+                       r"effect one of the groups 'front', 'back'"):  # fmt: skip
         mixed.to_tact(VEST.layout, positions={"front": "VestFront", "back": "VestBack"})
     back = mixed.to_tact(VEST.layout, position="Head",
                          positions={"front": "VestFront", "back": "VestBack"})  # fmt: skip

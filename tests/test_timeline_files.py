@@ -173,3 +173,24 @@ def test_an_example_pattern_is_never_saved_over(window):
     assert not editor.files.save_file(example)  # chosen by hand in Save as: refused too
     assert "letter-a.json is a bundled example" in window.last_error
     assert example.read_bytes() == before
+
+
+def test_a_tact_export_says_in_the_editors_words_which_effect_needs_a_group(window, tmp_path):
+    # The vest sweep with the scene's shape added (every actuator) on vest-front-back: "effects[2]
+    # (group None) would go to VestFront, which holds group 'front''s actuators", counted from
+    # 0 while the time line says 3, None for what the panel calls every actuator.
+    from tactile_core.files.pattern import example_patterns
+
+    assert window.files.open_pattern_file(example_patterns()["vest-sweep"], example=True)
+    editor = editor_of(window)
+    editor.model.set_playhead(1.6)
+    assert editor.add_from_scene()  # effect 3, on every actuator
+    assert not editor.files.export_tact(tmp_path / "sweep.tact")
+    assert window.last_error == (
+        "could not export sweep.tact: effect 3 plays on every actuator, but a .tact file holds "
+        "each group here as a device position (front as VestFront, back as VestBack): choose its "
+        "group in the properties (front or back), then export again"
+    )
+    assert not (tmp_path / "sweep.tact").exists()
+    editor.push(lambda: editor.model.change(2, group="back"))
+    assert editor.files.export_tact(tmp_path / "sweep.tact")  # as the message says

@@ -128,7 +128,18 @@ class PatternFiles(QtCore.QObject):
         every 20 ms as rendered with the scene's method), each group that names a device
         position on it (:func:`export_positions`)."""
         layout, scene = self.device.profile.layout, self.editor.state.scene
-        options = dict(positions=export_positions(layout),
+        positions = export_positions(layout)
+        loose = [k for k, e in enumerate(self.model.pattern.effects) if e.group not in positions]
+        if loose and "VestFront" in positions.values():  # where the rest would go is a group's
+            k = loose[0]
+            group = self.model.pattern.effects[k].group
+            what = "every actuator" if group is None else f"the group {group}"
+            places = ", ".join(f"{g} as {p}" for g, p in positions.items())
+            return self._fail(f"could not export {Path(path).name}: effect {k + 1} plays on "
+                              f"{what}, but a .tact file holds each group here as a device "
+                              f"position ({places}): choose its group in the properties "
+                              f"({' or '.join(positions)}), then export again")  # fmt: skip
+        options = dict(positions=positions,
                        name=Path(path).stem[: tact.MAX_NAME_CHARS] or "pattern")  # fmt: skip
         if compiled:
             options["compiled"] = scene.method

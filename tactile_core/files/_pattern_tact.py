@@ -198,9 +198,11 @@ def pattern_tact_document(pattern, target, *, name: str = "tactile-tuner",
     for i, effect in enumerate(pattern.effects):
         where = positions.get(effect.group, position)
         if where in owner and owner[where] != effect.group:
-            raise ValueError(f"effects[{i}] (group {effect.group!r}) would go to {where}, which "
-                             f"holds group {owner[where]!r}'s actuators: map its group to a "
-                             "position, or write the rest to another position")  # fmt: skip
+            what = "every actuator" if effect.group is None else f"group {effect.group!r}"
+            raise ValueError(f"effects[{i}] plays on {what}, which would be written to {where}, "
+                             f"the position of group {owner[where]!r} alone: give the effect one "
+                             f"of the groups {', '.join(map(repr, positions))}, or write the "
+                             "rest to another position")  # fmt: skip
         box, motor_of = places[where]
         parts = compile_parts(type(pattern)((effect,)), method, target)
         for r in range(effect.repeat):
