@@ -14,6 +14,7 @@ from tactile_core.rendering.methods import PAPER_METHODS, get_method
 
 from .frames import SceneFrames
 from .state import TunerState
+from .titles import source_kind
 from .views import CurvesView, HeatmapView, cell_colors
 from .widgets import MethodSetWidget
 
@@ -164,12 +165,13 @@ class CompareView(QtWidgets.QWidget):
         if scene is self._shown_scene:
             return
         self._shown_scene = scene
-        if scene.shape is None:  # a .tact pattern: Compare renders shapes' traces only
+        if scene.shape is None:  # a pattern, free points: Compare renders shapes' traces only
+            caption = f"{source_kind(scene.source)} plays: Compare needs a shape"
             for name in self.methods:
                 self.curves[name].clear_curves()
                 self.heatmaps[name].set_cell_frames({})
                 self.heatmaps[name].set_outline(None)
-                self.heatmaps[name].set_caption("a .tact pattern plays: Compare needs a shape")
+                self.heatmaps[name].set_caption(caption)
             return
         for name in self.methods:
             self.heatmaps[name].set_caption("")

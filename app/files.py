@@ -23,6 +23,7 @@ from tactile_core.rendering.shapes import TimedPath
 from . import dialogs
 from .drawing import KeepsDrawing
 from .texts import count, value3
+from .titles import source_kind
 from .views import cell_colors
 
 
@@ -136,8 +137,9 @@ class FileActions(QtCore.QObject, KeepsDrawing):
             return False
         path = Path(path)
         if self.state.scene.shape is None:
+            kind = source_kind(self.state.scene.source)
             self.error_raised.emit(f"could not save {path}: a preset holds a shape, and this "
-                                   "scene plays a .tact pattern (keep its .tact file, or pick a "
+                                   f"scene plays {kind} (keep its file, or pick a "
                                    "shape)")  # fmt: skip
             return False
         preset = Preset(

@@ -6,7 +6,7 @@ from __future__ import annotations
 import functools
 
 import tactile_core as tc
-from tactile_core.files.pattern import PatternCue
+from tactile_core.files.pattern import Pattern, PatternCue
 from tactile_core.files.presets import builtin_presets, load_preset
 
 EDITABLE = (tc.Line, tc.Circle, tc.Square)
@@ -80,3 +80,12 @@ def _builtin_names() -> dict:
         shape = preset.scene.shape
         named[shape] = None if shape in named else preset.name
     return {shape: name for shape, name in named.items() if name is not None}
+
+
+def source_kind(source) -> str:
+    """What a shapeless scene plays, in words: ``a pattern`` (a pattern file, the editor's),
+    ``a .tact pattern`` (an imported bHaptics file), else ``free points`` (another program's)."""
+    source = played(source)
+    if isinstance(source, Pattern):
+        return "a pattern"
+    return "a .tact pattern" if hasattr(source, "file") else "free points"

@@ -172,3 +172,11 @@ def test_an_opened_pattern_stops_at_its_end_and_the_buttons_offer_play(window, q
     window.tabs.setFocus()
     qtbot.keyClick(window.tabs, QtCore.Qt.Key.Key_Space)  # one press plays it from its start
     assert window.state.scene.playing and not window.state.held
+
+
+def test_compare_calls_a_pattern_file_a_pattern(window):
+    # Compare said "a .tact pattern plays" over the editor's JSON pattern.
+    assert window.files.open_pattern_file(example_patterns()["letter-a"])
+    window.compare._refresh()
+    for heatmap in window.compare.heatmaps.values():
+        assert heatmap.caption.text == "a pattern plays: Compare needs a shape"

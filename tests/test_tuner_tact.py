@@ -107,6 +107,7 @@ def test_a_pattern_is_drawn_plotted_and_named_and_a_shape_replaces_it(window, tm
     for heatmap in compare.heatmaps.values():  # no shape's outline left over
         x, _ = heatmap.outline.getData()
         assert x is None or len(x) == 0
+        assert heatmap.caption.text == "a .tact pattern plays: Compare needs a shape"
     shape_box.shape_combo.setCurrentIndex(1)  # Circle: it replaces the pattern
     scene = window.state.scene
     assert type(scene.shape).__name__ == "Circle" and scene.source is None
