@@ -97,6 +97,17 @@ class FileActions(QtCore.QObject, KeepsDrawing):
             self.error_raised.emit(reason)
         return bool(reason)
 
+    @property
+    def preset_scene(self):
+        """The scene of the preset (pattern, ``.tact`` file) the scene came from: the title
+        has a star while the scene differs from it."""
+        return self._preset_scene
+
+    @preset_scene.setter
+    def preset_scene(self, scene) -> None:
+        self._preset_scene = scene
+        self.modified_at_start = False  # a new origin: the last session's star is over
+
     def set_preset(self, preset) -> None:
         """Remember ``preset`` as where the scene came from."""
         self.preset_name, self.preset_notes = preset.name, preset.notes

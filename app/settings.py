@@ -24,6 +24,7 @@ from .state import DEFAULT_SCENE
 from .timeline.editor import restore_session as restore_editor
 from .timeline.editor import resume_session as resume_editor
 from .timeline.editor import save_session as save_editor
+from .titles import same_tuning
 
 START_PRESET = "exp1-line"
 """The built-in preset the tuner starts from without a last session (or with ``--no-restore``)."""
@@ -53,6 +54,12 @@ def restored_preset(settings):
         return preset_from_dict(data, source="last session")
     except (ValueError, TypeError):
         return None  # a damaged setting: start from the default
+
+
+def was_modified(settings) -> bool:
+    """Whether the last session's scene differed from the preset it came from (its title had
+    a star): the next start keeps the star, though it no longer knows that preset."""
+    return _flag(settings, "modified")
 
 
 def restored_profile(saved):
@@ -171,6 +178,10 @@ def save_window(window) -> None:
     preset = Preset(scene, files.preset_name, files.preset_notes, window.device.profile.name,
                     window.device.lead_ms)  # fmt: skip
     settings.setValue("scene", json.dumps(preset.to_dict()))
+    came = files.preset_scene  # the title's star: the next start shows it again
+    live = window.experiments.saved_scene or window.state.scene
+    settings.setValue("modified", files.modified_at_start
+                      or (came is not None and not same_tuning(live, came)))  # fmt: skip
     settings.setValue("tact_pattern", json.dumps(pattern) if pattern else "")
     settings.setValue("geometry", window.saveGeometry())
     settings.setValue("windowState", window.saveState())

@@ -89,3 +89,10 @@ def source_kind(source) -> str:
     if isinstance(source, Pattern):
         return "a pattern"
     return "a .tact pattern" if hasattr(source, "file") else "free points"
+
+
+def same_tuning(a, b) -> bool:
+    """Whether two scenes are the same tuning (playing state, restarts, where a pattern plays
+    from and the kind of presentation, such as a Blind A/B play's ``ab``, aside)."""
+    a, b = (s.replace(playing=True, epoch=0, marker="", source=played(s.source)) for s in (a, b))
+    return a == b  # (a pattern played from a moment of it is that pattern)

@@ -40,15 +40,8 @@ from .texts import (
     value3,
 )
 from .timeline import install_timeline
-from .titles import played, scene_name
+from .titles import same_tuning, scene_name
 from .tune import TuneWidget
-
-
-def _same_tuning(a, b) -> bool:
-    """Whether two scenes are the same tuning (playing state, restarts, where a pattern plays
-    from and the kind of presentation, such as a Blind A/B play's ``ab``, aside)."""
-    a, b = (s.replace(playing=True, epoch=0, marker="", source=played(s.source)) for s in (a, b))
-    return a == b  # (a pattern played from a moment of it is that pattern)
 
 
 class MainWindow(QtWidgets.QMainWindow):
@@ -122,6 +115,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.files = FileActions(self.state, self.device, self)
         self.files.set_preset(start)
         self.files.preset_scene = self.state.scene  # as it plays here: no star for a fitting
+        self.files.modified_at_start = saved is not None and remembered.was_modified(self.settings)
 
         # The tabs --------------------------------------------------------------------------
         self.tune = TuneWidget(self.state, self.device)
@@ -423,7 +417,8 @@ class MainWindow(QtWidgets.QMainWindow):
             return
         scene, files = self.state.scene, self.files
         came_from = files.preset_scene
-        modified = came_from is not None and not _same_tuning(scene, came_from)
+        modified = files.modified_at_start or (came_from is not None
+                                               and not same_tuning(scene, came_from))  # fmt: skip
         name = scene_name(scene, came_from, files.preset_name) + (" *" if modified else "")
         self.setWindowTitle(
             f"tactile-tuner - {name} - {scene.method}, mu {value3(scene.mu)}, "

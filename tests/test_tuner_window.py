@@ -319,3 +319,24 @@ def test_tactile_tuner_without_profile_leaves_the_profile_to_the_last_session(qt
     with pytest.raises(Stop):
         main(["--profile", "belt-8"])
     assert asked["profile"].name == "belt-8"  # asked for: it wins over the last session's
+
+
+def test_a_changed_scene_keeps_its_star_at_the_next_start(qtbot, tmp_path):
+    # "Experiment 1 line *" came back as "Experiment 1 line": the title read as the preset
+    # unchanged, though mu was not the preset's.
+    def named(win) -> str:
+        return win.windowTitle().split(" - ")[1]
+
+    first = _session(qtbot)
+    assert named(first) == "Experiment 1 line"
+    first.state.update(mu=0.41)
+    assert named(first) == "Experiment 1 line *"
+    first.close()
+    second = _session(qtbot)
+    assert second.state.scene.mu == 0.41 and named(second) == "Experiment 1 line *"
+    assert second.files.save_preset_file(tmp_path / "mine.json")  # saved: no star
+    assert named(second) == "mine"
+    second.close()
+    third = _session(qtbot)
+    assert named(third) == "mine"  # unchanged since its save: none at the next start either
+    third.close()
