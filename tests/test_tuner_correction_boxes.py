@@ -52,7 +52,10 @@ def test_a_gamma_of_zero_typed_is_not_taken(window, qtbot):
     qtbot.keyClicks(spin, "0")
     qtbot.keyClick(spin, Key.Key_Return)
     assert window.state.scene.gamma == 0.7
-    # and the box shows the gamma in use again (it kept 0.00 while 0.70 played)
+    # as -1 or 1e400 are not: no error dialog (0 opened one, the others none), and the box
+    # shows the gamma in use again when left (it kept 0.00 while 0.70 played)
+    assert window.last_error == ""
+    window.tabs.setFocus()
     assert spin.value() == 0.7 and spin.text() == "0.70"
 
 

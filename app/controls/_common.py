@@ -35,6 +35,7 @@ class CorrectionSpinBox(QtWidgets.QDoubleSpinBox):
 
     def __init__(self, lo: float, hi: float, relative: bool = False, parent=None):
         super().__init__(parent)
+        self._lo, self._hi = lo, hi  # (Qt rounds the range: gamma's 5e-324 becomes 0)
         self.setDecimals(_EXACT_DECIMALS)
         self.setRange(lo, hi)
         self.setSingleStep(0.01)
@@ -57,7 +58,7 @@ class CorrectionSpinBox(QtWidgets.QDoubleSpinBox):
             value = float(body)
         except ValueError:
             return state.Intermediate if _PARTIAL_NUMBER.fullmatch(body) else state.Invalid
-        if math.isfinite(value) and self.minimum() <= value <= self.maximum():
+        if math.isfinite(value) and self._lo <= value <= self._hi:
             return state.Acceptable
         return state.Intermediate
 
