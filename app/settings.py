@@ -12,6 +12,7 @@ from pathlib import Path
 
 from PySide6 import QtGui
 
+from tactile_core.files.pattern import is_example
 from tactile_core.files.presets import (
     Preset,
     PresetError,
@@ -101,7 +102,8 @@ def reopen_pattern(window) -> None:
                 f"does not play here: {kept}")  # fmt: skip
     elif last is not None and last.get("kind") == "pattern":  # a pattern file
         opened = path.is_file() and window.files.open_pattern_file(path)
-        said = (f"the last session's pattern again: {path}" if opened else
+        shown = f"the example {path.name}" if is_example(path) else path  # not a package path
+        said = (f"the last session's pattern again: {shown}" if opened else
                 f"the last session's pattern {path} no longer opens: {kept}")  # fmt: skip
     elif last is None:
         said = f"the last session's .tact pattern was not saved: {kept}"

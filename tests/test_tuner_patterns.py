@@ -84,6 +84,26 @@ def test_the_next_start_opens_the_pattern_again(qtbot, tmp_path):
         second.close()
 
 
+def test_the_next_start_names_an_example_by_its_file_not_the_package_path(qtbot):
+    # "the last session's pattern again: .../site-packages/tactile_core/_assets/patterns/..."
+    from tactile_tuner.window import MainWindow
+
+    first = MainWindow(restore=False, process=False)
+    qtbot.addWidget(first)
+    assert first.files.open_pattern_file(example_patterns()["taps"], example=True)
+    first.confirm = lambda title, text: True
+    first.close()
+    second = MainWindow(restore=True, process=False)
+    qtbot.addWidget(second)
+    try:
+        said = second.statusBar().currentMessage()
+        assert "the last session's pattern again: the example taps.json" in said
+        assert "_assets" not in said and "assets/" not in said
+    finally:
+        second.confirm = lambda title, text: True
+        second.close()
+
+
 def test_a_pattern_that_does_not_fit_a_new_profile_gives_way_to_its_default_shape(window, qtbot):
     # the sweep names the vest's groups: on the palm array it cannot play
     window.files.use_profile("vest-front-back")
