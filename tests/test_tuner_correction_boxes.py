@@ -99,3 +99,24 @@ def test_the_correction_boxes_are_no_wider_for_their_range(window):
     # A range up to 1.8e308 would size the box for "1.8e+308": it stays as wide as "10.000".
     correction = window.controls.correction
     assert correction.gamma_spin.sizeHint().width() <= correction.mu_spin.sizeHint().width() + 4
+
+
+@pytest.mark.parametrize(("box", "typed", "said"), [
+    ("mu_spin", "-1", "mu must be within [0, 1], got -1"),
+    ("mu_spin", "1e400", "mu must be within [0, 1], got 1e400"),
+    ("gamma_spin", "0", "gamma must be a finite number above 0, got 0"),
+    ("gamma_spin", "-1", "gamma must be a finite number above 0, got -1"),
+])  # fmt: skip
+def test_a_value_typed_that_a_box_cannot_take_is_named_in_the_status_line(window, qtbot, box,
+                                                                         typed, said):  # fmt: skip
+    # docs/bad-input.md: a value from the tuner's fields is refused with one line naming the
+    # parameter and the value; the boxes went back to the value in use without a word.
+    spin = getattr(window.controls.correction, box)
+    before = window.state.scene
+    spin.setFocus()
+    spin.selectAll()
+    qtbot.keyClicks(spin, typed)
+    qtbot.keyClick(spin, Key.Key_Return)
+    assert window.statusBar().currentMessage() == f"not taken: {said} (the value in use is kept)"
+    assert (window.state.scene.mu, window.state.scene.gamma) == (before.mu, before.gamma)
+    assert window.last_error == ""  # a line, not a dialog

@@ -43,6 +43,15 @@ class CorrectionSpinBox(QtWidgets.QDoubleSpinBox):
             self.setStepType(QtWidgets.QAbstractSpinBox.StepType.AdaptiveDecimalStepType)
         self.setKeyboardTracking(False)
 
+    refused = QtCore.Signal(str)
+    """Text typed and given up (Enter, or the box left) that is no value of the box: the box
+    shows the value in use again."""
+
+    def fixup(self, text: str) -> str:  # Qt override: called for such text
+        if text.strip():
+            self.refused.emit(text.strip())
+        return super().fixup(text)
+
     def textFromValue(self, value: float) -> str:  # Qt override
         return value3(value)
 

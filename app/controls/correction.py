@@ -67,6 +67,13 @@ class CorrectionWidget(SceneGroupWidget):
         self.mu_spin.valueChanged.connect(lambda v: self._set(mu=v))
         self.gamma_slider.valueChanged.connect(lambda v: self._set(gamma=slider_to_gamma(v)))
         self.gamma_spin.valueChanged.connect(lambda v: self._set(gamma=v))
+        for spin, what in ((self.mu_spin, "mu must be within [0, 1]"),
+                           (self.gamma_spin, "gamma must be a finite number above 0")):  # fmt: skip
+            spin.refused.connect(
+                lambda text, what=what: state.message_posted.emit(
+                    f"not taken: {what}, got {text} (the value in use is kept)", 10_000
+                )
+            )
         self.felt_domain_check = QtWidgets.QCheckBox("on felt amplitude (motor response)")
         self.felt_domain_check.setObjectName("felt_domain")
         self.felt_domain_check.toggled.connect(lambda on: self._set(felt_domain=on))
