@@ -56,6 +56,18 @@ def wait_trial(qtbot, panel, kind):
     )  # fmt: skip
 
 
+def start_exp2(window, qtbot):
+    """Start Experiment 2 in the console, past its introduction, at its first trial."""
+    from PySide6 import QtCore
+
+    panel = window.experiments
+    choose(panel, "exp2")
+    assert panel.start()
+    press(qtbot, window, QtCore.Qt.Key.Key_G)  # the introduction
+    wait_trial(qtbot, panel, "direction")
+    return panel
+
+
 @pytest.fixture
 def quick_tuning(monkeypatch):
     import functools

@@ -12,20 +12,11 @@ from tactile_core.experiments.results import SESSION_FILE
 from tactile_core.files.presets import builtin_presets
 
 from . import experiments_gui_support as support
-from .experiments_gui_support import choose, press, rows, wait_trial
+from .experiments_gui_support import choose, press, rows, start_exp2, wait_trial
 
 quick_runs = support.quick_runs  # autouse: no pause between questions
 window = support.window
 Key = QtCore.Qt.Key
-
-
-def start_exp2(window, qtbot):
-    panel = window.experiments
-    choose(panel, "exp2")
-    assert panel.start()
-    press(qtbot, window, Key.Key_G)  # the introduction
-    wait_trial(qtbot, panel, "direction")
-    return panel
 
 
 def test_nothing_but_the_trials_changes_the_stimulus_during_a_run(window, qtbot):

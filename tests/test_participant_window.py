@@ -8,20 +8,11 @@ import time
 from PySide6 import QtCore
 
 from . import experiments_gui_support as support
-from .experiments_gui_support import choose, press, wait_trial
+from .experiments_gui_support import choose, press, start_exp2, wait_trial
 
 quick_runs = support.quick_runs  # autouse: no pause between questions
 window = support.window
 Key = QtCore.Qt.Key
-
-
-def start_exp2(window, qtbot):
-    panel = window.experiments
-    choose(panel, "exp2")
-    assert panel.start()
-    press(qtbot, window, Key.Key_G)  # the introduction
-    wait_trial(qtbot, panel, "direction")
-    return panel
 
 
 def test_r_in_the_silent_gap_does_not_play_the_next_trial_early(window, qtbot, monkeypatch):
