@@ -106,7 +106,9 @@ def test_play_follows_the_stream_from_the_playhead_and_stops_at_the_end(window, 
                                                    hold=True)  # fmt: skip
     assert editor.model.playhead_s == pattern.duration_s
     playing = [s for s in shown if s[0].source is cue and s[1] is not None]
-    assert len(playing) > 10
+    # frames shown while it played (beside stress-ng --cpu 2 the window showed only 6 of its
+    # 1.6 s: how many is the machine's; that each is the pattern's is the test's)
+    assert len(playing) >= 3
     frames = pattern_frames(window, pattern, playing[0][2])
     first = math.floor(0.5 * playing[0][2] + 1e-9)
     for _, start, rate, phase, values in playing:
